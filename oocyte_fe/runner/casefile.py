@@ -1,0 +1,222 @@
+"""Reading and validating ``case.toml``: every error names the file, the field and the expectation.
+
+The format (see ``docs/cases.md``)::
+
+    kind = "afm_zp_cytoplasm"          # a registered case kind
+    description = "..."
+    reading = "..."                    # optional: how an ambiguous paper was read
+    timeout_s = 600                    # optional
+    [inputs]   ...                     # checked against the kind's schema
+    [quick]    ...                     # optional: input overrides for ``--quick``
+    [reference.NAME]  value = 7.01, source = "seed 001, Section 3.1", unit = "kPa"
+    [tolerances.NAME] rel = 0.05       # or abs, min, max (any combination)
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any
+
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    model_validator,
+)
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.runner.registry import CaseKind, get_kind
+
+CASE_FILE = "case.toml"
+
+
+def _resolve_data_file(value: Path, info: ValidationInfo) -> Path:
+    case_dir = (info.context or {}).get("case_dir")
+    path = value if value.is_absolute() or case_dir is None else Path(case_dir) / value
+    if not path.is_file():
+        raise ValueError(f"an existing data file (relative to the case folder), not found: {path}")
+    return path
+
+
+DataFile = Annotated[Path, AfterValidator(_resolve_data_file)]
+"""An input field naming a data file; resolved against the case folder and checked to exist."""
+
+
+class Reference(BaseModel):
+    """A figure to compare with, and where it comes from."""
+
+    model_config = ConfigDict(extra="forbid")
+    value: float = Field(description="the reference value, in `unit`")
+    source: str = Field(min_length=1, description="seed table or analytic formula")
+    unit: str | None = None
+
+
+class Tolerance(BaseModel):
+    """How close a metric must be: ``rel``/``abs`` to its reference, or ``min``/``max`` bounds."""
+
+    model_config = ConfigDict(extra="forbid")
+    rel: float | None = Field(default=None, ge=0)
+    abs: float | None = Field(default=None, ge=0)
+    min: float | None = None
+    max: float | None = None
+    note: str | None = None
+
+    @model_validator(mode="after")
+    def _one_given(self) -> Tolerance:
+        if all(v is None for v in (self.rel, self.abs, self.min, self.max)):
+            raise ValueError("at least one of rel, abs, min, max")
+        return self
+
+    @property
+    def needs_reference(self) -> bool:
+        return self.rel is not None or self.abs is not None
+
+    def describe(self) -> str:
+        parts = []
+        if self.rel is not None:
+            parts.append(f"rel <= {self.rel:g}")
+        if self.abs is not None:
+            parts.append(f"abs <= {self.abs:g}")
+        if self.min is not None:
+            parts.append(f">= {self.min:g}")
+        if self.max is not None:
+            parts.append(f"<= {self.max:g}")
+        return ", ".join(parts)
+
+    def accepts(self, computed: float, reference: float | None) -> bool:
+        if not math.isfinite(computed):
+            return False
+        ok = True
+        if reference is not None:
+            err = abs(computed - reference)
+            if self.rel is not None:
+                ok &= err <= self.rel * abs(reference)
+            if self.abs is not None:
+                ok &= err <= self.abs
+        if self.min is not None:
+            ok &= computed >= self.min
+        if self.max is not None:
+            ok &= computed <= self.max
+        return bool(ok)
+
+
+class CaseSpec(BaseModel):
+    """The top level of ``case.toml``."""
+
+    model_config = ConfigDict(extra="forbid")
+    kind: str = Field(min_length=1)
+    description: str = Field(min_length=1)
+    reading: str | None = None
+    timeout_s: float | None = Field(default=None, gt=0)
+    inputs: dict[str, Any] = Field(default_factory=dict)
+    quick: dict[str, Any] = Field(default_factory=dict)
+    reference: dict[str, Reference] = Field(default_factory=dict)
+    tolerances: dict[str, Tolerance] = Field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Case:
+    """A validated case, ready to run."""
+
+    name: str
+    directory: Path
+    spec: CaseSpec
+    kind: CaseKind
+    inputs: BaseModel
+
+    @property
+    def file(self) -> Path:
+        return self.directory / CASE_FILE
+
+
+def _loc(loc: tuple[Any, ...]) -> str:
+    return ".".join(str(p) for p in loc) if loc else "(top level)"
+
+
+def raise_validation_error(file: Path | str, err: ValidationError, prefix: str = "") -> None:
+    """Turn the first pydantic error into one :class:`InputError` line."""
+    first = err.errors()[0]
+    field = prefix + _loc(tuple(first["loc"]))
+    kind = first["type"]
+    if kind == "missing":
+        raise InputError(file, field, "this key (it is required)") from None
+    if kind == "extra_forbidden":
+        raise InputError(file, field, "no such key (unknown key)") from None
+    msg = first["msg"].removeprefix("Value error, ")
+    more = len(err.errors()) - 1
+    expected = msg[0].lower() + msg[1:] if msg else "a valid value"
+    if more:
+        expected += f" (and {more} more error{'s' if more > 1 else ''})"
+    raise InputError(file, field, expected, got=first.get("input")) from None
+
+
+def read_toml(file: Path) -> dict[str, Any]:
+    """Read a TOML file; a syntax error names the file and the line."""
+    try:
+        with file.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError(file, "", "an existing file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(file, "", f"valid TOML ({exc})") from None
+
+
+def load_case(directory: Path | str, quick: bool = False, kind_module: str | None = None) -> Case:
+    """Read, validate and resolve one case folder.
+
+    ``quick`` merges the ``[quick]`` table over ``[inputs]``. Raises :class:`InputError`.
+    """
+    directory = Path(directory)
+    file = directory / CASE_FILE
+    raw = read_toml(file)
+    try:
+        spec = CaseSpec.model_validate(raw)
+    except ValidationError as exc:
+        raise_validation_error(file, exc)
+    kind = get_kind(spec.kind, file, module=kind_module)
+    for table in ("reference", "tolerances"):
+        for key in getattr(spec, table):
+            if key not in kind.metrics:
+                raise InputError(
+                    file,
+                    f"{table}.{key}",
+                    f"a metric of kind {kind.name!r}: {', '.join(kind.metrics)}",
+                )
+    for key, tol in spec.tolerances.items():
+        if tol.needs_reference and key not in spec.reference:
+            raise InputError(file, f"tolerances.{key}", f"a [reference.{key}] to be relative to")
+    unknown_quick = set(spec.quick) - set(kind.inputs.model_fields)
+    if unknown_quick:
+        raise InputError(file, f"quick.{sorted(unknown_quick)[0]}", "a key of [inputs] to override")
+    data = {**spec.inputs, **spec.quick} if quick else dict(spec.inputs)
+    try:
+        inputs = kind.inputs.model_validate(data, context={"case_dir": directory})
+    except ValidationError as exc:
+        table = "quick." if quick and str(exc.errors()[0]["loc"][0]) in spec.quick else "inputs."
+        raise_validation_error(file, exc, prefix=table)
+    return Case(directory.name, directory, spec, kind, inputs)
+
+
+def discover(paths: list[Path]) -> list[Path]:
+    """Case folders under ``paths``: a folder with ``case.toml``, or the folders below one."""
+    found: list[Path] = []
+    for path in paths:
+        if (path / CASE_FILE).is_file():
+            found.append(path)
+        elif path.is_dir():
+            found.extend(sorted(p.parent for p in path.glob(f"*/{CASE_FILE}")))
+        else:
+            raise InputError(path, "", "a case folder (with case.toml) or a folder of cases")
+    if not found:
+        raise InputError(", ".join(map(str, paths)), "", "at least one case folder with case.toml")
+    names = [p.name for p in found]
+    dupes = {n for n in names if names.count(n) > 1}
+    if dupes:
+        raise InputError(sorted(dupes)[0], "", "case folder names to be unique (results/<name>/)")
+    return found

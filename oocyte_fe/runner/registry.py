@@ -1,0 +1,153 @@
+"""The case-kind registry: one dict, filled by the :func:`case_kind` decorator.
+
+A case kind is a plain function ``run(ctx: CaseContext) -> CaseOutcome`` plus its input
+schema (a pydantic model that forbids unknown keys) and the names of the metrics it reports.
+Kinds for ``afm``, ``nmsd`` and ``oocyte_fe`` live in :mod:`oocyte_fe.kinds`, one module each;
+they call the plain library functions of those packages (``afm`` and ``nmsd`` never import
+``oocyte_fe``).
+"""
+
+from __future__ import annotations
+
+import importlib
+import logging
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pydantic import BaseModel
+
+from oocyte_fe.errors import InputError
+
+_KINDS: dict[str, CaseKind] = {}
+_BUILTINS = "oocyte_fe.kinds"
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure file written by a kind into ``ctx.out_dir`` and its caption."""
+
+    file: str
+    caption: str
+
+
+@dataclass(frozen=True)
+class Check:
+    """A pass/fail comparison shown in the report (computed vs reference vs tolerance)."""
+
+    name: str
+    computed: float
+    passed: bool
+    tolerance: str
+    reference: float | None = None
+    source: str | None = None
+    unit: str | None = None
+
+    @property
+    def deviation(self) -> str:
+        if self.reference is None:
+            return ""
+        diff = self.computed - self.reference
+        if self.reference != 0:
+            return f"{diff:+.4g} ({100 * diff / abs(self.reference):+.2f} %)"
+        return f"{diff:+.4g}"
+
+
+@dataclass
+class CaseOutcome:
+    """What a kind returns: scalar metrics, figures, extra report sections and checks.
+
+    ``metrics`` holds numbers (or lists of numbers) in the internal unit system; the runner
+    compares those named in the case's ``[tolerances]`` against ``[reference]``. ``checks``
+    are comparisons the kind evaluates itself (for example over a whole curve).
+    """
+
+    metrics: dict[str, float | list[float]]
+    figures: list[Figure] = field(default_factory=list)
+    sections: list[tuple[str, str]] = field(default_factory=list)
+    checks: list[Check] = field(default_factory=list)
+
+
+@dataclass
+class CaseContext:
+    """Everything a running kind may use: its validated inputs and where to write."""
+
+    name: str
+    case_dir: Path
+    out_dir: Path
+    inputs: BaseModel
+    quick: bool
+    log: logging.Logger
+    notify: Callable[[str], None] = lambda _msg: None
+
+    def step(self, message: str) -> None:
+        """Log a step and show it on the progress display."""
+        self.log.info(message)
+        self.notify(message)
+
+    def output(self, relative: str) -> Path:
+        """Path of an output file inside the case's (temporary) result folder."""
+        path = self.out_dir / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        return path
+
+
+@dataclass(frozen=True)
+class CaseKind:
+    """A registered case kind."""
+
+    name: str
+    description: str
+    inputs: type[BaseModel]
+    metrics: Mapping[str, str]
+    run: Callable[[CaseContext], CaseOutcome]
+
+    @property
+    def module(self) -> str:
+        return self.run.__module__
+
+
+def case_kind(
+    name: str,
+    *,
+    inputs: type[BaseModel],
+    metrics: Mapping[str, str],
+    description: str = "",
+) -> Callable[[Callable[[CaseContext], CaseOutcome]], Callable[[CaseContext], CaseOutcome]]:
+    """Register ``run`` as the case kind ``name``.
+
+    ``metrics`` maps each metric name the kind reports to a one-line description with its
+    unit; case files may only name these in ``[reference]`` and ``[tolerances]``.
+    """
+    if inputs.model_config.get("extra") != "forbid":
+        raise TypeError(f"case kind {name!r}: its inputs model must forbid unknown keys")
+
+    def register(run: Callable[[CaseContext], CaseOutcome]) -> Callable[[CaseContext], CaseOutcome]:
+        existing = _KINDS.get(name)
+        if existing is not None and existing.module != run.__module__:
+            raise ValueError(f"case kind {name!r} is already registered by {existing.module}")
+        text = description or ((run.__doc__ or "").strip().splitlines() or [""])[0]
+        _KINDS[name] = CaseKind(name, text, inputs, dict(metrics), run)
+        return run
+
+    return register
+
+
+def _load_builtins() -> None:
+    importlib.import_module(_BUILTINS)
+
+
+def kinds() -> dict[str, CaseKind]:
+    """All registered kinds, the built-in ones included."""
+    _load_builtins()
+    return dict(_KINDS)
+
+
+def get_kind(name: str, file: str | Path = "case.toml", module: str | None = None) -> CaseKind:
+    """Look a kind up by name; ``module`` is imported first (kinds registered outside)."""
+    if module is not None:
+        importlib.import_module(module)
+    known = kinds()
+    if name not in known:
+        raise InputError(file, "kind", f"one of {', '.join(sorted(known))}", got=name)
+    return known[name]

@@ -1,0 +1,33 @@
+"""A test-only case kind: returns y = 2 x, or crashes, sleeps, writes partial output."""
+
+from __future__ import annotations
+
+import time
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from oocyte_fe.runner.casefile import DataFile
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
+
+
+class EchoInputs(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    x_um: float = Field(gt=0, description="a positive length, um")
+    nu: float = Field(default=0.3, ge=-1.0, lt=0.5, description="Poisson ratio (compressible)")
+    crash: bool = False
+    sleep_s: float = Field(default=0.0, ge=0)
+    data: DataFile | None = None
+
+
+@case_kind("test_echo", inputs=EchoInputs, metrics={"y_um": "2 x, um", "n_rows": "rows in data"})
+def run_echo(ctx: CaseContext) -> CaseOutcome:
+    """Echo kind used by the runner tests."""
+    inp = ctx.inputs
+    ctx.output("partial.txt").write_text("written before any crash")
+    ctx.step("computing")
+    if inp.sleep_s:
+        time.sleep(inp.sleep_s)
+    if inp.crash:
+        raise RuntimeError("deliberate crash for the test")
+    rows = len(inp.data.read_text().splitlines()) if inp.data else 0
+    return CaseOutcome(metrics={"y_um": 2.0 * inp.x_um, "n_rows": float(rows)})
