@@ -1,1 +1,12 @@
-"""Built-in case kinds, one module each; importing this package registers them all."""
+"""Built-in case kinds, one module each (``afm_*``, ``nmsd_*``, ``fe_*``, ``microchannel_*``).
+
+Importing this package imports every module in it, and each module registers its kinds with
+:func:`oocyte_fe.runner.registry.case_kind`. A kind module only validates inputs and calls the
+plain library functions of ``afm``, ``nmsd`` or ``oocyte_fe``; physics lives there.
+"""
+
+import importlib
+import pkgutil
+
+for _module in pkgutil.iter_modules(__path__):
+    importlib.import_module(f"{__name__}.{_module.name}")
