@@ -1,0 +1,130 @@
+"""Figures for the microchannel cases (matplotlib off-screen, pyvista off-screen)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from oocyte_fe.microchannel.duct_fe import DuctFlow
+from oocyte_fe.microchannel.rheology_fit import ViscosityFit
+
+PA_S = 1e3  # kPa s -> Pa s, for axis labels in the paper's units
+
+
+def plot_viscosity_fits(
+    shear_rate: np.ndarray, viscosity: np.ndarray, fits: Sequence[ViscosityFit], file: Path
+) -> Path:
+    """Log-log flow curve: data (kPa s stored, shown in Pa s) and every fitted model."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.loglog(shear_rate, viscosity * PA_S, "ko", label="Table 2 (seed 001)")
+    g = np.logspace(np.log10(shear_rate.min()) - 0.5, np.log10(shear_rate.max()) + 0.5, 200)
+    for fit in fits:
+        ax.loglog(g, fit.rheology.viscosity(g) * PA_S, label=f"{fit.model.name}, R² = {fit.r2:.4f}")
+    ax.set_xlabel("shear rate (1/s)")
+    ax.set_ylabel("viscosity (Pa s)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=130)
+    plt.close(fig)
+    return file
+
+
+def plot_profiles(
+    curves: Mapping[str, tuple[np.ndarray, np.ndarray]], xlabel: str, file: Path
+) -> Path:
+    """Velocity profiles, each normalised by its own mean velocity: name -> (x/size, u/U)."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for name, (x, u) in curves.items():
+        style = "o" if "FE" in name else "-"
+        ax.plot(x, u, style, label=name, ms=4)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("u / U (mean velocity)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=130)
+    plt.close(fig)
+    return file
+
+
+def plot_convergence(studies: Mapping[str, tuple[np.ndarray, np.ndarray]], file: Path) -> Path:
+    """Relative flow-rate error against element size: name -> (h / size, |error|)."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for name, (h, err) in studies.items():
+        ax.loglog(h, err, "o-", label=name)
+    ax.set_xlabel("element size / section size")
+    ax.set_ylabel("|Q_FE / Q_exact - 1|")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=130)
+    plt.close(fig)
+    return file
+
+
+def plot_junction_ratio(
+    pressure_hpa: np.ndarray,
+    experiment: np.ndarray,
+    vof: np.ndarray,
+    model: np.ndarray,
+    fit_pressures_hpa: Sequence[float],
+    file: Path,
+) -> Path:
+    """Axis ratio against driving pressure: experiment, paper's VOF and the reduced model."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(pressure_hpa, experiment, "ks", label="experiment (Table 4)")
+    ax.plot(pressure_hpa, vof, "b^--", label="three-phase VOF (Table 4)")
+    ax.plot(pressure_hpa, model, "r-o", label="reduced model (Kelvin-Voigt capsule)")
+    fitted = np.isin(pressure_hpa, fit_pressures_hpa)
+    ax.plot(
+        pressure_hpa[fitted],
+        model[fitted],
+        "o",
+        mfc="none",
+        mec="k",
+        ms=12,
+        label="pressures used in the fit",
+    )
+    ax.set_xlabel("driving pressure (hPa)")
+    ax.set_ylabel("axis ratio minor/major")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=130)
+    plt.close(fig)
+    return file
+
+
+def plot_duct_velocity(flow: DuctFlow, file: Path, title: str) -> Path:
+    """The FE velocity on a plane section, warped by its value, rendered off-screen (pyvista)."""
+    import pyvista as pv
+
+    mesh = flow.mesh
+    u = flow.u[flow.basis.nodal_dofs[0]]
+    points = np.column_stack([mesh.p[0], mesh.p[1], np.zeros(mesh.p.shape[1])])
+    faces = np.column_stack([np.full(mesh.t.shape[1], 3), mesh.t.T]).ravel()
+    grid = pv.PolyData(points, faces)
+    grid["u (um/s)"] = u
+    span = max(np.ptp(mesh.p[0]), np.ptp(mesh.p[1]))
+    warped = grid.warp_by_scalar("u (um/s)", factor=0.4 * span / max(u.max(), 1e-300))
+    plotter = pv.Plotter(off_screen=True, window_size=(900, 600))
+    plotter.add_mesh(
+        warped,
+        scalars="u (um/s)",
+        cmap="viridis",
+        show_edges=True,
+        edge_color="gray",
+        line_width=0.3,
+    )
+    plotter.add_text(title, font_size=10)
+    plotter.view_isometric()
+    plotter.screenshot(str(file))
+    plotter.close()
+    return file

@@ -1,0 +1,105 @@
+"""Reading the microchannel tables (CSV with units in the column names) into internal units.
+
+A column is ``<stem>_<unit>``, e.g. ``viscosity_Pa_s`` or ``pressure_hPa``; the unit suffix
+is looked up in :mod:`oocyte_fe.microchannel.units`. Every error names the file, the column and
+what was expected.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel import units
+
+
+def read_columns(path: Path) -> dict[str, np.ndarray]:
+    """All columns of a CSV file with a header row, as float arrays; ``#`` lines are comments."""
+    try:
+        with Path(path).open(newline="") as fh:
+            rows = list(csv.reader(fh))
+    except OSError as exc:
+        raise InputError(path, "", "a readable CSV file", got=exc.strerror) from None
+    rows = [r for r in rows if r and any(c.strip() for c in r) and not r[0].startswith("#")]
+    if len(rows) < 2:
+        raise InputError(path, "", "a header row and at least one data row")
+    header = [h.strip() for h in rows[0]]
+    columns: dict[str, list[float]] = {h: [] for h in header}
+    for line, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise InputError(path, f"line {line}", f"{len(header)} comma-separated values")
+        for name, cell in zip(header, row, strict=True):
+            try:
+                columns[name].append(float(cell))
+            except ValueError:
+                raise InputError(path, f"{name} (line {line})", "a number", got=cell) from None
+    return {k: np.array(v) for k, v in columns.items()}
+
+
+def quantity(columns: dict[str, np.ndarray], stem: str, kind: str, path: Path) -> np.ndarray:
+    """The column ``<stem>_<unit>`` converted to internal units (unit from the name)."""
+    table = units.QUANTITIES[kind]
+    found = [(name, name[len(stem) + 1 :]) for name in columns if name.startswith(stem + "_")]
+    if not found:
+        raise InputError(path, stem, f"a column {stem}_<unit> with unit one of {', '.join(table)}")
+    name, unit = found[0]
+    if unit not in table:
+        raise InputError(path, name, f"a {kind} unit, one of {', '.join(table)}", got=unit)
+    return columns[name] * table[unit]
+
+
+def _positive(values: np.ndarray, path: Path, column: str) -> np.ndarray:
+    bad = ~(np.isfinite(values) & (values > 0))
+    if np.any(bad):
+        raise InputError(path, column, "positive values", got=float(values[bad][0]))
+    return values
+
+
+@dataclass(frozen=True)
+class FlowCurve:
+    """Viscosity (kPa s) against shear rate (1/s), e.g. Table 2 of seed 001."""
+
+    shear_rate: np.ndarray
+    viscosity: np.ndarray
+    source: str
+
+
+def read_flow_curve(path: Path) -> FlowCurve:
+    """Read ``strain_rate_1_s`` (or ``shear_rate_1_s``) and ``viscosity_<unit>`` columns."""
+    columns = read_columns(path)
+    stem = "strain_rate" if any(c.startswith("strain_rate_") for c in columns) else "shear_rate"
+    rate = _positive(quantity(columns, stem, "shear_rate", path), path, stem)
+    eta = _positive(quantity(columns, "viscosity", "viscosity", path), path, "viscosity")
+    return FlowCurve(rate, eta, str(path))
+
+
+@dataclass(frozen=True)
+class DeformationTable:
+    """Axis ratio (minor/major, <= 1) of the deformed oocyte against driving pressure (kPa)."""
+
+    pressure: np.ndarray
+    ratio_experiment: np.ndarray
+    ratio_simulation: np.ndarray
+    source: str
+
+
+def read_deformation_table(path: Path) -> DeformationTable:
+    """Read ``pressure_<unit>``, ``ratio_experiment`` and ``ratio_simulation`` columns."""
+    columns = read_columns(path)
+    pressure = _positive(quantity(columns, "pressure", "pressure", path), path, "pressure")
+    ratios = []
+    for name in ("ratio_experiment", "ratio_simulation"):
+        if name not in columns:
+            raise InputError(path, name, "this column (axis ratio, dimensionless)")
+        r = columns[name]
+        if not np.all((r > 0) & (r <= 1)):
+            raise InputError(
+                path, name, "axis ratios in (0, 1]", got=float(r[(r <= 0) | (r > 1)][0])
+            )
+        ratios.append(r)
+    order = np.argsort(pressure)
+    return DeformationTable(pressure[order], ratios[0][order], ratios[1][order], str(path))
