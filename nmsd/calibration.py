@@ -1,0 +1,166 @@
+"""Calibration of the NMSD constants to a force-displacement table (eqs 7-8 of seed 000).
+
+Objective (eq 7): ``F(x) = sum_i (f_model(d_i) - f_exp(d_i))^2`` over the table's
+displacements ``d_i`` (forces in nN). Constraints (eq 8): ``d0 >= 0``, ``d1 >= 0``,
+``k2 >= 50 k1``. With the change of variables ``s = k1 / k2`` the constraints become simple
+bounds (``0 <= s <= 1/50``, ``k2, d0, d1 >= 0``), solved by the bounded trust-region
+least-squares of ``scipy.optimize.least_squares`` from several Latin-hypercube starts; the
+best end point wins.
+
+Three model families (Section II.B.3):
+
+- ``linear_msd``: linear links ``k1 dl`` (k2 = 0) and velocity damping d0 (d1 = 0);
+- ``msd_d0``: the cubic-linear links of eqs 3-5 with velocity damping d0 only (d1 = 0);
+- ``nmsd``: cubic-linear links and the full damping ``d0 + d1 |r - r0|`` of eq 6.
+
+Fit measures over the n table points: ``RMSE = sqrt(mean((f_model - f_exp)^2))``,
+``R^2 = 1 - SS_res / SS_tot`` and the similarity ``S = f_model . f_exp /
+(|f_model| |f_exp|)`` (cosine of the angle between the two force vectors; 1 is a perfect
+match up to scale; the paper stops its calibration at 0.999).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.stats import qmc
+
+from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.parameters import NmsdParameters
+from nmsd.press import PressSetup
+from nmsd.tableII import ForceDisplacement
+
+MODELS = ("linear_msd", "msd_d0", "nmsd")
+K2_OVER_K1_MIN = 50.0
+
+# search box of each free variable (log10 bounds of the starts, hard lower/upper bounds)
+_START_BOX = {
+    "k1": (1.0, 4.0),
+    "k2": (2.0, 6.0),
+    "s": (-5.0, np.log10(1.0 / K2_OVER_K1_MIN)),
+    "d0": (-1.0, 2.5),
+    "d1": (-3.0, 1.0),
+}
+_BOUNDS = {
+    "k1": (0.0, np.inf),
+    "k2": (0.0, np.inf),
+    "s": (0.0, 1.0 / K2_OVER_K1_MIN),
+    "d0": (0.0, np.inf),
+    "d1": (0.0, np.inf),
+}
+_FREE = {"linear_msd": ("k1", "d0"), "msd_d0": ("k2", "s", "d0"), "nmsd": ("k2", "s", "d0", "d1")}
+
+
+@dataclass(frozen=True)
+class FitMetrics:
+    """RMSE (nN), coefficient of determination R^2 and cosine similarity of a force curve."""
+
+    rmse_nN: float
+    r2: float
+    similarity: float
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    """Best constants, their fit, the model forces at the table points (nN) and the cost."""
+
+    model: str
+    params: NmsdParameters
+    metrics: FitMetrics
+    force_nN: np.ndarray
+    evaluations: int
+    seconds: float
+    success: bool
+    message: str
+
+
+def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
+    """RMSE, R^2 and cosine similarity of model against measured forces."""
+    model_nN, measured_nN = np.asarray(model_nN), np.asarray(measured_nN)
+    residual = model_nN - measured_nN
+    ss_tot = float(np.sum((measured_nN - measured_nN.mean()) ** 2))
+    norm = float(np.linalg.norm(model_nN) * np.linalg.norm(measured_nN))
+    return FitMetrics(
+        float(np.sqrt(np.mean(residual**2))),
+        1.0 - float(np.sum(residual**2)) / ss_tot,
+        float(model_nN @ measured_nN) / norm if norm > 0 else 0.0,
+    )
+
+
+def params_for(model: str, values: np.ndarray, base: NmsdParameters) -> NmsdParameters:
+    """Constants of ``model`` from its free variables (see ``_FREE``)."""
+    v = dict(zip(_FREE[model], values, strict=True))
+    if model == "linear_msd":
+        return base.with_values(k1=v["k1"], k2=0.0, d0=v["d0"], d1=0.0)
+    k2 = v["k2"]
+    return base.with_values(k1=v["s"] * k2, k2=k2, d0=v["d0"], d1=v.get("d1", 0.0))
+
+
+def model_forces(setup: PressSetup, params: NmsdParameters, data: ForceDisplacement) -> np.ndarray:
+    """Model force (nN) at the table displacements, the steps ending exactly on them."""
+    return setup.run(params, record_um=data.displacement_um).force_at(data.displacement_um)
+
+
+def calibrate(
+    setup: PressSetup,
+    data: ForceDisplacement,
+    model: str = "nmsd",
+    base: NmsdParameters | None = None,
+    n_starts: int = 4,
+    seed: int = 0,
+    max_evaluations: int = 60,
+) -> CalibrationResult:
+    """Minimise eq 7 under eq 8 for ``model`` from ``n_starts`` starts.
+
+    ``base`` supplies the constants not fitted (dl_c, node mass).
+    """
+    if model not in MODELS:
+        raise NmsdInputError("calibrate", "model", f"one of {', '.join(MODELS)}", got=model)
+    if n_starts < 1:
+        raise NmsdInputError("calibrate", "n_starts", ">= 1", got=n_starts)
+    base = NmsdParameters() if base is None else base
+    names = _FREE[model]
+    lower = np.array([_BOUNDS[n][0] for n in names])
+    upper = np.array([_BOUNDS[n][1] for n in names])
+    box = np.array([_START_BOX[n] for n in names])
+    starts = 10.0 ** qmc.scale(qmc.LatinHypercube(len(names), seed=seed).random(n_starts), *box.T)
+    measured = data.force_nN
+    penalty = 10.0 * (np.abs(measured) + np.abs(measured).max())
+    count = 0
+
+    def residual(values: np.ndarray) -> np.ndarray:
+        nonlocal count
+        count += 1
+        try:
+            return model_forces(setup, params_for(model, values, base), data) - measured
+        except NmsdDivergence:
+            return penalty
+
+    tic = time.perf_counter()
+    best = None
+    for start in starts:
+        fit = least_squares(
+            residual,
+            np.clip(start, lower, upper),
+            bounds=(lower, upper),
+            x_scale=start,
+            diff_step=1e-3,
+            max_nfev=max_evaluations,
+        )
+        if best is None or fit.cost < best.cost:
+            best = fit
+    params = params_for(model, best.x, base)
+    forces = model_forces(setup, params, data)
+    return CalibrationResult(
+        model,
+        params,
+        fit_metrics(forces, measured),
+        forces,
+        count + 1,
+        time.perf_counter() - tic,
+        bool(best.success),
+        str(best.message),
+    )

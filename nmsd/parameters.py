@@ -1,0 +1,64 @@
+"""NMSD constants in one consistent unit system (um, nN, s), validated where they enter.
+
+The spring law (eq 3) acts on the link strain ``dl = (l - l0) / l0`` (dimensionless), so
+``k1`` and ``k2`` are forces (nN), as the paper's printed unit "N" implies, and the
+constraint ``k2 >= 50 k1`` (eq 8) compares like with like. Damping (eq 6) is nodal:
+``d0`` in nN s/um, ``d1`` in nN s/um^2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+from nmsd.errors import NmsdInputError
+
+WATER_DENSITY = 1.0e-12
+"""Cytoplasm density taken as water, 1000 kg/m^3, in nN s^2/um^4 (mass unit 1e-3 kg per um^3)."""
+
+
+@dataclass(frozen=True)
+class NmsdParameters:
+    """Spring, damper and mass constants of the lattice.
+
+    k1: linear coefficient of the link force, nN (per unit strain).
+    k2: cubic coefficient of the link force, nN (per unit strain cubed).
+    dl_c: critical link strain above which the force continues linearly (eqs 4-5), > 0.
+    d0: velocity damping per node, nN s/um.
+    d1: displacement-velocity damping per node, nN s/um^2.
+    node_mass: mass of each node, nN s^2/um (= 1e-3 kg); 0 makes the model first order.
+    """
+
+    k1: float = 100.0
+    k2: float = 5000.0
+    dl_c: float = 0.3
+    d0: float = 10.0
+    d1: float = 0.1
+    node_mass: float = 3.5e-9
+    source: str = "NmsdParameters"
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "source":
+                continue
+            if not isinstance(value, int | float) or not math.isfinite(value):
+                raise NmsdInputError(self.source, f.name, "a finite number", got=value)
+        for name in ("k1", "k2", "d0", "d1"):
+            if getattr(self, name) < 0:
+                raise NmsdInputError(self.source, name, ">= 0", got=getattr(self, name))
+        if self.dl_c <= 0:
+            raise NmsdInputError(self.source, "dl_c", "a critical strain > 0", got=self.dl_c)
+        if self.node_mass < 0:
+            raise NmsdInputError(self.source, "node_mass", "a mass >= 0", got=self.node_mass)
+        if self.k1 + self.k2 <= 0:
+            raise NmsdInputError(self.source, "k1/k2", "a positive spring stiffness")
+
+    def with_values(self, **values: float) -> NmsdParameters:
+        """A copy with some constants replaced (validated again)."""
+        return replace(self, **values)
+
+
+def node_mass_for(diameter_um: float, n_nodes: int, density: float = WATER_DENSITY) -> float:
+    """Mass per node of a sphere of the given diameter shared by ``n_nodes``, nN s^2/um."""
+    return density * math.pi * diameter_um**3 / 6.0 / n_nodes

@@ -1,0 +1,197 @@
+"""A pipette driven at constant speed into the lattice: the force-displacement experiment.
+
+Seed 000, Sections II.B.2 and III.C: the pipette presses the oocyte from 3 o'clock at
+30 um/s over 65 um while the opposite side is held; the force on the pipette (``F^ext`` of
+eq 1, summed over the nodes it touches, along its motion) is the model output. Held nodes
+are the rim nodes on the far side within ``hold_half_width_um`` of the pipette axis (the
+holding pipette's mouth).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.integrator import BackwardEulerStepper, NewtonFailure
+from nmsd.lattice import Lattice, circular_lattice
+from nmsd.parameters import NmsdParameters
+from nmsd.pipette import Pipette
+
+MAX_HALVINGS = 6
+
+
+@dataclass(frozen=True)
+class PressResult:
+    """Time history of one press.
+
+    ``advance_um``, ``time_s``, ``force_nN`` (force on the cell along the pipette motion) at
+    every step; ``snapshots`` maps each requested advance (um) to node positions (n, 2) um;
+    ``newton_iterations``: total Newton iterations.
+    """
+
+    advance_um: np.ndarray
+    time_s: np.ndarray
+    force_nN: np.ndarray
+    positions: np.ndarray
+    snapshots: dict[float, np.ndarray] = field(default_factory=dict)
+    newton_iterations: int = 0
+
+    def force_at(self, advances_um: Sequence[float]) -> np.ndarray:
+        """Force (nN) at the given advances (linear between steps)."""
+        return np.interp(advances_um, self.advance_um, self.force_nN)
+
+
+@dataclass(frozen=True, eq=False)
+class PressSetup:
+    """Everything but the constants: lattice, pipette (touching at zero advance), held nodes.
+
+    Build it with :func:`press_setup`; ``run(params)`` simulates one press.
+    """
+
+    lattice: Lattice
+    pipette: Pipette
+    held: np.ndarray
+    speed_um_s: float = 30.0
+    travel_um: float = 65.0
+    n_steps: int = 65
+
+    def run(self, params: NmsdParameters, record_um: Sequence[float] = (), **kw) -> PressResult:
+        """Simulate the press with ``params``; ``kw`` overrides speed, travel or n_steps."""
+        options = {
+            "speed_um_s": self.speed_um_s,
+            "travel_um": self.travel_um,
+            "n_steps": self.n_steps,
+            **kw,
+        }
+        return simulate_press(
+            self.lattice, params, self.pipette, self.held, record_um=record_um, **options
+        )
+
+
+def press_setup(
+    lattice: Lattice | None = None,
+    width_um: float = 20.628,
+    tip_angle_deg: float = 25.238,
+    hold_half_width_um: float = 25.0,
+    contact_stiffness: float = 2.0e4,
+    speed_um_s: float = 30.0,
+    travel_um: float = 65.0,
+    n_steps: int = 65,
+    gap_um: float = 0.0,
+) -> PressSetup:
+    """The press of Table II: pipette on the x axis from 3 o'clock, far side held.
+
+    The mouth starts ``gap_um`` before touching the outermost node on its axis (a travel
+    with no lattice contact, e.g. across the zona pellucida, which the lattice omits).
+    """
+    if gap_um < 0:
+        raise NmsdInputError("press_setup", "gap_um", ">= 0 (a pipette starting outside)", gap_um)
+    lattice = circular_lattice() if lattice is None else lattice
+    far = (2.0 * lattice.radius, 0.0)
+    touching = touching_start(
+        lattice, Pipette(width_um, tip_angle_deg, far, (-1.0, 0.0), contact_stiffness)
+    )
+    start = (touching.start[0] + gap_um, touching.start[1])
+    pipette = Pipette(width_um, tip_angle_deg, start, (-1.0, 0.0), contact_stiffness)
+    held = held_far_side(lattice, pipette, hold_half_width_um)
+    return PressSetup(lattice, pipette, held, speed_um_s, travel_um, n_steps)
+
+
+def held_far_side(lattice: Lattice, pipette: Pipette, hold_half_width_um: float) -> np.ndarray:
+    """Mask of the rim nodes opposite the pipette within ``hold_half_width_um`` of its axis."""
+    a = np.asarray(pipette.direction)
+    b = np.array([-a[1], a[0]])
+    along = lattice.nodes @ a
+    across = np.abs((lattice.nodes - pipette.start) @ b)
+    held = lattice.rim & (along > 0) & (across <= hold_half_width_um)
+    if not held.any():
+        raise NmsdInputError(
+            "held_far_side", "hold_half_width_um", "a width that holds at least one rim node"
+        )
+    return held
+
+
+def touching_start(lattice: Lattice, pipette: Pipette) -> Pipette:
+    """The pipette moved back along its axis until its mouth just touches the lattice."""
+    a = np.asarray(pipette.direction)
+    b = np.array([-a[1], a[0]])
+    rel = lattice.nodes - pipette.start
+    in_strip = np.abs(rel @ b) <= 0.5 * pipette.width_um
+    if not in_strip.any():
+        raise NmsdInputError(pipette.source, "start", "a pipette axis that meets the lattice")
+    shift = float(np.min(rel[in_strip] @ a))
+    start = tuple(np.asarray(pipette.start) + shift * a)
+    return Pipette(
+        pipette.width_um,
+        pipette.tip_angle_deg,
+        start,
+        pipette.direction,
+        pipette.contact_stiffness,
+        pipette.source,
+    )
+
+
+def simulate_press(
+    lattice: Lattice,
+    params: NmsdParameters,
+    pipette: Pipette,
+    held: np.ndarray,
+    speed_um_s: float = 30.0,
+    travel_um: float = 65.0,
+    n_steps: int = 65,
+    record_um: Sequence[float] = (),
+    initial_positions: np.ndarray | None = None,
+) -> PressResult:
+    """Drive the pipette ``travel_um`` at ``speed_um_s`` in ``n_steps`` backward-Euler steps.
+
+    The step ends include every advance in ``record_um``; a step whose Newton iterations fail
+    is halved up to 6 times before :class:`NmsdDivergence` is raised.
+    """
+    if speed_um_s <= 0 or travel_um <= 0 or n_steps < 1:
+        raise NmsdInputError("simulate_press", "speed/travel/n_steps", "positive values")
+    x = lattice.nodes.copy() if initial_positions is None else np.array(initial_positions)
+    if pipette.contains(x, 0.0).any():
+        raise NmsdInputError(
+            pipette.source, "start", "a pipette that starts outside the cell (no node inside it)"
+        )
+    record = sorted({float(r) for r in record_um if 0 < r <= travel_um})
+    grid = np.union1d(np.linspace(0.0, travel_um, n_steps + 1), record)
+    stepper = BackwardEulerStepper(lattice, params, pipette, held)
+    v = np.zeros_like(x)
+    force = np.zeros(len(grid))
+    snapshots = {0.0: x.copy()} if 0.0 in record_um else {}
+    iterations = 0
+    for k in range(1, len(grid)):
+        x, v, f_contact, its = _advance(stepper, x, v, grid[k - 1], grid[k], speed_um_s, k)
+        iterations += its
+        force[k] = float(f_contact.sum(axis=0) @ np.asarray(pipette.direction))
+        if grid[k] in record:
+            snapshots[float(grid[k])] = x.copy()
+    return PressResult(grid, grid / speed_um_s, force, x, snapshots, iterations)
+
+
+def _advance(
+    stepper: BackwardEulerStepper,
+    x: np.ndarray,
+    v: np.ndarray,
+    s0: float,
+    s1: float,
+    speed: float,
+    step: int,
+    depth: int = 0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """One step from advance s0 to s1, split in halves when Newton fails."""
+    dt = (s1 - s0) / speed
+    try:
+        res = stepper.step(x, v, s1, dt)
+        return res.positions, res.velocities, res.contact_force, res.iterations
+    except NewtonFailure as exc:
+        if depth >= MAX_HALVINGS:
+            raise NmsdDivergence(step, s1 / speed, str(exc), dt / 2) from None
+    mid = 0.5 * (s0 + s1)
+    x, v, _, n1 = _advance(stepper, x, v, s0, mid, speed, step, depth + 1)
+    x, v, f, n2 = _advance(stepper, x, v, mid, s1, speed, step, depth + 1)
+    return x, v, f, n1 + n2

@@ -1,0 +1,59 @@
+"""Reading a force-displacement table (Table II of seed 000) with its units in the header.
+
+Columns: ``displacement_um`` (strictly increasing), ``force_experiment_uN`` and optionally
+``force_simulation_uN`` (the paper's model). Forces are converted to nN on reading.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from nmsd.errors import NmsdInputError
+
+UN_TO_NN = 1.0e3
+
+
+@dataclass(frozen=True, eq=False)
+class ForceDisplacement:
+    """Measured press: displacement (um), measured force (nN), the paper's model force (nN)."""
+
+    displacement_um: np.ndarray
+    force_nN: np.ndarray
+    paper_model_nN: np.ndarray | None = None
+    source: str = ""
+
+
+def read_force_displacement(path: str | Path) -> ForceDisplacement:
+    """Read the CSV; raise :class:`NmsdInputError` naming file and column on bad content."""
+    path = Path(path)
+    try:
+        with path.open(newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except OSError as exc:
+        raise NmsdInputError(str(path), "", "a readable CSV file", got=exc.strerror) from None
+    header = set(rows[0]) if rows else set()
+    for column in ("displacement_um", "force_experiment_uN"):
+        if column not in header:
+            raise NmsdInputError(str(path), column, "this column (units in the name)")
+    columns = {}
+    for name in ("displacement_um", "force_experiment_uN", "force_simulation_uN"):
+        if name not in header:
+            continue
+        try:
+            columns[name] = np.array([float(r[name]) for r in rows])
+        except (TypeError, ValueError):
+            raise NmsdInputError(str(path), name, "numbers in every row") from None
+    d = columns["displacement_um"]
+    if len(d) < 2 or np.any(np.diff(d) <= 0) or d[0] < 0:
+        raise NmsdInputError(str(path), "displacement_um", "non-negative, strictly increasing")
+    paper = columns.get("force_simulation_uN")
+    return ForceDisplacement(
+        d,
+        columns["force_experiment_uN"] * UN_TO_NN,
+        None if paper is None else paper * UN_TO_NN,
+        str(path),
+    )
