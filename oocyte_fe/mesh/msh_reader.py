@@ -94,10 +94,13 @@ def read_mesh(
     named ``subdomains``/``boundaries`` (:func:`require_groups`).
     """
     path = Path(path)
-    try:
-        m = meshio.read(path, file_format="gmsh")
-    except (OSError, meshio.ReadError, ValueError, KeyError) as err:
-        raise InputError(path, "", f"a readable gmsh .msh file ({err})") from err
+    if not path.is_file():
+        raise InputError(path, "", "an existing gmsh .msh file")
+    try:  # the format reader itself: meshio.read would sys.exit on a bad file
+        m = meshio.gmsh.read(str(path))
+    except (meshio.ReadError, ValueError, KeyError, IndexError, UnicodeDecodeError) as err:
+        detail = str(err) or type(err).__name__
+        raise InputError(path, "", f"a readable gmsh .msh file ({detail})") from err
     mesh = skfem_mesh_from_meshio(m, path)
     check_mesh(mesh, path)
     require_groups(mesh, subdomains, boundaries, path)
