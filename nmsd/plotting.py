@@ -1,0 +1,75 @@
+"""Figures of the NMSD model (off-screen matplotlib)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from nmsd.lattice import Lattice  # noqa: E402
+from nmsd.pipette import Pipette  # noqa: E402
+
+
+def plot_force_curves(
+    path: Path,
+    displacement_um: np.ndarray,
+    measured_uN: np.ndarray,
+    curves: dict[str, tuple[np.ndarray, np.ndarray]],
+) -> None:
+    """Force (uN) against displacement (um): data and model curves ``label: (d_um, f_uN)``."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(displacement_um, measured_uN, "ko", label="measured (Table II)")
+    for label, (d, force) in curves.items():
+        ax.plot(d, force, "-", label=label)
+    ax.set_xlabel("pipette displacement (um)")
+    ax.set_ylabel("force (uN)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_snapshots(
+    path: Path, lattice: Lattice, pipette: Pipette, snapshots: dict[float, np.ndarray]
+) -> None:
+    """Lattice at several advances, links drawn, nodes coloured by displacement (um)."""
+    keys = sorted(snapshots)
+    fig, axes = plt.subplots(1, len(keys), figsize=(3.2 * len(keys), 3.4))
+    for ax, key in zip(np.atleast_1d(axes), keys, strict=True):
+        x = snapshots[key]
+        seg = x[lattice.edges]
+        ax.plot(seg[:, :, 0].T, seg[:, :, 1].T, color="0.75", lw=0.5)
+        u = np.linalg.norm(x - lattice.nodes, axis=1)
+        sc = ax.scatter(x[:, 0], x[:, 1], c=u, s=8, cmap="viridis", vmin=0)
+        ax.fill(*pipette.outline(key).T, color="tab:red", alpha=0.4)
+        ax.set_title(f"{key:g} um")
+        ax.set_aspect("equal")
+        ax.set_xlim(-1.2 * lattice.radius, 1.5 * lattice.radius)
+        ax.set_ylim(-1.2 * lattice.radius, 1.2 * lattice.radius)
+        ax.axis("off")
+        fig.colorbar(sc, ax=ax, shrink=0.6, label="|u| (um)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_spindle(
+    path: Path, spindle_path: np.ndarray, paper_final: np.ndarray, pid_position: np.ndarray
+) -> None:
+    """Spindle path and PID pipette trace in the paper frame (um)."""
+    fig, ax = plt.subplots(figsize=(5, 5))
+    ax.plot(*spindle_path.T, "b.-", ms=3, label="spindle (model)")
+    ax.plot(*spindle_path[0], "bs", label="spindle start")
+    ax.plot(*paper_final, "r*", ms=12, label="paper prediction")
+    ax.plot(*pid_position.T, "g-", lw=1, label="pipette (PID)")
+    ax.set_xlabel("X, into the cell (um)")
+    ax.set_ylabel("Y (um)")
+    ax.set_aspect("equal")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

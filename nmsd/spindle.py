@@ -1,0 +1,98 @@
+"""Spindle offset prediction (Section II.C of seed 000): the pipette, after puncture, advances
+to the spindle's initial position and pushes the spindle (a material point) ahead of it.
+
+Paper frame: origin at the puncture point (3 o'clock on the rim), X into the cell along the
+pipette's entry axis, Y towards 12 o'clock; world (cell-centred) axes: ``x = R - X``,
+``y = Y``. Scenario: the lattice is at rest when the approach starts (the membrane relaxed
+after puncture); the pipette axis points from the puncture point to the spindle's initial
+position; the mouth starts backed off along that axis just clear of every node and travels
+until it reaches the spindle's initial position; the far-side rim nodes within the holding
+pipette's half-width are held.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from nmsd.lattice import Lattice
+from nmsd.material_point import locate
+from nmsd.parameters import NmsdParameters
+from nmsd.pipette import Pipette
+from nmsd.press import PressResult, held_far_side, simulate_press
+
+
+@dataclass(frozen=True, eq=False)
+class SpindleOffset:
+    """Spindle start and end in the paper frame (um), its path (k, 2) and the press."""
+
+    initial_um: np.ndarray
+    final_um: np.ndarray
+    path_um: np.ndarray
+    pipette: Pipette
+    press: PressResult
+    advance_um: float
+
+
+def to_world(lattice: Lattice, paper_xy: np.ndarray) -> np.ndarray:
+    """Paper frame (origin at the puncture point, X inwards) to cell-centred axes, um."""
+    p = np.atleast_2d(paper_xy)
+    return np.column_stack([lattice.radius - p[:, 0], p[:, 1]])
+
+
+def to_paper(lattice: Lattice, world_xy: np.ndarray) -> np.ndarray:
+    """Cell-centred axes to the paper frame, um."""
+    w = np.atleast_2d(world_xy)
+    return np.column_stack([lattice.radius - w[:, 0], w[:, 1]])
+
+
+def clear_back_off(lattice: Lattice, pipette: Pipette) -> float:
+    """Smallest distance (um) the mouth must back off along its axis to leave every node outside.
+
+    A node at (xi, eta) in the pipette frame is inside iff
+    ``xi <= min(0, (d/2 - |eta|) / tan(theta/2))``.
+    """
+    a = np.asarray(pipette.direction)
+    b = np.array([-a[1], a[0]])
+    rel = lattice.nodes - pipette.start
+    xi, eta = rel @ a, np.abs(rel @ b)
+    slope = np.tan(np.radians(pipette.tip_angle_deg) / 2)
+    with np.errstate(divide="ignore"):
+        flank = np.where(slope > 0, (0.5 * pipette.width_um - eta) / slope, -np.inf)
+    flank = np.where(eta <= 0.5 * pipette.width_um, 0.0, flank)
+    return float(max(0.0, np.max(np.minimum(0.0, flank) - xi)) + 1e-9)
+
+
+def predict_spindle_offset(
+    lattice: Lattice,
+    params: NmsdParameters,
+    spindle_initial_um: tuple[float, float] = (15.8718, 18.1392),
+    width_um: float = 20.628,
+    tip_angle_deg: float = 25.238,
+    hold_half_width_um: float = 25.0,
+    contact_stiffness: float = 2.0e4,
+    speed_um_s: float = 30.0,
+    step_um: float = 0.5,
+) -> SpindleOffset:
+    """Run the approach of the scenario above; return the spindle's end point (paper frame)."""
+    initial = np.asarray(spindle_initial_um, dtype=float)
+    target = to_world(lattice, initial)[0]
+    puncture = np.array([lattice.radius, 0.0])
+    direction = target - puncture
+    distance = float(np.linalg.norm(direction))
+    probe = Pipette(width_um, tip_angle_deg, tuple(puncture), tuple(direction), contact_stiffness)
+    back = clear_back_off(lattice, probe)
+    start = puncture - back * np.asarray(probe.direction)
+    pipette = Pipette(width_um, tip_angle_deg, tuple(start), probe.direction, contact_stiffness)
+    held = held_far_side(lattice, pipette, hold_half_width_um)
+    travel = back + distance
+    n_steps = max(1, int(np.ceil(travel / step_um)))
+    record = list(np.linspace(0.0, travel, n_steps + 1)[1:])
+    press = simulate_press(
+        lattice, params, pipette, held, speed_um_s, travel, n_steps, record_um=record
+    )
+    spindle = locate(lattice, target[None, :])
+    frames = [lattice.nodes] + [press.snapshots[float(a)] for a in record]
+    path = np.vstack([to_paper(lattice, spindle.positions(f)) for f in frames])
+    return SpindleOffset(initial, path[-1], path, pipette, press, travel)
