@@ -7,11 +7,11 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from nmsd.lattice import Lattice  # noqa: E402
-from nmsd.pipette import Pipette  # noqa: E402
+from nmsd.lattice import Lattice
+from nmsd.pipette import Pipette
 
 
 def plot_force_curves(
