@@ -1,0 +1,43 @@
+"""AFM indentation analysis for oocyte-fe: tip models, curve fitting, pierce-through curves,
+creep to a Prony series, and the material file the FE models read.
+
+Internal units: um, nN, kPa, s. ``afm`` never imports ``oocyte_fe``.
+"""
+
+from afm.creep import CreepData, CreepFit, fit_creep, material_from_creep_csv
+from afm.curve import ForceCurve
+from afm.errors import AfmInputError, MissingExtraError
+from afm.fit import FitRange, IndentationFit, fit_indentation
+from afm.material_file import MaterialFile, read_material, write_material
+from afm.models import MODELS, get_model
+from afm.pierce import PierceFit, fit_pierce
+from afm.prony_series import (
+    CreepProny,
+    RelaxationProny,
+    creep_from_relaxation,
+    relaxation_from_creep,
+)
+
+__all__ = [
+    "MODELS",
+    "AfmInputError",
+    "CreepData",
+    "CreepFit",
+    "CreepProny",
+    "FitRange",
+    "ForceCurve",
+    "IndentationFit",
+    "MaterialFile",
+    "MissingExtraError",
+    "PierceFit",
+    "RelaxationProny",
+    "creep_from_relaxation",
+    "fit_creep",
+    "fit_indentation",
+    "fit_pierce",
+    "get_model",
+    "material_from_creep_csv",
+    "read_material",
+    "relaxation_from_creep",
+    "write_material",
+]

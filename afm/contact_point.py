@@ -1,0 +1,45 @@
+"""Contact point estimation.
+
+Two methods; a fit reports which one it used:
+
+``deviation``
+    The last point where the baseline-corrected force is still within ``n_sigma`` noise
+    standard deviations of zero, before the force stays above it to the end of the approach.
+    Model-free and fast, biased late by the force needed to exceed the noise band.
+``fit``
+    The contact point is a parameter of the least-squares model fit (see :mod:`afm.fit`), started
+    from the ``deviation`` estimate.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from afm.errors import AfmInputError
+
+METHODS = ("fit", "deviation")
+
+
+def deviation_index(
+    force_nN: np.ndarray, noise_nN: float, n_sigma: float = 5.0, source: str = "<input>"
+) -> int:
+    """Index of the contact estimate: last point with F <= n_sigma * noise before F stays above.
+
+    Raises :class:`AfmInputError` when the curve never leaves the noise band (no contact).
+    """
+    force = np.asarray(force_nN, dtype=float)
+    span = float(np.ptp(force))
+    threshold = max(n_sigma * noise_nN, 1e-9 * max(span, 1e-12))
+    inside = force <= threshold
+    if inside[-1] or span <= 2 * threshold:
+        raise AfmInputError(
+            source, "force_nN", "a curve that reaches contact (force rising above the noise)"
+        )
+    return int(np.flatnonzero(inside)[-1])
+
+
+def check_method(method: str, source: str = "<input>") -> str:
+    """Return ``method`` if it is a known contact-point method, else raise."""
+    if method not in METHODS:
+        raise AfmInputError(source, "contact_method", f"one of {', '.join(METHODS)}", method)
+    return method

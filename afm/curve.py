@@ -1,0 +1,111 @@
+"""A force curve (approach segment) in the internal units, validated where it enters.
+
+Convention: ``piezo_um`` is the piezo (scanner) travel towards the sample, increasing during
+the approach; ``force_nN`` the cantilever force, positive when pressing on the sample. The
+tip-sample separation follows from the cantilever deflection ``force / k``::
+
+    tip position  x = piezo - F/k                          [um]
+    indentation   delta = x - contact_point = piezo - contact_point - F/k
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from afm.errors import AfmInputError
+
+MIN_POINTS = 10
+
+
+@dataclass(frozen=True)
+class ForceCurve:
+    """Approach force curve: piezo travel [um], force [nN], spring constant k [nN/um].
+
+    (k in N/m times 1000 is k in nN/um.) ``source`` names the file it came from, for errors.
+    """
+
+    piezo_um: np.ndarray
+    force_nN: np.ndarray
+    spring_constant_nN_per_um: float
+    source: str = "<input>"
+    group: str = ""
+    time_s: np.ndarray | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        piezo = np.asarray(self.piezo_um, dtype=float)
+        force = np.asarray(self.force_nN, dtype=float)
+        src = self.source
+        if piezo.ndim != 1 or force.shape != piezo.shape:
+            raise AfmInputError(src, "force_nN", "one force per piezo position (1-D columns)")
+        if piezo.size < MIN_POINTS:
+            raise AfmInputError(src, "piezo_um", f"at least {MIN_POINTS} points", piezo.size)
+        for name, values in (("piezo_um", piezo), ("force_nN", force)):
+            bad = np.flatnonzero(~np.isfinite(values))
+            if bad.size:
+                raise AfmInputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
+        step = np.diff(piezo)
+        if np.any(step < 0) or piezo[-1] <= piezo[0]:
+            raise AfmInputError(
+                src,
+                "piezo_um",
+                "a monotonic approach (piezo travel non-decreasing towards the sample)",
+                f"decreases at row {int(np.argmax(step < 0)) + 1}" if np.any(step < 0) else None,
+            )
+        k = float(self.spring_constant_nN_per_um)
+        if not (np.isfinite(k) and k > 0):
+            raise AfmInputError(src, "spring_constant", "a positive spring constant", k)
+        object.__setattr__(self, "piezo_um", piezo)
+        object.__setattr__(self, "force_nN", force)
+        object.__setattr__(self, "spring_constant_nN_per_um", k)
+
+    @property
+    def tip_position_um(self) -> np.ndarray:
+        """x = piezo - F/k, um: the tip position once the cantilever deflection is removed."""
+        return self.piezo_um - self.force_nN / self.spring_constant_nN_per_um
+
+    def with_force(self, force_nN: np.ndarray) -> ForceCurve:
+        """The same curve with another force column (for example baseline-corrected)."""
+        return ForceCurve(
+            self.piezo_um,
+            force_nN,
+            self.spring_constant_nN_per_um,
+            self.source,
+            self.group,
+            self.time_s,
+        )
+
+    def slice(self, start: int, stop: int) -> ForceCurve:
+        """Points ``start:stop`` as a new curve."""
+        time = None if self.time_s is None else self.time_s[start:stop]
+        return ForceCurve(
+            self.piezo_um[start:stop],
+            self.force_nN[start:stop],
+            self.spring_constant_nN_per_um,
+            self.source,
+            self.group,
+            time,
+        )
+
+
+def spring_constant_nN_per_um(k_N_per_m: float, where: str = "<input>") -> float:
+    """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000)."""
+    k = float(k_N_per_m)
+    if not (np.isfinite(k) and k > 0):
+        raise AfmInputError(where, "spring_constant_N_per_m", "a positive spring constant", k)
+    return 1e3 * k
+
+
+def force_from_deflection(
+    deflection_V: np.ndarray, sensitivity_nm_per_V: float, k_N_per_m: float, where: str = "<input>"
+) -> np.ndarray:
+    """F = V * s * k: deflection [V] times sensitivity [nm/V] times spring constant [N/m] -> nN.
+
+    (nm times N/m is nN.)
+    """
+    s = float(sensitivity_nm_per_V)
+    if not (np.isfinite(s) and s > 0):
+        raise AfmInputError(where, "sensitivity_nm_per_V", "a positive sensitivity", s)
+    spring_constant_nN_per_um(k_N_per_m, where)
+    return np.asarray(deflection_V, dtype=float) * s * float(k_N_per_m)

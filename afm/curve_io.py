@@ -1,0 +1,233 @@
+"""Reading and writing force curves and creep records; units converted here, at the boundary.
+
+Plain text (``.csv``, ``.tsv``, ``.txt``): one header row of column names that carry their unit,
+then numbers; comma, tab or whitespace separated. Lines starting with ``#`` before the header
+hold metadata as ``# key = value``.
+
+* piezo travel towards the sample: ``piezo_um``, ``piezo_nm``, ``height_um`` or ``height_nm``
+* force: ``force_nN``, ``force_pN`` or ``force_uN``; or deflection ``deflection_nm`` /
+  ``deflection_um`` (times k), or ``deflection_V`` (times sensitivity and k)
+* optional ``time_s``
+* metadata: ``spring_constant_N_per_m`` (required), ``sensitivity_nm_per_V`` (for volts),
+  ``group`` (batch grouping; default: the folder name)
+
+Creep records (:func:`read_creep`): ``time_s``, a force column, and ``indentation_um`` (or
+``indentation_nm``), or a piezo/height column with metadata ``contact_point_um``; the
+indentation is then ``height - contact_point - F/k``.
+
+Instrument files (JPK ``.jpk-force``, Asylum ``.ibw`` and the other formats afmformats reads)
+go through the optional ``afmformats`` package (``pip install oocyte-fe[afm]``).
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from pathlib import Path
+
+import numpy as np
+
+from afm.creep import CreepData
+from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
+from afm.errors import AfmInputError, MissingExtraError
+
+TEXT_SUFFIXES = {".csv", ".tsv", ".txt"}
+PIEZO_COLUMNS = {"piezo_um": 1.0, "piezo_nm": 1e-3, "height_um": 1.0, "height_nm": 1e-3}
+FORCE_COLUMNS = {"force_nN": 1.0, "force_pN": 1e-3, "force_uN": 1e3}
+DEFLECTION_COLUMNS = {"deflection_um": 1.0, "deflection_nm": 1e-3}
+INDENTATION_COLUMNS = {"indentation_um": 1.0, "indentation_nm": 1e-3}
+
+
+def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """Columns (name -> float array) and ``# key = value`` metadata of a text table."""
+    path = Path(path)
+    try:
+        lines = path.read_text().splitlines()
+    except FileNotFoundError:
+        raise AfmInputError(path, "", "an existing file") from None
+    except UnicodeDecodeError:
+        raise AfmInputError(path, "", "a text table (CSV/TSV)") from None
+    meta: dict[str, str] = {}
+    body = []
+    for line in lines:
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if stripped.startswith("#"):
+            key, sep, value = stripped.lstrip("#").partition("=")
+            if sep and not body:
+                meta[key.strip()] = value.strip()
+            continue
+        body.append(stripped)
+    if not body:
+        raise AfmInputError(path, "", "a header row and data rows (the file is empty)")
+    delimiter = "\t" if "\t" in body[0] else ("," if "," in body[0] else None)
+    names = [n.strip() for n in re.split(delimiter or r"\s+", body[0])]
+    if len(names) < 2:
+        raise AfmInputError(path, "header", "at least two columns (piezo and force)", body[0])
+    if len(body) < 2:
+        raise AfmInputError(path, "", "data rows below the header")
+    try:
+        data = np.loadtxt(body[1:], delimiter=delimiter, ndmin=2)
+    except ValueError as exc:
+        raise AfmInputError(path, "", f"numbers in every data row ({exc})") from None
+    if data.shape[1] != len(names):
+        raise AfmInputError(path, "header", f"{data.shape[1]} column names", len(names))
+    return {n: data[:, i] for i, n in enumerate(names)}, meta
+
+
+def _pick(columns: dict, options: dict[str, float], path: Path, what: str) -> np.ndarray | None:
+    for name, scale in options.items():
+        if name in columns:
+            return columns[name] * scale
+    return None
+
+
+def _meta_float(meta: dict[str, str], key: str, given: float | None, path: Path) -> float | None:
+    if given is not None:
+        return float(given)
+    if key not in meta:
+        return None
+    try:
+        return float(meta[key])
+    except ValueError:
+        raise AfmInputError(path, key, "a number", meta[key]) from None
+
+
+def _force(
+    columns: dict, meta: dict, k_N_per_m: float, sensitivity: float | None, path: Path
+) -> np.ndarray:
+    force = _pick(columns, FORCE_COLUMNS, path, "force")
+    if force is not None:
+        return force
+    deflection = _pick(columns, DEFLECTION_COLUMNS, path, "deflection")
+    if deflection is not None:
+        return deflection * spring_constant_nN_per_um(k_N_per_m, str(path))
+    if "deflection_V" in columns:
+        s = _meta_float(meta, "sensitivity_nm_per_V", sensitivity, path)
+        if s is None:
+            raise AfmInputError(path, "sensitivity_nm_per_V", "the sensitivity for deflection_V")
+        return force_from_deflection(columns["deflection_V"], s, k_N_per_m, str(path))
+    names = [*FORCE_COLUMNS, *DEFLECTION_COLUMNS, "deflection_V"]
+    raise AfmInputError(path, "header", f"a force column: one of {', '.join(names)}")
+
+
+def read_curve(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+) -> ForceCurve:
+    """Read one approach curve (text table or, with afmformats, an instrument file).
+
+    Arguments override the file's metadata.
+    """
+    path = Path(path)
+    if path.suffix.lower() not in TEXT_SUFFIXES:
+        return read_instrument_file(path, spring_constant_N_per_m)
+    columns, meta = read_table(path)
+    k = _meta_float(meta, "spring_constant_N_per_m", spring_constant_N_per_m, path)
+    if k is None:
+        raise AfmInputError(path, "spring_constant_N_per_m", "the spring constant (metadata)")
+    k_internal = spring_constant_nN_per_um(k, str(path))
+    piezo = _pick(columns, PIEZO_COLUMNS, path, "piezo")
+    if piezo is None:
+        raise AfmInputError(path, "header", f"a piezo column: one of {', '.join(PIEZO_COLUMNS)}")
+    force = _force(columns, meta, k, sensitivity_nm_per_V, path)
+    group = meta.get("group", path.parent.name)
+    return ForceCurve(piezo, force, k_internal, str(path), group, columns.get("time_s"))
+
+
+def write_curve(curve: ForceCurve, path: str | Path) -> Path:
+    """Write ``curve`` as CSV (``piezo_um, force_nN``) with its spring constant and group."""
+    path = Path(path)
+    header = (
+        f"# spring_constant_N_per_m = {curve.spring_constant_nN_per_um / 1e3!r}\n"
+        f"# group = {curve.group}\n"
+        "piezo_um,force_nN\n"
+    )
+    rows = np.column_stack([curve.piezo_um, curve.force_nN])
+    with path.open("w") as fh:
+        fh.write(header)
+        np.savetxt(fh, rows, delimiter=",", fmt="%.9g")
+    return path
+
+
+def read_creep(path: str | Path) -> CreepData:
+    """Read a force-clamp hold (module docstring) as :class:`afm.creep.CreepData`."""
+    path = Path(path)
+    columns, meta = read_table(path)
+    if "time_s" not in columns:
+        raise AfmInputError(path, "header", "a time_s column")
+    k = _meta_float(meta, "spring_constant_N_per_m", None, path)
+    force = _force(columns, meta, k if k is not None else float("nan"), None, path)
+    indentation = _pick(columns, INDENTATION_COLUMNS, path, "indentation")
+    if indentation is None:
+        height = _pick(columns, PIEZO_COLUMNS, path, "height")
+        contact = _meta_float(meta, "contact_point_um", None, path)
+        if height is None or contact is None or k is None:
+            raise AfmInputError(
+                path,
+                "header",
+                "indentation_um, or a height column with metadata contact_point_um and "
+                "spring_constant_N_per_m",
+            )
+        indentation = height - contact - force / spring_constant_nN_per_um(k, str(path))
+    return CreepData(columns["time_s"], force, indentation, str(path))
+
+
+def write_creep(
+    path: str | Path,
+    time_s: np.ndarray,
+    force_nN: np.ndarray,
+    height_um: np.ndarray,
+    contact_point_um: float,
+    spring_constant_N_per_m: float,
+    note: str = "",
+) -> Path:
+    """Write a creep record as CSV (``time_s, force_nN, height_um``) with its metadata."""
+    path = Path(path)
+    lines = [f"# {line}" for line in note.splitlines()]
+    lines += [
+        f"# contact_point_um = {contact_point_um!r}",
+        f"# spring_constant_N_per_m = {spring_constant_N_per_m!r}",
+        "time_s,force_nN,height_um",
+    ]
+    with path.open("w") as fh:
+        fh.write("\n".join(lines) + "\n")
+        np.savetxt(fh, np.column_stack([time_s, force_nN, height_um]), delimiter=",", fmt="%.10g")
+    return path
+
+
+def _afmformats():
+    try:
+        return importlib.import_module("afmformats")
+    except ImportError:
+        raise MissingExtraError(
+            "reading instrument files needs the optional extra 'afm' "
+            "(pip install 'oocyte-fe[afm]', which installs afmformats)"
+        ) from None
+
+
+def read_instrument_file(
+    path: str | Path, spring_constant_N_per_m: float | None = None
+) -> ForceCurve:
+    """First force-distance curve of an instrument file via afmformats (SI -> um, nN)."""
+    path = Path(path)
+    afmformats = _afmformats()
+    try:
+        records = afmformats.load_data(path)
+    # afmformats raises many types for unreadable files; its own derive from BaseException
+    except (Exception, afmformats.errors.AFMFileFormatError) as exc:
+        raise AfmInputError(path, "", f"a file afmformats can read ({exc})") from None
+    if not records:
+        raise AfmInputError(path, "", "at least one force curve")
+    fd = records[0]
+    height_key = "height (piezo)" if "height (piezo)" in fd else "height (measured)"
+    # afmformats: SI units, height decreasing towards the sample
+    piezo = -np.asarray(fd.appr[height_key]) * 1e6
+    force = np.asarray(fd.appr["force"]) * 1e9
+    k = spring_constant_N_per_m or fd.metadata.get("spring constant")
+    if k is None:
+        raise AfmInputError(path, "spring_constant_N_per_m", "the spring constant")
+    k_internal = spring_constant_nN_per_um(k, str(path))
+    return ForceCurve(piezo, force, k_internal, str(path), path.parent.name)

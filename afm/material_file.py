@@ -1,0 +1,164 @@
+"""The oocyte-fe material file (TOML): Young's modulus, Poisson ratio, normalised Prony series.
+
+Format (units kPa, s; read by the FE core)::
+
+    # oocyte-fe material file; units: kPa, s
+    [material]
+    name = "zona_pellucida"
+    source = "..."          # where it came from
+    E_kPa = 7.01            # instantaneous Young's modulus E0 = 2 (1 + nu) G0
+    nu = 0.5
+    [prony]                 # normalised relaxation: G(t)/G0 = 1 - sum g_i (1 - exp(-t/tau_i))
+    g = [0.2, 0.1]
+    tau_s = [0.1, 1.0]
+
+``[prony]`` may be left out (or hold empty lists) for an elastic material. Validation: E > 0,
+-1 < nu <= 0.5, every g_i >= 0 with sum g < 1 (a solid: G_inf > 0), tau_i > 0, as many g as
+tau, no unknown keys. Errors name the file and the field.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import tomli_w
+
+from afm.errors import AfmInputError
+
+HEADER = (
+    "# oocyte-fe material file; units: kPa, s\n"
+    "# E_kPa: instantaneous Young's modulus E0 = 2 (1 + nu) G0\n"
+    "# [prony]: normalised relaxation G(t)/G0 = 1 - sum g_i (1 - exp(-t/tau_i))\n"
+)
+_MATERIAL_KEYS = {"name", "source", "E_kPa", "nu"}
+_PRONY_KEYS = {"g", "tau_s"}
+
+
+@dataclass(frozen=True)
+class MaterialFile:
+    """A validated material record; ``file`` names where it came from (for errors)."""
+
+    name: str
+    source: str
+    E_kPa: float
+    nu: float
+    g: tuple[float, ...] = ()
+    tau_s: tuple[float, ...] = ()
+    file: str = "<input>"
+
+    def __post_init__(self) -> None:
+        f = self.file
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise AfmInputError(f, "material.name", "a non-empty string", self.name)
+        if not isinstance(self.source, str):
+            raise AfmInputError(f, "material.source", "a string", self.source)
+        e = _number(f, "material.E_kPa", self.E_kPa)
+        if not e > 0:
+            raise AfmInputError(f, "material.E_kPa", "a positive modulus in kPa", e)
+        nu = _number(f, "material.nu", self.nu)
+        if not -1.0 < nu <= 0.5:
+            raise AfmInputError(f, "material.nu", "a Poisson ratio in (-1, 0.5]", nu)
+        g = tuple(_number(f, "prony.g", v) for v in self.g)
+        tau = tuple(_number(f, "prony.tau_s", v) for v in self.tau_s)
+        if len(g) != len(tau):
+            raise AfmInputError(f, "prony.tau_s", f"one tau per g ({len(g)})", len(tau))
+        if any(v < 0 for v in g):
+            raise AfmInputError(f, "prony.g", "non-negative terms", list(g))
+        if not sum(g) < 1.0:
+            raise AfmInputError(f, "prony.g", "terms summing to less than 1", sum(g))
+        if any(v <= 0 for v in tau):
+            raise AfmInputError(f, "prony.tau_s", "positive relaxation times in s", list(tau))
+        object.__setattr__(self, "E_kPa", e)
+        object.__setattr__(self, "nu", nu)
+        object.__setattr__(self, "g", g)
+        object.__setattr__(self, "tau_s", tau)
+
+    @property
+    def G0_kPa(self) -> float:
+        """Instantaneous shear modulus E / (2 (1 + nu)), kPa."""
+        return self.E_kPa / (2.0 * (1.0 + self.nu))
+
+    def relaxation(self, t_s: float) -> float:
+        """Normalised relaxation G(t)/G0 = 1 - sum g_i (1 - exp(-t/tau_i))."""
+        pairs = zip(self.g, self.tau_s, strict=True)
+        return 1.0 - sum(g * (1.0 - math.exp(-t_s / tau)) for g, tau in pairs)
+
+
+def _number(file: str, field: str, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise AfmInputError(file, field, "a number", value)
+    value = float(value)
+    if not math.isfinite(value):
+        raise AfmInputError(file, field, "a finite number", value)
+    return value
+
+
+def _table(file: str, data: dict, key: str, allowed: set[str], required: bool) -> dict:
+    table = data.get(key)
+    if table is None:
+        if required:
+            raise AfmInputError(file, f"[{key}]", "this table (it is required)")
+        return {}
+    if not isinstance(table, dict):
+        raise AfmInputError(file, key, "a table")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise AfmInputError(file, f"{key}.{unknown[0]}", f"one of {sorted(allowed)}")
+    return table
+
+
+def read_material(path: str | Path) -> MaterialFile:
+    """Read and validate a material file; errors name the file and the field."""
+    file = str(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise AfmInputError(file, "", "an existing material file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise AfmInputError(file, "", f"valid TOML ({exc})") from None
+    unknown = sorted(set(data) - {"material", "prony"})
+    if unknown:
+        raise AfmInputError(file, unknown[0], "only the tables [material] and [prony]")
+    material = _table(file, data, "material", _MATERIAL_KEYS, required=True)
+    prony = _table(file, data, "prony", _PRONY_KEYS, required=False)
+    for key in ("name", "E_kPa", "nu"):
+        if key not in material:
+            raise AfmInputError(file, f"material.{key}", "this key (it is required)")
+    for key in ("g", "tau_s"):
+        if not isinstance(prony.get(key, []), list):
+            raise AfmInputError(file, f"prony.{key}", "a list of numbers", prony[key])
+    return MaterialFile(
+        name=material["name"],
+        source=material.get("source", ""),
+        E_kPa=material["E_kPa"],
+        nu=material["nu"],
+        g=tuple(prony.get("g", [])),
+        tau_s=tuple(prony.get("tau_s", [])),
+        file=file,
+    )
+
+
+def material_toml(material: MaterialFile) -> str:
+    """The material file's text (floats written at full precision, so reading is exact)."""
+    body = {
+        "material": {
+            "name": material.name,
+            "source": material.source,
+            "E_kPa": material.E_kPa,
+            "nu": material.nu,
+        }
+    }
+    if material.g:
+        body["prony"] = {"g": list(material.g), "tau_s": list(material.tau_s)}
+    return HEADER + tomli_w.dumps(body)
+
+
+def write_material(material: MaterialFile, path: str | Path) -> Path:
+    """Write ``material`` to ``path`` (TOML, format in the module docstring)."""
+    path = Path(path)
+    path.write_text(material_toml(material))
+    return path

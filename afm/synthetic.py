@@ -1,0 +1,140 @@
+"""Synthetic AFM data with known parameters, for tests, cases and benchmarks.
+
+* :func:`indentation_curve`: an approach curve of a registered model with known E and contact
+  point, baseline offset and tilt, Gaussian force noise, on a uniform piezo grid.
+* :func:`pierce_curve`: the same, with the probe piercing a first layer (ZP) at a given force;
+  the force drops to a residual level and rises again in the second layer (cytoplasm), whose
+  indentation is counted from the tip position right after the drop.
+* :func:`creep_indentation`: indentation of a cone under a clamped force for a known Prony
+  relaxation series (through the exact creep compliance and the Lee-Radok relation).
+
+At every piezo position z the force solves F = F_res + E shape(z - F/k - x_ref), found by
+Newton's method on the indentation (monotonic and convex, so Newton converges from above).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from afm.creep import indentation_from_compliance
+from afm.curve import ForceCurve
+from afm.models import IndentationModel, get_model
+from afm.prony_series import RelaxationProny, creep_from_relaxation
+
+_NEWTON_STEPS = 60
+
+
+def _indentation_at(
+    travel_um: np.ndarray,
+    E_kPa: float,
+    model: IndentationModel,
+    geometry: Mapping[str, float],
+    nu: float,
+    k: float,
+    residual_force_nN: float = 0.0,
+) -> np.ndarray:
+    """Indentation d >= 0 solving d + (F_res + E shape(d))/k = travel (travel = z - x_ref)."""
+    travel = np.clip(np.asarray(travel_um, dtype=float) - residual_force_nN / k, 0.0, None)
+    d = travel.copy()
+    for _ in range(_NEWTON_STEPS):
+        g = d + E_kPa * model.shape(d, geometry, nu) / k - travel
+        step = g / (1.0 + E_kPa * model.dshape(d, geometry, nu) / k)
+        d = np.clip(d - step, 0.0, None)
+        if np.all(np.abs(step) < 1e-13 * (1.0 + travel)):
+            break
+    return d
+
+
+def _measure(
+    piezo: np.ndarray,
+    force: np.ndarray,
+    offset_nN: float,
+    tilt_nN_per_um: float,
+    noise_nN: float,
+    seed: int | None,
+) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return force + offset_nN + tilt_nN_per_um * piezo + noise_nN * rng.standard_normal(piezo.size)
+
+
+def indentation_curve(
+    E_kPa: float,
+    contact_point_um: float = 5.0,
+    *,
+    max_piezo_um: float = 8.0,
+    n_points: int = 2000,
+    k_nN_per_um: float = 70.0,
+    model: str = "sneddon_cone",
+    geometry: Mapping[str, float] | None = None,
+    nu: float = 0.5,
+    offset_nN: float = 0.0,
+    tilt_nN_per_um: float = 0.0,
+    noise_fraction: float = 0.0,
+    seed: int | None = None,
+    source: str = "<synthetic>",
+    group: str = "",
+) -> ForceCurve:
+    """Approach curve on piezo 0..``max_piezo_um``; noise SD = ``noise_fraction`` * max force."""
+    tip = get_model(model)
+    geometry = tip.check_geometry(geometry or {})
+    piezo = np.linspace(0.0, max_piezo_um, n_points)
+    delta = _indentation_at(piezo - contact_point_um, E_kPa, tip, geometry, nu, k_nN_per_um)
+    force = E_kPa * tip.shape(delta, geometry, nu)
+    noise = noise_fraction * float(force.max())
+    measured = _measure(piezo, force, offset_nN, tilt_nN_per_um, noise, seed)
+    return ForceCurve(piezo, measured, k_nN_per_um, source, group)
+
+
+def pierce_curve(
+    E_zp_kPa: float,
+    E_cytoplasm_kPa: float,
+    contact_point_um: float = 4.0,
+    *,
+    pierce_force_nN: float = 8.0,
+    residual_fraction: float = 0.3,
+    max_piezo_um: float = 16.0,
+    n_points: int = 2000,
+    k_nN_per_um: float = 100.0,
+    model: str = "sneddon_cone",
+    geometry: Mapping[str, float] | None = None,
+    nu: float = 0.5,
+    offset_nN: float = 0.0,
+    tilt_nN_per_um: float = 0.0,
+    noise_fraction: float = 0.0,
+    seed: int | None = None,
+    source: str = "<synthetic>",
+    group: str = "",
+) -> ForceCurve:
+    """Pierce-through curve: ZP up to ``pierce_force_nN``, drop to ``residual_fraction`` of it,
+    then cytoplasm from the tip position after the drop (noise relative to the pierce force)."""
+    tip = get_model(model)
+    geometry = tip.check_geometry(geometry or {})
+    k = k_nN_per_um
+    piezo = np.linspace(0.0, max_piezo_um, n_points)
+    delta1 = _indentation_at(piezo - contact_point_um, E_zp_kPa, tip, geometry, nu, k)
+    force = E_zp_kPa * tip.shape(delta1, geometry, nu)
+    pierced = force >= pierce_force_nN
+    if not pierced.any():
+        raise ValueError("pierce_force_nN is not reached within max_piezo_um")
+    first = int(np.argmax(pierced))
+    residual = residual_fraction * pierce_force_nN
+    x_ref = piezo[first] - residual / k  # tip position right after the drop
+    delta2 = _indentation_at(piezo[first:] - x_ref, E_cytoplasm_kPa, tip, geometry, nu, k, residual)
+    force[first:] = residual + E_cytoplasm_kPa * tip.shape(delta2, geometry, nu)
+    noise = noise_fraction * pierce_force_nN
+    measured = _measure(piezo, force, offset_nN, tilt_nN_per_um, noise, seed)
+    return ForceCurve(piezo, measured, k, source, group)
+
+
+def creep_indentation(
+    relaxation: RelaxationProny,
+    time_s: np.ndarray,
+    force_nN: float,
+    half_angle_deg: float = 10.0,
+    nu: float = 0.5,
+) -> np.ndarray:
+    """Indentation [um] of a cone under a force step ``force_nN`` for a shear relaxation series."""
+    compliance = creep_from_relaxation(relaxation)
+    return indentation_from_compliance(compliance(time_s), force_nN, half_angle_deg, nu)

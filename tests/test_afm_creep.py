@@ -1,0 +1,177 @@
+"""Creep -> Prony -> relaxation: exact interconversion, Lee-Radok fit, material file, exports."""
+
+import math
+import tomllib
+
+import numpy as np
+import pytest
+
+from afm.creep import (
+    CreepData,
+    compliance_from_indentation,
+    fit_creep,
+    indentation_from_compliance,
+    material_from_creep_csv,
+)
+from afm.curve_io import write_creep
+from afm.errors import AfmInputError
+from afm.fe_export import ansys_prony_block, febio_material
+from afm.material_file import MaterialFile, read_material, write_material
+from afm.prony_series import (
+    CreepProny,
+    RelaxationProny,
+    creep_from_relaxation,
+    relaxation_from_creep,
+)
+from afm.synthetic import creep_indentation
+
+TRUTH = RelaxationProny(7.01 / 3.0, (0.3, 0.2), (0.2, 1.5))  # G0 = E0 / (2 (1 + 0.5))
+T_CHECK = np.logspace(-2, math.log10(6.0), 200)  # issue 4: 0.01-6 s
+
+
+def test_one_term_conversion_matches_the_standard_linear_solid():
+    # SLS: G(t) = G_inf + G1 exp(-t/tau)  <->  J(t) = 1/G0 + (1/G_inf - 1/G0)(1 - exp(-t/lam)),
+    # lam = tau G0 / G_inf
+    g0, g_inf, tau = 3.0, 1.0, 0.5
+    creep = creep_from_relaxation(RelaxationProny(g0, ((g0 - g_inf) / g0,), (tau,)))
+    assert creep.J0_per_kPa == pytest.approx(1 / g0, rel=1e-14)
+    assert creep.J_per_kPa[0] == pytest.approx(1 / g_inf - 1 / g0, rel=1e-12)
+    assert creep.lambda_s[0] == pytest.approx(tau * g0 / g_inf, rel=1e-12)
+
+
+def test_round_trip_and_limits_are_exact():
+    creep = creep_from_relaxation(TRUTH)
+    back = relaxation_from_creep(creep)
+    np.testing.assert_allclose(back.g, TRUTH.g, rtol=1e-12)
+    np.testing.assert_allclose(back.tau_s, TRUTH.tau_s, rtol=1e-12)
+    assert creep.J0_per_kPa * TRUTH.G0_kPa == pytest.approx(1.0, rel=1e-14)
+    assert creep.J_inf_per_kPa * TRUTH.G_inf_kPa == pytest.approx(1.0, rel=1e-12)
+    # relaxation times are shorter than the retardation times they interlace with
+    assert all(t < lam for t, lam in zip(TRUTH.tau_s, creep.lambda_s, strict=True))
+
+
+def test_converted_pair_satisfies_the_convolution_identity():
+    # int_0^t G(t - s) dJ(s) = 1 for all t (Laplace: s G_bar * s J_bar = 1)
+    creep = creep_from_relaxation(TRUTH)
+    t = np.linspace(0.0, 4.0, 400001)
+    mid = 0.5 * (t[1:] + t[:-1])
+    value = TRUTH(4.0) * creep.J0_per_kPa + np.sum(TRUTH(4.0 - mid) * np.diff(creep(t)))
+    assert value == pytest.approx(1.0, abs=1e-8)
+
+
+def test_lee_radok_is_sneddon_for_an_elastic_solid():
+    e, nu, force = 7.01, 0.5, 5.0
+    delta = indentation_from_compliance(np.array([2 * (1 + nu) / e]), force, 10.0, nu)[0]
+    sneddon = 2 / math.pi * e / (1 - nu**2) * math.tan(math.radians(10.0)) * delta**2
+    assert sneddon == pytest.approx(force, rel=1e-13)
+    j = compliance_from_indentation(np.array([delta]), force, 10.0, nu)[0]
+    assert j == pytest.approx(2 * (1 + nu) / e, rel=1e-13)
+
+
+def _hold(noise: float = 0.0, seed: int = 0) -> CreepData:
+    t = np.linspace(0.0, 6.0, 3001)
+    delta = creep_indentation(TRUTH, t, 5.0)
+    rng = np.random.default_rng(seed)
+    force = 5.0 + noise * 5.0 * rng.standard_normal(t.size)
+    return CreepData(t, force, delta * (1 + noise * rng.standard_normal(t.size)))
+
+
+def test_recovered_relaxation_within_2_percent_over_0p01_to_6_s():
+    fit = fit_creep(_hold())
+    assert np.max(np.abs(fit.relaxation(T_CHECK) / TRUTH(T_CHECK) - 1)) < 0.02
+    assert fit.E0_kPa == pytest.approx(7.01, rel=0.02)
+
+
+def test_recovered_relaxation_with_noise_within_2_percent():
+    fit = fit_creep(_hold(noise=0.003, seed=4))
+    assert np.max(np.abs(fit.relaxation(T_CHECK) / TRUTH(T_CHECK) - 1)) < 0.02
+    assert all(g >= 0 for g in fit.relaxation.g)
+
+
+def test_pointwise_inverse_compliance_is_not_the_relaxation_modulus():
+    # what the paper did (E(t) from each creep point) gives 1/J(t) >= G(t): here by up to 3.7 %
+    creep = creep_from_relaxation(TRUTH)
+    ratio = 1 / creep(T_CHECK) / TRUTH(T_CHECK)
+    assert np.all(ratio >= 1 - 1e-12)
+    assert ratio.max() > 1.03
+
+
+def test_unclamped_force_is_refused():
+    t = np.linspace(0, 6, 100)
+    with pytest.raises(AfmInputError, match="clamped force"):
+        CreepData(t, np.linspace(1, 5, 100), np.full(100, 2.0), "ramp.csv")
+
+
+def test_material_from_creep_csv_round_trip(tmp_path):
+    hold = _hold()
+    contact, k = 5.0, 0.07
+    height = contact + hold.indentation_um + hold.force_nN / (k * 1e3)
+    csv = write_creep(tmp_path / "creep.csv", hold.time_s, hold.force_nN, height, contact, k)
+    material = material_from_creep_csv(csv, "zona_pellucida")
+    path = write_material(material, tmp_path / "material_zp.toml")
+    again = read_material(path)
+    assert again.g == material.g and again.tau_s == material.tau_s
+    assert again.E_kPa == material.E_kPa
+    assert again.E_kPa == pytest.approx(7.01, rel=0.02)
+    text = path.read_text()
+    assert text.startswith("# oocyte-fe material file; units: kPa, s")
+    data = tomllib.loads(text)
+    assert set(data) == {"material", "prony"}
+    assert set(data["prony"]) == {"g", "tau_s"}
+
+
+@pytest.mark.parametrize(
+    ("body", "field"),
+    [
+        ('[material]\nname = "zp"\nE_kPa = -1\nnu = 0.5\n', "material.E_kPa"),
+        ('[material]\nname = "zp"\nE_kPa = 7\nnu = 0.6\n', "material.nu"),
+        (
+            '[material]\nname = "zp"\nE_kPa = 7\nnu = 0.5\n[prony]\ng = [0.6, 0.5]\n'
+            "tau_s = [1, 2]\n",
+            "prony.g",
+        ),
+        (
+            '[material]\nname = "zp"\nE_kPa = 7\nnu = 0.5\n[prony]\ng = [0.1]\ntau_s = [0]\n',
+            "prony.tau_s",
+        ),
+        (
+            '[material]\nname = "zp"\nE_kPa = 7\nnu = 0.5\n[prony]\ng = [0.1]\ntau_s = [1, 2]\n',
+            "prony.tau_s",
+        ),
+        ('[material]\nname = "zp"\nE_kPa = 7\nnu = 0.5\nG = 3\n', "material.G"),
+        ('[material]\nname = "zp"\nnu = 0.5\n', "material.E_kPa"),
+        ('[material]\nname = "zp"\nE_kPa = "seven"\nnu = 0.5\n', "material.E_kPa"),
+    ],
+)
+def test_material_file_errors_name_file_and_field(tmp_path, body, field):
+    path = tmp_path / "bad.toml"
+    path.write_text(body)
+    with pytest.raises(AfmInputError) as info:
+        read_material(path)
+    assert str(path) in str(info.value) and field in str(info.value)
+
+
+def test_elastic_material_file_has_no_prony_table(tmp_path):
+    path = write_material(MaterialFile("cytoplasm", "test", 1.55, 0.5), tmp_path / "m.toml")
+    assert "prony" not in tomllib.loads(path.read_text())
+    assert read_material(path).g == ()
+
+
+def test_ansys_and_febio_exports_carry_the_same_series():
+    material = MaterialFile("zona_pellucida", "test", 7.01, 0.5, (0.3, 0.2), (0.2, 1.5))
+    apdl = ansys_prony_block(material, mat_id=2)
+    assert "MP,EX,2,7.01" in apdl and "MP,PRXY,2,0.5" in apdl
+    assert "TB,PRONY,2,,2,SHEAR" in apdl
+    assert "TBDATA,1,0.3,0.2,0.2,1.5" in apdl
+    xml = febio_material(material)
+    assert 'type="viscoelastic"' in xml and "<E>7.01</E>" in xml
+    g0 = float(xml.split("<g0>")[1].split("</g0>")[0])
+    assert g0 == pytest.approx(0.5, rel=1e-12)
+    assert "<g2>0.2</g2>" in xml and "<t2>1.5</t2>" in xml
+    with pytest.raises(AfmInputError, match="at most 6"):
+        febio_material(MaterialFile("m", "", 1.0, 0.5, (0.1,) * 7, tuple(range(1, 8))))
+
+
+def test_creep_series_refuses_negative_terms():
+    with pytest.raises(AfmInputError, match="non-negative"):
+        CreepProny(1.0, (-0.1,), (1.0,))
