@@ -92,7 +92,7 @@ def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
 
 def params_for(model: str, values: np.ndarray, base: NmsdParameters) -> NmsdParameters:
     """Constants of ``model`` from its free variables (see ``_FREE``)."""
-    v = dict(zip(_FREE[model], values, strict=True))
+    v = {k: float(x) for k, x in zip(_FREE[model], values, strict=True)}
     if model == "linear_msd":
         return base.with_values(k1=v["k1"], k2=0.0, d0=v["d0"], d1=0.0)
     k2 = v["k2"]

@@ -1,0 +1,294 @@
+"""Case kinds of the NMSD reduced model (seed 000): Table II calibration, spindle offset."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from nmsd.approach_pid import PidGains, pid_approach
+from nmsd.calibration import MODELS, CalibrationResult, calibrate, fit_metrics
+from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
+from nmsd.errors import NmsdInputError
+from nmsd.lattice import circular_lattice
+from nmsd.parameters import NmsdParameters, node_mass_for
+from nmsd.plotting import plot_force_curves, plot_snapshots, plot_spindle
+from nmsd.press import PressSetup, press_setup
+from nmsd.spindle import predict_spindle_offset
+from nmsd.tableII import read_force_displacement
+from oocyte_fe.errors import InputError
+from oocyte_fe.runner.casefile import DataFile
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+
+UN = 1e-3  # nN -> uN
+
+
+class PressInputs(BaseModel):
+    """Lattice, pipette and calibration settings shared by both kinds."""
+
+    model_config = ConfigDict(extra="forbid")
+    data: DataFile = Field(description="Table II CSV: displacement_um, force_experiment_uN, ...")
+    cell_diameter_um: float = Field(115.625, gt=0, description="oocyte diameter (Table I R_c)")
+    spacings_across: int = Field(17, ge=2, description="grid spacings across the diameter")
+    pipette_width_um: float = Field(20.628, gt=0, description="Table I d_inj")
+    tip_angle_deg: float = Field(25.238, ge=0, lt=180, description="Table I theta_inj")
+    hold_half_width_um: float = Field(25.0, gt=0, description="holding pipette mouth half-width")
+    contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
+    gap_um: float = Field(0.0, ge=0, description="pipette travel before touching the lattice")
+    dl_c: float = Field(0.8, gt=0, description="critical link strain of eq 3")
+    speed_um_s: float = Field(30.0, gt=0)
+    travel_um: float = Field(65.0, gt=0)
+    n_steps: int = Field(40, ge=1, description="backward-Euler steps over the travel")
+    n_starts: int = Field(2, ge=1, description="calibration starts")
+    max_evaluations: int = Field(60, ge=4, description="press simulations per start")
+
+
+class CalibrationInputs(PressInputs):
+    models: list[str] = Field(default_factory=lambda: list(MODELS))
+    rate_speeds_um_s: list[float] = Field(default_factory=lambda: [10.0, 30.0, 90.0])
+    snapshot_um: list[float] = Field(default_factory=lambda: [15.0, 30.0, 45.0])
+
+
+class SpindleInputs(PressInputs):
+    spindle_initial_um: tuple[float, float] = (15.8718, 18.1392)
+    paper_offset_um: tuple[float, float] = (25.6972, 49.127)
+    approach_step_um: float = Field(0.5, gt=0)
+    kp: float = Field(0.2, ge=0)
+    ki: float = Field(0.3, ge=0)
+    kd: float = Field(0.0, ge=0)
+    period_s: float = Field(0.01, gt=0)
+    actuator_lag_s: float = Field(0.02, ge=0)
+    resolution_um: float = Field(0.04, ge=0)
+    removal_pipette_um: float = Field(20.0, gt=0)
+    spindle_length_um: float = Field(10.0, ge=0, description="spindle extent aspirated with it")
+
+
+def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, object]:
+    inp = ctx.inputs
+    try:
+        data = read_force_displacement(inp.data)
+        lattice = circular_lattice(inp.cell_diameter_um, inp.spacings_across)
+        setup = press_setup(
+            lattice,
+            inp.pipette_width_um,
+            inp.tip_angle_deg,
+            inp.hold_half_width_um,
+            inp.contact_stiffness_nN_per_um,
+            inp.speed_um_s,
+            inp.travel_um,
+            inp.n_steps,
+            inp.gap_um,
+        )
+        base = NmsdParameters(
+            dl_c=inp.dl_c, node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes)
+        )
+    except NmsdInputError as exc:
+        raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
+    return setup, base, data
+
+
+def _calibrate(ctx: CaseContext, setup, data, base, model: str) -> CalibrationResult:
+    ctx.step(f"calibrating {model}")
+    inp = ctx.inputs
+    return calibrate(setup, data, model, base, inp.n_starts, max_evaluations=inp.max_evaluations)
+
+
+def _params_table(results: dict[str, CalibrationResult], paper) -> str:
+    rows = [
+        "| model | k1 (nN) | k2 (nN) | d0 (nN s/um) | d1 (nN s/um^2) | RMSE (uN) | R^2 | S |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for name, r in results.items():
+        p = r.params
+        m = r.metrics
+        rows.append(
+            f"| {name} | {p.k1:.4g} | {p.k2:.4g} | {p.d0:.4g} | {p.d1:.4g} | "
+            f"{m.rmse_nN * UN:.3f} | {m.r2:.4f} | {m.similarity:.5f} |"
+        )
+    rows.append(
+        f"| paper model column | - | - | - | - | {paper.rmse_nN * UN:.3f} | {paper.r2:.4f} | "
+        f"{paper.similarity:.5f} |"
+    )
+    return "\n".join(rows)
+
+
+@case_kind(
+    "nmsd_calibration",
+    inputs=CalibrationInputs,
+    metrics={
+        "rmse_uN": "RMSE of the calibrated NMSD against Table II, uN",
+        "r2": "coefficient of determination of the NMSD fit",
+        "similarity": "cosine similarity of NMSD and measured forces",
+        "paper_rmse_uN": "RMSE of the paper's own model column against Table II, uN",
+        "rmse_linear_msd_uN": "RMSE of the linear MSD (k1, d0), uN",
+        "rmse_msd_d0_uN": "RMSE of the cubic-linear MSD with d0 only, uN",
+        "press_ms": "wall time of one 65 um press, ms",
+        "calibration_s": "wall time of the NMSD calibration, s",
+    },
+)
+def run_calibration(ctx: CaseContext) -> CaseOutcome:
+    """Calibrate the three MSD families of Section II.B.3 to Table II (eqs 7-8)."""
+    inp = ctx.inputs
+    unknown = set(inp.models) - set(MODELS)
+    if unknown or "nmsd" not in inp.models:
+        raise InputError(
+            ctx.case_dir / "case.toml", "inputs.models", f"a list with nmsd of {MODELS}"
+        )
+    setup, base, data = _setup_and_data(ctx)
+    results = {m: _calibrate(ctx, setup, data, base, m) for m in inp.models}
+    best = results["nmsd"]
+    paper = fit_metrics(data.paper_model_nN, data.force_nN)
+    ctx.step("rate dependence and snapshots")
+    tic = time.perf_counter()
+    press = setup.run(best.params, record_um=inp.snapshot_um)
+    press_ms = 1e3 * (time.perf_counter() - tic)
+    d = data.displacement_um
+    curves = {
+        f"{name} (RMSE {r.metrics.rmse_nN * UN:.2f} uN)": (d, r.force_nN * UN)
+        for name, r in results.items()
+    }
+    curves["paper model column"] = (d, data.paper_model_nN * UN)
+    plot_force_curves(ctx.output("force_models.png"), d, data.force_nN * UN, curves)
+    rate = {}
+    for v in inp.rate_speeds_um_s:
+        r = setup.run(best.params, speed_um_s=v)
+        rate[f"NMSD at {v:g} um/s"] = (r.advance_um, r.force_nN * UN)
+    plot_force_curves(ctx.output("rate_dependence.png"), d, data.force_nN * UN, rate)
+    snaps = {0.0: setup.lattice.nodes, **press.snapshots}
+    plot_snapshots(ctx.output("snapshots.png"), setup.lattice, setup.pipette, snaps)
+    rates = "\n".join(
+        f"- {k}: force at {inp.travel_um:g} um = {f[-1]:.2f} uN" for k, (_, f) in rate.items()
+    )
+    return CaseOutcome(
+        metrics={
+            "rmse_uN": best.metrics.rmse_nN * UN,
+            "r2": best.metrics.r2,
+            "similarity": best.metrics.similarity,
+            "paper_rmse_uN": paper.rmse_nN * UN,
+            "rmse_linear_msd_uN": results.get("linear_msd", best).metrics.rmse_nN * UN,
+            "rmse_msd_d0_uN": results.get("msd_d0", best).metrics.rmse_nN * UN,
+            "press_ms": press_ms,
+            "calibration_s": best.seconds,
+        },
+        figures=[
+            Figure("force_models.png", "Table II against the calibrated model families"),
+            Figure("rate_dependence.png", "calibrated NMSD pressed at three speeds (seed Fig. 4)"),
+            Figure("snapshots.png", "lattice at 0, 15, 30, 45 um, coloured by |u| (seed Fig. 5)"),
+        ],
+        sections=[
+            ("Calibrated constants (um, nN, s)", _params_table(results, paper)),
+            ("Rate dependence", rates),
+            (
+                "Cost",
+                "\n".join(
+                    f"- {n}: {r.evaluations} presses in {r.seconds:.1f} s ({r.message})"
+                    for n, r in results.items()
+                ),
+            ),
+        ],
+        checks=[
+            Check(
+                "nmsd beats linear MSD (RMSE)",
+                best.metrics.rmse_nN * UN,
+                best.metrics.rmse_nN <= results.get("linear_msd", best).metrics.rmse_nN,
+                "<= linear MSD RMSE",
+                unit="uN",
+            )
+        ],
+    )
+
+
+@case_kind(
+    "nmsd_spindle_offset",
+    inputs=SpindleInputs,
+    metrics={
+        "offset_x_um": "predicted spindle X after the approach (paper frame), um",
+        "offset_y_um": "predicted spindle Y after the approach (paper frame), um",
+        "distance_to_paper_um": "distance between predicted and paper's offset point, um",
+        "spindle_displacement_um": "distance the spindle moved, um",
+        "pid_final_error_um": "PID final distance to the removal point, um",
+        "pid_overshoot_um": "PID overshoot along the approach, um",
+        "pid_settling_s": "time to stay within 0.1 um of the removal point, s",
+        "loss_model_pct": "3D cytoplasm loss aspirating from the mouth to the moved spindle, %",
+    },
+)
+def run_spindle(ctx: CaseContext) -> CaseOutcome:
+    """Calibrate on Table II, predict the spindle offset, drive the PID approach to it."""
+    inp = ctx.inputs
+    setup, base, data = _setup_and_data(ctx)
+    cal = _calibrate(ctx, setup, data, base, "nmsd")
+    ctx.step("approach to the spindle")
+    off = predict_spindle_offset(
+        setup.lattice,
+        cal.params,
+        inp.spindle_initial_um,
+        inp.pipette_width_um,
+        inp.tip_angle_deg,
+        inp.hold_half_width_um,
+        inp.contact_stiffness_nN_per_um,
+        inp.speed_um_s,
+        inp.approach_step_um,
+    )
+    paper = np.asarray(inp.paper_offset_um)
+    travel = np.linspace(0.0, off.advance_um, len(off.path_um))
+
+    def target(s: float) -> np.ndarray:
+        return np.array([np.interp(s, travel, off.path_um[:, k]) for k in range(2)])
+
+    gains = PidGains(inp.kp, inp.ki, inp.kd, inp.period_s, inp.actuator_lag_s, inp.resolution_um)
+    trace = pid_approach(target, gains, speed_um_s=inp.speed_um_s)
+    plot_spindle(ctx.output("spindle_path.png"), off.path_um, paper, trace.position_um)
+    keys = sorted(off.press.snapshots)
+    snaps = {a: off.press.snapshots[a] for a in keys[:: max(1, len(keys) // 3)]}
+    plot_snapshots(ctx.output("approach_snapshots.png"), setup.lattice, off.pipette, snaps)
+    moved = float(np.linalg.norm(off.final_um - off.initial_um))
+    d = inp.cell_diameter_um
+    loss = loss_fraction(moved + inp.spindle_length_um, inp.removal_pipette_um, d)
+    lengths = {
+        name: (
+            aspirated_length_for(f / 100, inp.removal_pipette_um, d),
+            aspirated_length_for(f / 100, inp.removal_pipette_um, d, plane=True),
+        )
+        for name, f in (("proposed", 4.5), ("previous method", 6.9), ("blind aspiration", 30.0))
+    }
+    gaps = np.array([0.0, 5.0, 10.0, 20.0, 40.0])
+    aspirated = gaps + inp.spindle_length_um
+    loss3 = 100 * loss_fraction(aspirated, inp.removal_pipette_um, d)
+    loss2 = 100 * loss_fraction(aspirated, inp.removal_pipette_um, d, plane=True)
+    loss_rows = "\n".join(
+        f"| {g:g} | {a:.2f} | {b:.2f} |" for g, a, b in zip(gaps, loss3, loss2, strict=True)
+    )
+    paper_rows = "\n".join(
+        f"- {n}: 3D needs L = {a:.0f} um, focal-plane reading L = {b:.1f} um"
+        for n, (a, b) in lengths.items()
+    )
+    return CaseOutcome(
+        metrics={
+            "offset_x_um": float(off.final_um[0]),
+            "offset_y_um": float(off.final_um[1]),
+            "distance_to_paper_um": float(np.linalg.norm(off.final_um - paper)),
+            "spindle_displacement_um": moved,
+            "pid_final_error_um": trace.final_error_um,
+            "pid_overshoot_um": trace.overshoot_um,
+            "pid_settling_s": trace.settling_time_s,
+            "loss_model_pct": 100 * float(loss),
+        },
+        figures=[
+            Figure("spindle_path.png", "spindle path (model), paper's offset, PID pipette trace"),
+            Figure("approach_snapshots.png", "lattice during the approach, coloured by |u|"),
+        ],
+        sections=[
+            (
+                "Calibration used (Table II only)",
+                f"{cal.params}\n\nRMSE {cal.metrics.rmse_nN * UN:.3f} uN",
+            ),
+            (
+                "Cytoplasm loss against mouth-to-spindle distance (spindle length "
+                f"{inp.spindle_length_um:g} um aspirated too)",
+                "| distance (um) | 3D loss (%) | focal-plane loss (%) |\n|---|---|---|\n"
+                + loss_rows,
+            ),
+            ("Aspirated length implied by the paper's percentages", paper_rows),
+        ],
+    )
