@@ -1,0 +1,58 @@
+"""Wall time of one 65 um NMSD press at 30 um/s and of a full Table II calibration.
+
+Goals (issue 6): one press < 20 ms, full calibration < 2 s. Baseline in the same process:
+the same press with twice the steps (ratio shows the cost per step is flat).
+Run: ``python benchmarks/nmsd_speed.py``.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from nmsd.calibration import calibrate
+from nmsd.parameters import NmsdParameters, node_mass_for
+from nmsd.press import press_setup
+from nmsd.tableII import read_force_displacement
+
+TABLE = (
+    Path(__file__).parents[1] / "cases/nmsd_calibration_tableII/nmsd_force_displacement_tableII.csv"
+)
+
+
+def best_of(fn, repeat: int = 5) -> float:
+    times = []
+    for _ in range(repeat):
+        tic = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - tic)
+    return min(times)
+
+
+def main() -> None:
+    data = read_force_displacement(TABLE)
+    params = NmsdParameters(
+        k1=3.0, k2=8000.0, dl_c=0.8, d0=14.6, d1=0.55, node_mass=node_mass_for(115.625, 231)
+    )
+    for n_steps in (40, 80):
+        setup = press_setup(n_steps=n_steps)
+        r = setup.run(params, record_um=data.displacement_um)
+        t = best_of(lambda s=setup: s.run(params, record_um=data.displacement_um))
+        steps = len(r.advance_um) - 1
+        print(
+            f"press 65 um, {steps} steps: {1e3 * t:.1f} ms (goal 20 ms), "
+            f"{steps / t:.0f} steps/s, {r.newton_iterations / steps:.1f} Newton its/step"
+        )
+    setup = press_setup(n_steps=40)
+    base = NmsdParameters(dl_c=0.8, node_mass=node_mass_for(115.625, 231))
+    tic = time.perf_counter()
+    cal = calibrate(setup, data, "nmsd", base, n_starts=2, max_evaluations=60)
+    t = time.perf_counter() - tic
+    print(
+        f"calibration (nmsd, 2 starts): {t:.2f} s (goal 2 s), {cal.evaluations} presses, "
+        f"RMSE {cal.metrics.rmse_nN / 1e3:.3f} uN"
+    )
+
+
+if __name__ == "__main__":
+    main()
