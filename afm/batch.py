@@ -111,8 +111,13 @@ def fit_batch(
     return result
 
 
-def write_batch_table(result: BatchResult, path: str | Path) -> Path:
-    """One CSV row per curve: moduli, contact points, R^2, residual, quality, error."""
+def write_batch_table(
+    result: BatchResult, path: str | Path, relative_to: str | Path | None = None
+) -> Path:
+    """One CSV row per curve: moduli, contact points, R^2, residual, quality, error.
+
+    File names are written relative to ``relative_to`` when given.
+    """
     path = Path(path)
     header = [
         "file",
@@ -133,9 +138,10 @@ def write_batch_table(result: BatchResult, path: str | Path) -> Path:
         writer.writerow(header)
         for r in result.rows:
             f, c = r.fit, r.cytoplasm
+            name = Path(r.file).relative_to(relative_to) if relative_to else r.file
             writer.writerow(
                 [
-                    r.file,
+                    str(name),
                     r.group,
                     f"{f.E_kPa:.6g}" if f else "",
                     f"{f.contact_point_um:.6g}" if f else "",

@@ -141,7 +141,7 @@ def write_curve(curve: ForceCurve, path: str | Path) -> Path:
     """Write ``curve`` as CSV (``piezo_um, force_nN``) with its spring constant and group."""
     path = Path(path)
     header = (
-        f"# spring_constant_N_per_m = {curve.spring_constant_nN_per_um / 1e3!r}\n"
+        f"# spring_constant_N_per_m = {float(curve.spring_constant_nN_per_um) / 1e3!r}\n"
         f"# group = {curve.group}\n"
         "piezo_um,force_nN\n"
     )
@@ -188,8 +188,8 @@ def write_creep(
     path = Path(path)
     lines = [f"# {line}" for line in note.splitlines()]
     lines += [
-        f"# contact_point_um = {contact_point_um!r}",
-        f"# spring_constant_N_per_m = {spring_constant_N_per_m!r}",
+        f"# contact_point_um = {float(contact_point_um)!r}",
+        f"# spring_constant_N_per_m = {float(spring_constant_N_per_m)!r}",
         "time_s,force_nN,height_um",
     ]
     with path.open("w") as fh:

@@ -11,7 +11,8 @@ stress in kPa and time in s.
 * FEBio: a ``viscoelastic`` material wrapping a ``neo-Hookean`` elastic part with E0 and nu;
   its relaxation function is G(t) = g0 + sum g_i exp(-t/t_i) with g0 = 1 - sum g_i and at most
   six terms. FEBio's viscoelastic model relaxes the whole elastic stress (deviatoric and
-  volumetric alike).
+  volumetric alike); a compressible neo-Hookean needs nu < 0.5, so lower nu (e.g. 0.49) or
+  swap in an uncoupled material before running with nu = 0.5.
 """
 
 from __future__ import annotations

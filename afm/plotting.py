@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 import matplotlib
@@ -25,19 +25,21 @@ def _save(fig: plt.Figure, path: str | Path) -> Path:
 def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title: str = "") -> Path:
     """Force against tip position with each fitted model, and E(delta) pointwise beside it."""
     fig, (ax_f, ax_e) = plt.subplots(1, 2, figsize=(10, 4))
-    for label, fit in fits:
-        ax_f.plot(fit.tip_position_um, fit.force_nN, ".", ms=2, alpha=0.5, label=f"{label} data")
+    for i, (label, fit) in enumerate(fits):
+        data_c, fit_c = f"C{2 * i}", f"C{2 * i + 1}"
+        ax_f.plot(fit.tip_position_um, fit.force_nN, ".", ms=2, c=data_c, label=f"{label} data")
         ax_f.plot(
             fit.tip_position_um,
             fit.fitted_force_nN,
             "-",
+            c=fit_c,
             lw=1.5,
             label=f"{label}: E = {fit.E_kPa:.3g} kPa",
         )
         ax_f.axvline(fit.contact_point_um, ls=":", c="grey")
-        delta, modulus = fit.pointwise_modulus(0.05 * float(fit.indentation_um.max()))
-        ax_e.plot(delta, modulus, ".", ms=2, label=label)
-        ax_e.axhline(fit.E_kPa, ls="--", lw=1)
+        delta, modulus = fit.pointwise_modulus(0.1 * float(fit.indentation_um.max()))
+        ax_e.plot(delta, modulus, ".", ms=2, c=data_c, label=label)
+        ax_e.axhline(fit.E_kPa, ls="--", lw=1, c=fit_c)
     ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]", title=title)
     ax_f.legend(fontsize=7)
     ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) = F / shape(delta) [kPa]")
@@ -65,8 +67,10 @@ def plot_histogram(
     return _save(fig, path)
 
 
-def plot_creep(fit: CreepFit, path: str | Path, truth_G: np.ndarray | None = None) -> Path:
-    """J(t) data and Prony fit; G(t) from the exact conversion against 1/J(t)."""
+def plot_creep(
+    fit: CreepFit, path: str | Path, truth: Callable[[np.ndarray], np.ndarray] | None = None
+) -> Path:
+    """J(t) data and Prony fit; G(t) from the exact conversion against 1/J(t) (and ``truth``)."""
     t = fit.time_s
     tt = np.logspace(np.log10(max(t[1], 1e-4)), np.log10(t[-1]), 200)
     fig, (ax_j, ax_g) = plt.subplots(1, 2, figsize=(10, 4))
@@ -76,8 +80,8 @@ def plot_creep(fit: CreepFit, path: str | Path, truth_G: np.ndarray | None = Non
     ax_j.legend(fontsize=7)
     ax_g.plot(tt, fit.relaxation(tt), "-", label="G(t), exact conversion")
     ax_g.plot(tt, 1.0 / fit.creep(tt), "--", label="1/J(t) (what pointwise E(t) gives)")
-    if truth_G is not None:
-        ax_g.plot(tt, truth_G, ":", c="k", label="G(t) used to make the data")
+    if truth is not None:
+        ax_g.plot(tt, truth(tt), ":", c="k", label="G(t) used to make the data")
     ax_g.set(xscale="log", xlabel="t [s]", ylabel="G(t) [kPa]", title="shear relaxation modulus")
     ax_g.legend(fontsize=7)
     return _save(fig, path)

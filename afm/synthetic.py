@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from scipy.optimize import brentq
 
 from afm.creep import indentation_from_compliance
 from afm.curve import ForceCurve
@@ -45,6 +46,17 @@ def _indentation_at(
         if np.all(np.abs(step) < 1e-13 * (1.0 + travel)):
             break
     return d
+
+
+def _depth_at(
+    force_nN: float,
+    E_kPa: float,
+    model: IndentationModel,
+    geometry: Mapping[str, float],
+    nu: float,
+) -> float:
+    """Indentation [um] at which the model force reaches ``force_nN``."""
+    return brentq(lambda d: E_kPa * model.shape(np.array([d]), geometry, nu)[0] - force_nN, 0, 1e3)
 
 
 def _measure(
@@ -94,7 +106,7 @@ def pierce_curve(
     *,
     pierce_force_nN: float = 8.0,
     residual_fraction: float = 0.3,
-    max_piezo_um: float = 16.0,
+    trigger_force_nN: float = 12.0,
     n_points: int = 2000,
     k_nN_per_um: float = 100.0,
     model: str = "sneddon_cone",
@@ -108,18 +120,21 @@ def pierce_curve(
     group: str = "",
 ) -> ForceCurve:
     """Pierce-through curve: ZP up to ``pierce_force_nN``, drop to ``residual_fraction`` of it,
-    then cytoplasm from the tip position after the drop (noise relative to the pierce force)."""
+    then cytoplasm from the tip position after the drop, up to ``trigger_force_nN`` (where the
+    instrument stops the approach). Noise SD is ``noise_fraction`` of the pierce force."""
     tip = get_model(model)
     geometry = tip.check_geometry(geometry or {})
     k = k_nN_per_um
-    piezo = np.linspace(0.0, max_piezo_um, n_points)
+    residual = residual_fraction * pierce_force_nN
+    if not trigger_force_nN > pierce_force_nN:
+        raise ValueError("trigger_force_nN must exceed pierce_force_nN")
+    d_pierce = _depth_at(pierce_force_nN, E_zp_kPa, tip, geometry, nu)
+    d_end = _depth_at(trigger_force_nN - residual, E_cytoplasm_kPa, tip, geometry, nu)
+    z_pierce = contact_point_um + d_pierce + pierce_force_nN / k
+    piezo = np.linspace(0.0, z_pierce + d_end + (trigger_force_nN - residual) / k, n_points)
     delta1 = _indentation_at(piezo - contact_point_um, E_zp_kPa, tip, geometry, nu, k)
     force = E_zp_kPa * tip.shape(delta1, geometry, nu)
-    pierced = force >= pierce_force_nN
-    if not pierced.any():
-        raise ValueError("pierce_force_nN is not reached within max_piezo_um")
-    first = int(np.argmax(pierced))
-    residual = residual_fraction * pierce_force_nN
+    first = int(np.argmax(force >= pierce_force_nN * (1 - 1e-12)))
     x_ref = piezo[first] - residual / k  # tip position right after the drop
     delta2 = _indentation_at(piezo[first:] - x_ref, E_cytoplasm_kPa, tip, geometry, nu, k, residual)
     force[first:] = residual + E_cytoplasm_kPa * tip.shape(delta2, geometry, nu)

@@ -1,0 +1,165 @@
+"""Case kind ``afm_zp_cytoplasm``: pierce-through curves -> ZP and cytoplasm moduli."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from afm.batch import curve_files, fit_batch, write_batch_table
+from afm.curve import spring_constant_nN_per_um
+from afm.curve_io import write_curve
+from afm.plotting import plot_fit, plot_histogram
+from afm.synthetic import pierce_curve
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+
+
+class ZpCytoplasmInputs(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    n_oocytes: int = Field(ge=1, description="oocytes in the synthetic population")
+    points_per_oocyte: int = Field(ge=1, description="pierce-through curves per oocyte")
+    E_zp_mean_kPa: float = Field(gt=0, description="mean of the ZP moduli drawn, kPa")
+    E_zp_sd_kPa: float = Field(ge=0, description="SD of the ZP moduli drawn, kPa")
+    E_cytoplasm_mean_kPa: float = Field(gt=0, description="mean of the cytoplasm moduli, kPa")
+    E_cytoplasm_sd_kPa: float = Field(ge=0, description="SD of the cytoplasm moduli, kPa")
+    min_E_kPa: float = Field(gt=0, description="draws below this are redrawn (non-physical)")
+    half_angle_deg: float = Field(gt=0, lt=90, description="cone half angle, deg")
+    nu: float = Field(gt=-1, le=0.5)
+    spring_constant_N_per_m: float = Field(gt=0)
+    pierce_force_nN: float = Field(gt=0, description="force at which the probe pierces the ZP")
+    residual_fraction: float = Field(ge=0, lt=1, description="force left after the drop / peak")
+    contact_point_um: float = Field(gt=0)
+    trigger_force_nN: float = Field(gt=0, description="force that ends the approach, nN")
+    n_points: int = Field(ge=100)
+    noise_fraction: float = Field(ge=0, description="force noise SD / pierce force")
+    tilt_nN_per_um: float = Field(description="baseline tilt, nN/um")
+    seed: int = 0
+
+
+METRICS = {
+    "E_zp_mean_kPa": "mean fitted ZP modulus over the population, kPa",
+    "E_zp_sd_kPa": "SD of the fitted ZP moduli, kPa",
+    "E_cytoplasm_mean_kPa": "mean fitted cytoplasm modulus, kPa",
+    "E_cytoplasm_sd_kPa": "SD of the fitted cytoplasm moduli, kPa",
+    "zp_mean_vs_drawn_pct": "fitted ZP mean against the drawn sample's mean, %",
+    "cytoplasm_mean_vs_drawn_pct": "fitted cytoplasm mean against the drawn sample's mean, %",
+    "n_fitted": "curves fitted",
+    "n_failed": "curves that could not be fitted",
+}
+
+
+def _draw(rng: np.random.Generator, mean: float, sd: float, n: int, floor: float) -> np.ndarray:
+    """n draws of N(mean, sd), each below ``floor`` redrawn."""
+    values = rng.normal(mean, sd, n)
+    while np.any(values < floor):
+        bad = values < floor
+        values[bad] = rng.normal(mean, sd, int(bad.sum()))
+    return values
+
+
+@case_kind("afm_zp_cytoplasm", inputs=ZpCytoplasmInputs, metrics=METRICS)
+def run(ctx: CaseContext) -> CaseOutcome:
+    """Synthetic pierce-through curves (paper's mean/SD) -> batch fit -> both moduli."""
+    inp: ZpCytoplasmInputs = ctx.inputs  # type: ignore[assignment]
+    rng = np.random.default_rng(inp.seed)
+    n = inp.n_oocytes * inp.points_per_oocyte
+    e_zp = _draw(rng, inp.E_zp_mean_kPa, inp.E_zp_sd_kPa, n, inp.min_E_kPa)
+    e_cyt = _draw(rng, inp.E_cytoplasm_mean_kPa, inp.E_cytoplasm_sd_kPa, n, inp.min_E_kPa)
+    k = spring_constant_nN_per_um(inp.spring_constant_N_per_m)
+    geometry = {"half_angle_deg": inp.half_angle_deg}
+
+    ctx.step(f"writing {n} synthetic pierce-through curves")
+    folder = ctx.output("curves/oocytes/.keep").parent
+    drawn: dict[str, tuple[float, float]] = {}
+    for i in range(n):
+        curve = pierce_curve(
+            e_zp[i],
+            e_cyt[i],
+            inp.contact_point_um,
+            pierce_force_nN=inp.pierce_force_nN,
+            residual_fraction=inp.residual_fraction,
+            trigger_force_nN=inp.trigger_force_nN,
+            n_points=inp.n_points,
+            k_nN_per_um=k,
+            geometry=geometry,
+            nu=inp.nu,
+            tilt_nN_per_um=inp.tilt_nN_per_um,
+            noise_fraction=inp.noise_fraction,
+            seed=int(rng.integers(2**31)),
+            group="oocytes",
+        )
+        oocyte, point = divmod(i, inp.points_per_oocyte)
+        name = f"oocyte{oocyte + 1:03d}_point{point + 1:02d}.csv"
+        write_curve(curve, folder / name)
+        drawn[name] = (e_zp[i], e_cyt[i])
+
+    ctx.step("fitting the batch (pierce detection, ZP and cytoplasm fits)")
+    batch = fit_batch(curve_files(folder), pierce=True, geometry=geometry, nu=inp.nu)
+    write_batch_table(batch, ctx.output("fits.csv"), relative_to=ctx.out_dir)
+    good = [r for r in batch.rows if not r.error]
+    zp = np.array([r.fit.E_kPa for r in good])
+    cyt = np.array([r.cytoplasm.E_kPa for r in good])
+    truth = np.array([drawn[Path(r.file).name] for r in good])
+
+    ctx.step("plots")
+    first = good[int(np.argsort(zp)[len(zp) // 2])]  # the curve with the median ZP modulus
+    plot_fit(
+        [("ZP", first.fit), ("cytoplasm", first.cytoplasm)],
+        ctx.output("curve_fit.png"),
+        title=first.file.rsplit("/", 1)[-1],
+    )
+    plot_histogram(
+        {"ZP": zp, "cytoplasm": cyt},
+        ctx.output("histogram.png"),
+        references={
+            "ZP": (inp.E_zp_mean_kPa, inp.E_zp_sd_kPa),
+            "cytoplasm": (inp.E_cytoplasm_mean_kPa, inp.E_cytoplasm_sd_kPa),
+        },
+    )
+    zp_vs = 100 * (zp.mean() / truth[:, 0].mean() - 1)
+    cyt_vs = 100 * (cyt.mean() / truth[:, 1].mean() - 1)
+    per_curve = np.abs(zp / truth[:, 0] - 1), np.abs(cyt / truth[:, 1] - 1)
+    metrics = {
+        "E_zp_mean_kPa": float(zp.mean()),
+        "E_zp_sd_kPa": float(zp.std(ddof=1)),
+        "E_cytoplasm_mean_kPa": float(cyt.mean()),
+        "E_cytoplasm_sd_kPa": float(cyt.std(ddof=1)),
+        "zp_mean_vs_drawn_pct": float(zp_vs),
+        "cytoplasm_mean_vs_drawn_pct": float(cyt_vs),
+        "n_fitted": float(len(good)),
+        "n_failed": float(len(batch.failures)),
+    }
+    checks = [
+        Check(
+            "ZP: every curve within 5 % of its drawn modulus",
+            float(100 * per_curve[0].max()),
+            bool(per_curve[0].max() < 0.05),
+            "< 5 %",
+            unit="%",
+        ),
+        Check(
+            "cytoplasm: every curve within 5 % of its drawn modulus",
+            float(100 * per_curve[1].max()),
+            bool(per_curve[1].max() < 0.05),
+            "< 5 %",
+            unit="%",
+        ),
+    ]
+    table = "\n".join(
+        f"| {s.quantity} | {s.n} | {s.mean_kPa:.3f} | {s.sd_kPa:.3f} |" for s in batch.stats()
+    )
+    sections = [
+        (
+            "Population",
+            f"{n} synthetic curves ({inp.n_oocytes} oocytes x {inp.points_per_oocyte} points); "
+            f"drawn ZP {e_zp.mean():.3f} +- {e_zp.std(ddof=1):.3f} kPa, cytoplasm "
+            f"{e_cyt.mean():.3f} +- {e_cyt.std(ddof=1):.3f} kPa. Fitted (mean +- SD):\n\n"
+            "| modulus | n | mean [kPa] | SD [kPa] |\n|---|---|---|---|\n" + table,
+        )
+    ]
+    figures = [
+        Figure("curve_fit.png", "Median-ZP curve: data, Sneddon fits of both segments, E(delta)"),
+        Figure("histogram.png", "Fitted moduli; dashed: the paper's mean, band: +- SD"),
+    ]
+    return CaseOutcome(metrics=metrics, figures=figures, sections=sections, checks=checks)
