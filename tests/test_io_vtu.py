@@ -8,6 +8,7 @@ import xml.etree.ElementTree as ET
 import meshio
 import numpy as np
 import pytest
+import pyvista as pv
 
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
@@ -60,6 +61,14 @@ def test_series_round_trip(tmp_path, order):
         region = m.cell_data["region_id"][0]
         assert np.all(region[mesh.subdomains["cytoplasm"]] == 1)
         assert np.all(region[mesh.subdomains["zona"]] == 2)
+
+    # VTK's own readers (as ParaView uses them) see the series, its times and the fields
+    reader = pv.get_reader(str(folder / "fields.pvd"))
+    assert reader.time_values == times
+    reader.set_active_time_value(times[-1])
+    grid = reader.read()[0]
+    assert set(grid.celltypes) == {22 if order == 2 else 5}  # VTK (quadratic) triangle
+    assert np.allclose(grid.point_data["displacement"][:, :2], _field(mesh, times[-1]).T)
 
 
 def test_series_left_out_on_error_and_replaces_old(tmp_path):
