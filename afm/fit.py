@@ -6,8 +6,9 @@ With the baseline removed and the tip-sample separation applied, the model is
 
 x tip position [um] (``piezo - F/k``), x0 contact point [um], E Young's modulus [kPa], ``shape``
 the registered tip model (:mod:`afm.models`). The fit is a two-parameter least squares
-(:func:`scipy.optimize.least_squares`, trust region reflective, analytic Jacobian
-``dF/dE = shape``, ``dF/dx0 = -E dshape``) over all points of the fit window: the non-contact
+(:func:`scipy.optimize.least_squares`, Levenberg-Marquardt, falling back to bounded trust
+region reflective if it leaves E > 0 or the data range; analytic Jacobian ``dF/dE = shape``,
+``dF/dx0 = -E dshape``) over all points of the fit window: the non-contact
 points pin the contact point, the contact points the modulus. With ``contact_method =
 "deviation"`` x0 is fixed at the deviation estimate and E is the linear least-squares solution.
 
@@ -172,14 +173,15 @@ def fit_contact_power(
         return jac
 
     span = float(np.ptp(x))
-    result = least_squares(
-        residual,
-        np.array([max(e_guess, 1e-12), x0_guess]),
-        jac=jacobian,
-        bounds=([0.0, x.min() - span], [np.inf, x.max()]),
-        x_scale=np.array([max(e_guess, 1e-12), 0.01 * span]),
-        method="trf",
-    )
+    start = np.array([max(e_guess, 1e-12), x0_guess])
+    scale = np.array([max(e_guess, 1e-12), 0.01 * span])
+    # Levenberg-Marquardt (MINPACK) is the fastest here; bounded TRF only if it leaves the box
+    result = least_squares(residual, start, jac=jacobian, x_scale=scale, method="lm")
+    lower, upper = np.array([0.0, x.min() - span]), np.array([np.inf, x.max()])
+    if not (result.success and np.all(result.x > lower) and np.all(result.x < upper)):
+        result = least_squares(
+            residual, start, jac=jacobian, bounds=(lower, upper), x_scale=scale, method="trf"
+        )
     return float(result.x[0]), float(result.x[1]), bool(result.success), result.message
 
 
