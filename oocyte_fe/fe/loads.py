@@ -1,0 +1,68 @@
+"""Boundary conditions and loads: fixed/prescribed displacement, follower pressure.
+
+Follower pressure ``p`` [kPa] on a boundary acts on the deformed surface (Nanson,
+``n da = J F^-T N dA``). In the section plane, per reference arc length ``dS``::
+
+    f = -p a cof(F2) N,   cof(F2) = [[F22, -F21], [-F12, F11]],
+    a = 2 pi r = 2 pi (R + u_R)  (axisymmetric)  or 1 (plane strain, per unit thickness)
+
+A ``where(x)`` mask (evaluated in the current configuration) restricts the pressure to part of
+the boundary, for example the surface inside a pipette (suction = negative pressure).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from skfem import BilinearForm, LinearForm
+
+
+def _zero(_t: float) -> float:
+    return 0.0
+
+
+@dataclass(frozen=True)
+class Prescribed:
+    """Displacement component ``component`` (0: x/R, 1: y/Z) on ``boundary`` equals ``value(t)``
+    [um]. ``Prescribed("axis", 0)`` is the axis of symmetry, ``u_R = 0``."""
+
+    boundary: str
+    component: int
+    value: Callable[[float], float] = _zero
+
+
+@dataclass(frozen=True)
+class FollowerPressure:
+    """Pressure ``pressure(t)`` [kPa] on ``boundary``; positive pushes against the normal."""
+
+    boundary: str
+    pressure: Callable[[float], float]
+    where: Callable[[NDArray], NDArray] | None = None  # current x (2, ...) -> bool mask
+    name: str = "pressure"
+
+
+def _cof_n(Fg: NDArray, N: NDArray) -> NDArray:
+    return np.stack([Fg[1, 1] * N[0] - Fg[1, 0] * N[1], -Fg[0, 1] * N[0] + Fg[0, 0] * N[1]])
+
+
+def _radius_factor(w) -> NDArray:
+    return np.where(w.axisym > 0, 2.0 * np.pi * (w.x[0] + w.u[0]), 1.0)
+
+
+@LinearForm
+def pressure_force(v, w):
+    """External force ``-p a cof(F) N . v``."""
+    Fg = np.eye(2)[:, :, None, None] + w.u.grad
+    return -w.pn * _radius_factor(w) * np.einsum("i...,i...->...", _cof_n(Fg, w.n), v)
+
+
+@BilinearForm
+def pressure_stiffness(du, v, w):
+    """``-d f / d u``: ``p (da cof(F) N + a cof(dF) N) . v``."""
+    Fg = np.eye(2)[:, :, None, None] + w.u.grad
+    da = np.where(w.axisym > 0, 2.0 * np.pi * du[0], 0.0)
+    term = da * _cof_n(Fg, w.n) + _radius_factor(w) * _cof_n(du.grad, w.n)
+    return w.pn * np.einsum("i...,i...->...", term, v)

@@ -1,0 +1,129 @@
+"""Rigid analytic obstacles in the section plane: signed distance ``g(x)`` and normal ``n(x)``.
+
+Every obstacle is a curve of the (x, y) / (R, Z) plane; in axisymmetry it is revolved about the
+Z axis (a polyline becomes a pipette wall, a cone or a plate, a circle centred on the axis a
+sphere). ``g > 0`` on the free side, ``g < 0`` inside the obstacle; ``n = grad g`` is the unit
+normal pointing away from the obstacle. A polyline's solid lies on the *left* of its direction
+of travel. Lengths in um.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from oocyte_fe.errors import InputError
+
+
+@dataclass(frozen=True)
+class Polyline:
+    """Rigid boundary through ``points`` (k, 2), solid on the left of the direction of travel."""
+
+    points: tuple[tuple[float, float], ...]
+    name: str = "obstacle"
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=float)
+        if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 2:
+            raise InputError(self.name, "points", "at least two (x, y) points", got=self.points)
+        if np.any(np.linalg.norm(np.diff(pts, axis=0), axis=1) <= 0):
+            raise InputError(self.name, "points", "distinct consecutive points")
+
+    def distance(self, x: NDArray) -> tuple[NDArray, NDArray]:
+        """Signed distance ``g`` (...) and unit normal ``n`` (2, ...) at points ``x`` (2, ...)."""
+        pts = np.asarray(self.points, dtype=float)
+        a, b = pts[:-1], pts[1:]  # (s, 2)
+        d = b - a
+        seg_n = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.linalg.norm(d, axis=1)[:, None]
+        xf = x.reshape(2, -1).T  # (m, 2)
+        rel = xf[:, None, :] - a[None, :, :]  # (m, s, 2)
+        t = np.clip(np.einsum("msk,sk->ms", rel, d) / np.einsum("sk,sk->s", d, d), 0.0, 1.0)
+        closest = a[None] + t[..., None] * d[None]
+        diff = xf[:, None, :] - closest
+        dist = np.linalg.norm(diff, axis=2)
+        k = np.argmin(dist, axis=1)
+        m = np.arange(len(xf))
+        dk, tk, diffk = dist[m, k], t[m, k], diff[m, k]
+        # normal: segment normal in a segment's interior; vertex pseudo-normal at its ends
+        normal = seg_n[k].copy()
+        at_start = (tk <= 0.0) & (k > 0)
+        at_end = (tk >= 1.0) & (k < len(d) - 1)
+        normal[at_start] = seg_n[k[at_start]] + seg_n[k[at_start] - 1]
+        normal[at_end] = seg_n[k[at_end]] + seg_n[k[at_end] + 1]
+        sign = np.where(np.einsum("mk,mk->m", diffk, normal) >= 0.0, 1.0, -1.0)
+        vertex = (tk <= 0.0) | (tk >= 1.0)
+        safe = dk > 1e-12
+        n = np.where(
+            (vertex & safe)[:, None], sign[:, None] * diffk / np.where(safe, dk, 1)[:, None], normal
+        )
+        n /= np.linalg.norm(n, axis=1)[:, None]
+        g = sign * dk
+        return g.reshape(x.shape[1:]), n.T.reshape(x.shape)
+
+
+@dataclass(frozen=True)
+class Circle:
+    """Rigid disc (plane strain) or sphere centred on the axis (axisymmetric), radius [um]."""
+
+    center: tuple[float, float]
+    radius: float
+    name: str = "sphere"
+
+    def __post_init__(self) -> None:
+        if self.radius <= 0:
+            raise InputError(self.name, "radius", "a positive radius", got=self.radius)
+
+    def distance(self, x: NDArray) -> tuple[NDArray, NDArray]:
+        rel = x - np.asarray(self.center, dtype=float).reshape((2,) + (1,) * (x.ndim - 1))
+        r = np.linalg.norm(rel, axis=0)
+        return r - self.radius, rel / np.where(r > 0, r, 1.0)
+
+
+Obstacle = Polyline | Circle
+
+
+def flat_plate(y: float, x_min: float, x_max: float, below: bool = True) -> Polyline:
+    """A plate with its surface at height ``y``: solid below (``below``) or above it."""
+    pts = ((x_max, y), (x_min, y)) if below else ((x_min, y), (x_max, y))
+    return Polyline(pts, name="plate")
+
+
+def cone_indenter(apex: tuple[float, float], half_angle_deg: float, length: float) -> Polyline:
+    """Axisymmetric cone, apex on the axis pointing down (-Z), solid above its flank."""
+    a = np.deg2rad(half_angle_deg)
+    top = (apex[0] + length * np.sin(a), apex[1] + length * np.cos(a))
+    return Polyline((apex, (float(top[0]), float(top[1]))), name="cone")
+
+
+def wedge_tip(
+    tip: tuple[float, float],
+    direction: tuple[float, float],
+    width: float,
+    angle_deg: float,
+    length: float,
+) -> Polyline:
+    """Plane-strain wedge micropipette: flat tip of ``width`` [um] centred at ``tip``, advancing
+    along ``direction``, flanks opening at the full ``angle_deg`` behind it."""
+    d = np.asarray(direction, dtype=float)
+    d /= np.linalg.norm(d)
+    side = np.array([-d[1], d[0]])
+    c = np.asarray(tip, dtype=float)
+    half = np.tan(np.deg2rad(angle_deg) / 2.0)
+    p1 = c + side * width / 2
+    p2 = c - side * width / 2
+    b1 = p1 - d * length + side * length * half
+    b2 = p2 - d * length - side * length * half
+    pts = (b2, p2, p1, b1)  # solid on the left when travelling b2 -> p2 -> p1 -> b1
+    return Polyline(tuple((float(p[0]), float(p[1])) for p in pts), name="wedge")
+
+
+def necked_pipette_wall(profile: list[tuple[float, float]], name: str = "pipette") -> Polyline:
+    """Inner wall of an axisymmetric pipette, ``profile`` = [(R, Z), ...] in order of increasing
+    Z; the body lives at ``R`` below the wall (inside the bore), the glass outside it."""
+    z = [p[1] for p in profile]
+    if any(b <= a for a, b in zip(z, z[1:], strict=False)):
+        raise InputError(name, "profile", "points with increasing Z")
+    # travelling towards -Z, the solid (glass, larger R) is on the left
+    return Polyline(tuple((float(r), float(zz)) for r, zz in reversed(profile)), name=name)

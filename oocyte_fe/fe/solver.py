@@ -1,0 +1,352 @@
+"""Quasi-static incremental solution: Newton with a consistent tangent and step cutbacks.
+
+Each step solves ``r(x) = f_int(x) - f_ext(x) = 0`` for ``x = [u | p]`` by Newton's method with
+the exact tangent of :mod:`~oocyte_fe.fe.forms`, :mod:`~oocyte_fe.fe.contact` and
+:mod:`~oocyte_fe.fe.loads`; prescribed displacements enter as the first increment. The sparse
+system is saddle-point (indefinite at ``nu = 0.5``) and unsymmetric (friction, follower
+pressure), so it is solved with SuperLU (``scipy.sparse.linalg.splu``, partial pivoting,
+COLAMD ordering), which handles both; Cholesky or symmetric solvers would not.
+
+A step converges when ``|r_u| <= rtol * |f_int|`` and ``|r_p| <= rtol * V``. A step that fails
+(iteration limit, NaN, an inverted element, a diverging residual) is halved, up to
+``max_cutbacks`` times, then :class:`~oocyte_fe.errors.SolverError` names the time, the
+residual and the cause. Every iteration's residual is logged, so quadratic convergence is
+visible in the log.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.sparse.linalg import splu
+from skfem import asm, condense
+
+from oocyte_fe.errors import InputError, SolverError
+from oocyte_fe.fe import contact as ct
+from oocyte_fe.fe.body import Body
+from oocyte_fe.fe.forms import (
+    compliance_pp,
+    coupling_up,
+    internal_force,
+    stiffness_uu,
+    volume_constraint,
+)
+from oocyte_fe.fe.kinematics import Kinematics, grad5
+from oocyte_fe.fe.loads import FollowerPressure, Prescribed, pressure_force, pressure_stiffness
+from oocyte_fe.fe.material import ViscousHistory, response, update_history
+
+LOG = logging.getLogger("oocyte_fe.fe")
+
+
+@dataclass(frozen=True)
+class NewtonSettings:
+    """Iteration limits and tolerances (dimensionless)."""
+
+    max_iterations: int = 20
+    rtol: float = 1e-8
+    max_cutbacks: int = 8
+    divergence: float = 1e4  # residual growth over its first value that counts as divergence
+
+
+@dataclass(frozen=True)
+class StepLog:
+    """One accepted step: end time, size, Newton residual history, cutbacks spent on it."""
+
+    t: float
+    dt: float
+    residuals: tuple[float, ...]
+    cutbacks: int
+
+    @property
+    def iterations(self) -> int:
+        return len(self.residuals) - 1
+
+
+@dataclass
+class Frame:
+    """The solution at an output time."""
+
+    t: float
+    x: NDArray
+    volume: float
+    obstacle_forces: dict[str, NDArray]  # force on each obstacle [nN] (axisym: ring sums)
+    contact_pressure: dict[str, NDArray]  # (nf, nq) at the boundary's quadrature points
+
+
+@dataclass
+class SolveResult:
+    """All output frames and the step log of a solve."""
+
+    frames: list[Frame] = field(default_factory=list)
+    steps: list[StepLog] = field(default_factory=list)
+
+    @property
+    def times(self) -> NDArray:
+        return np.array([f.t for f in self.frames])
+
+    @property
+    def cutbacks(self) -> int:
+        return sum(s.cutbacks for s in self.steps)
+
+
+class _StepFailed(Exception):
+    def __init__(self, cause: str, residual: float) -> None:
+        super().__init__(cause)
+        self.cause, self.residual = cause, residual
+
+
+class Problem:
+    """A body with its boundary conditions, pressures and contacts; ``solve`` runs the steps."""
+
+    def __init__(
+        self,
+        body: Body,
+        prescribed: Sequence[Prescribed] = (),
+        pressures: Sequence[FollowerPressure] = (),
+        contacts: Sequence[ct.Contact] = (),
+        log: logging.Logger | None = None,
+    ) -> None:
+        self.body = body
+        self.prescribed = list(prescribed)
+        self.pressures = [(pl, body.facet_basis(pl.boundary)) for pl in pressures]
+        self.contacts = [(c, body.facet_basis(c.boundary)) for c in contacts]
+        self.log = log or LOG
+        self._fixed = [(body.boundary_dofs(b.boundary, b.component), b) for b in prescribed]
+        fixed = [d for d, _ in self._fixed] + [body.unused_pressure_dofs]
+        self.fixed_dofs = np.unique(np.concatenate(fixed)).astype(int)
+        self.x = np.zeros(body.n_dofs)
+        self.t = 0.0
+        self._quad = [
+            (np.asarray(r.ubasis.global_coordinates())[0], r.ubasis.dx) for r in body.regions
+        ]
+        self.histories = [
+            ViscousHistory.zeros(len(r.material.prony.g), r.ubasis.dx.shape) for r in body.regions
+        ]
+        self.contact_states = []
+        for c, fb in self.contacts:
+            X = np.asarray(fb.global_coordinates())
+            gap, _ = c.obstacle.distance(X - np.asarray(c.motion(0.0))[:, None, None])
+            tol = 1e-6 * float(np.ptp(body.mesh.p))
+            if np.any(gap < -tol):
+                raise InputError(
+                    c.name,
+                    "obstacle",
+                    f"no initial overlap with boundary {c.boundary!r} (penetration "
+                    f"{-gap.min():.3g} um at t = 0)",
+                )
+            self.contact_states.append(ct.ContactState(np.zeros_like(X), np.zeros(gap.shape), 0.0))
+
+    # --- assembly ----------------------------------------------------------------------------
+
+    def _region_fields(self, x: NDArray, k: int):
+        body, region = self.body, self.body.regions[k]
+        uq = region.ubasis.interpolate(body.displacement(x))
+        pq = np.asarray(region.pbasis.interpolate(body.pressure(x, region)))
+        R = self._quad[k][0] if body.axisym else None
+        kin = Kinematics.from_grad5(grad5(np.asarray(uq), uq.grad, R))
+        return kin, pq
+
+    def assemble(self, x: NDArray, t: float, dt: float, evals: list | None = None):
+        """Residual ``r`` and tangent ``K`` at ``x`` for the step ending at ``t``."""
+        body = self.body
+        a = body.axisym
+        r = np.zeros(body.n_dofs)
+        blocks_uu = []
+        rows, cols, vals = [], [], []
+        f_int_norm2 = 0.0
+        f_ext = np.zeros(body.n_u)
+        for k, region in enumerate(body.regions):
+            kin, pq = self._region_fields(x, k)
+            if np.any(kin.J <= 0) or not np.all(np.isfinite(kin.J)):
+                raise _StepFailed(f"inverted element in region {region.name!r}", np.inf)
+            res = response(kin, pq, region.material, self.histories[k], dt)
+            fi = asm(internal_force, region.ubasis, P5=res.P5, axisym=a)
+            f_int_norm2 += float(fi @ fi)
+            r[: body.n_u] += fi
+            blocks_uu.append(asm(stiffness_uu, region.ubasis, A5=res.A5, axisym=a))
+            inv_k = region.material.inv_kappa
+            o, n_p = region.p_offset, region.pbasis.N
+            r[o : o + n_p] = asm(
+                volume_constraint, region.pbasis, Jm1=kin.J - 1.0, p=pq, inv_kappa=inv_k, axisym=a
+            )
+            Kup = asm(
+                coupling_up, region.pbasis, region.ubasis, JFinvT5=res.JFinvT5, axisym=a
+            ).tocoo()
+            rows += [Kup.row, Kup.col + o]
+            cols += [Kup.col + o, Kup.row]
+            vals += [Kup.data, Kup.data]
+            if inv_k > 0:
+                Kpp = asm(compliance_pp, region.pbasis, inv_kappa=inv_k, axisym=a).tocoo()
+                rows.append(Kpp.row + o)
+                cols.append(Kpp.col + o)
+                vals.append(Kpp.data)
+        u = body.displacement(x)
+        for load, fb in self.pressures:
+            uq = fb.interpolate(u)
+            pn = np.full(fb.dx.shape, float(load.pressure(t)))
+            if load.where is not None:
+                pn = pn * load.where(np.asarray(fb.global_coordinates()) + np.asarray(uq))
+            fe = asm(pressure_force, fb, u=uq, pn=pn, axisym=a)
+            f_ext += fe
+            blocks_uu.append(asm(pressure_stiffness, fb, u=uq, pn=pn, axisym=a))
+        for (c, fb), state in zip(self.contacts, self.contact_states, strict=False):
+            ev = ct.evaluate(
+                c, fb, np.asarray(fb.global_coordinates()), np.asarray(fb.interpolate(u)), state, t
+            )
+            fc, Kc = ct.assemble(ev, fb, a)
+            f_ext += fc
+            blocks_uu.append(Kc)
+            if evals is not None:
+                evals.append(ev)
+        r[: body.n_u] -= f_ext
+        Kuu = sum(blocks_uu[1:], blocks_uu[0]).tocoo()
+        rows.append(Kuu.row)
+        cols.append(Kuu.col)
+        vals.append(Kuu.data)
+        K = sp.csr_matrix(
+            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(body.n_dofs, body.n_dofs),
+        )
+        return r, K, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
+
+    # --- one step ----------------------------------------------------------------------------
+
+    def _targets(self, t: float) -> NDArray:
+        target = self.x.copy()
+        for dofs, bc in self._fixed:
+            target[dofs] = bc.value(t)
+        target[self.body.unused_pressure_dofs] = 0.0
+        return target
+
+    def _newton(self, t: float, dt: float, settings: NewtonSettings) -> tuple[NDArray, list[float]]:
+        x = self.x.copy()
+        D = self.fixed_dofs
+        free = np.setdiff1d(np.arange(self.body.n_dofs), D)
+        n_u = self.body.n_u
+        free_u, free_p = free[free < n_u], free[free >= n_u]
+        volume = self.volume(self.x)
+        target = self._targets(t)
+        history: list[float] = []
+        for it in range(settings.max_iterations + 1):
+            r, K, f_scale = self.assemble(x, t, dt)
+            ru = np.linalg.norm(r[free_u])
+            rp = np.linalg.norm(r[free_p])
+            res = max(ru / max(f_scale, 1e-300), rp / volume) if (ru or rp) else 0.0
+            history.append(float(res))
+            self.log.info(
+                "  t=%.6g it=%d residual=%.3e (|r_u|=%.3e nN, |r_p|=%.3e um3)", t, it, res, ru, rp
+            )
+            if not np.isfinite(res):
+                raise _StepFailed("residual is not finite", res)
+            pending = np.any(target[D] != x[D])
+            if res <= settings.rtol and not pending:
+                return x, history
+            if it >= 3 and res > settings.divergence * max(history[1], settings.rtol):
+                raise _StepFailed("residual diverging", res)
+            if it == settings.max_iterations:
+                break
+            dx = np.zeros_like(x)
+            dx[D] = target[D] - x[D]
+            A, b, _, I = condense(K, -r, x=dx, D=D)
+            try:
+                dx[I] = splu(A.tocsc()).solve(b)
+            except RuntimeError as exc:
+                raise _StepFailed(f"singular tangent ({exc})", res) from None
+            x += dx
+        raise _StepFailed(f"no convergence in {settings.max_iterations} iterations", history[-1])
+
+    def _accept(self, x: NDArray, t: float, dt: float) -> None:
+        for k, region in enumerate(self.body.regions):
+            if region.material.prony.g:
+                kin, pq = self._region_fields(x, k)
+                res = response(kin, pq, region.material, self.histories[k], dt)
+                self.histories[k] = update_history(self.histories[k], region.material, res.S0, dt)
+        u = self.body.displacement(x)
+        for k, ((c, fb), state) in enumerate(zip(self.contacts, self.contact_states, strict=False)):
+            uq = np.asarray(fb.interpolate(u))
+            ev = ct.evaluate(c, fb, np.asarray(fb.global_coordinates()), uq, state, t)
+            self.contact_states[k] = ct.ContactState(uq, ev.slip, t)
+        self.x, self.t = x, t
+
+    # --- outputs -----------------------------------------------------------------------------
+
+    def volume(self, x: NDArray) -> float:
+        """Current volume ``int J dV`` [um^3] (axisymmetric) or area [um^2] (plane strain)."""
+        total = 0.0
+        for k, _region in enumerate(self.body.regions):
+            kin, _ = self._region_fields(x, k)
+            R, dx = self._quad[k]
+            measure = 2.0 * np.pi * R if self.body.axisym else 1.0
+            total += float(np.sum(kin.J * dx * measure))
+        return total
+
+    def frame(self) -> Frame:
+        """The current state as an output frame."""
+        u = self.body.displacement(self.x)
+        forces, pressures = {}, {}
+        for (c, fb), state in zip(self.contacts, self.contact_states, strict=False):
+            X = np.asarray(fb.global_coordinates())
+            ev = ct.evaluate(c, fb, X, np.asarray(fb.interpolate(u)), state, self.t)
+            forces[c.name] = -ct.resultant(ev, fb, self.body.axisym)
+            pressures[c.name] = ev.pressure
+        return Frame(self.t, self.x.copy(), self.volume(self.x), forces, pressures)
+
+    def solve(
+        self,
+        times: Sequence[float],
+        settings: NewtonSettings | None = None,
+        on_frame: Callable[[Frame], None] | None = None,
+        max_dt: float | None = None,
+    ) -> SolveResult:
+        """Advance through the output ``times`` [s] (increasing, > current time).
+
+        Each output interval is one step (at most ``max_dt``); a failed step is halved and
+        retried; after three easy steps the step grows back.
+        """
+        settings = settings or NewtonSettings()
+        times = [float(t) for t in times]
+        if any(b <= a for a, b in zip([self.t, *times], times, strict=False)):
+            raise InputError("solve", "times", f"increasing output times after t = {self.t:g}")
+        result = SolveResult()
+        for t_out in times:
+            dt_nominal = min(t_out - self.t, max_dt or np.inf)
+            dt, easy = dt_nominal, 0
+            while self.t < t_out - 1e-12 * max(1.0, abs(t_out)):
+                cutbacks = 0
+                while True:
+                    step = min(dt, t_out - self.t)
+                    t_new = self.t + step
+                    try:
+                        x, hist = self._newton(t_new, step, settings)
+                        break
+                    except _StepFailed as fail:
+                        cutbacks += 1
+                        self.log.warning(
+                            "step to t=%.6g (dt=%.3g) failed: %s; cutback %d",
+                            t_new,
+                            step,
+                            fail.cause,
+                            cutbacks,
+                        )
+                        if cutbacks > settings.max_cutbacks:
+                            raise SolverError(
+                                f"no convergence at t = {t_new:.6g} s (dt = {step:.3g} s) after "
+                                f"{settings.max_cutbacks} cutbacks: {fail.cause}, residual "
+                                f"{fail.residual:.3e}"
+                            ) from None
+                        dt = step / 2.0
+                self._accept(x, t_new, step)
+                result.steps.append(StepLog(t_new, step, tuple(hist), cutbacks))
+                easy = easy + 1 if len(hist) <= 6 and cutbacks == 0 else 0
+                if easy >= 3 and dt < dt_nominal:
+                    dt, easy = min(2.0 * dt, dt_nominal), 0
+            frame = self.frame()
+            result.frames.append(frame)
+            if on_frame is not None:
+                on_frame(frame)
+        return result
