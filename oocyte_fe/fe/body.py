@@ -126,6 +126,16 @@ class Body:
             raise InputError(self.source, "component", "0 or 1", got=component)
         return self.ubasis.get_dofs(facets=self.facets(boundary)).all(f"u^{component + 1}")
 
+    def point_dofs(self, point: tuple[float, float], component: int) -> NDArray:
+        """The displacement dof of component 0/1 at the mesh vertex at ``point`` [um]."""
+        dist = np.hypot(self.mesh.p[0] - point[0], self.mesh.p[1] - point[1])
+        k = int(np.argmin(dist))
+        if dist[k] > 1e-6 * float(np.ptp(self.mesh.p)):
+            raise InputError(self.source, "point", "a mesh vertex", got=tuple(point))
+        if component not in (0, 1):
+            raise InputError(self.source, "component", "0 or 1", got=component)
+        return self.ubasis.nodal_dofs[component, [k]]
+
     def facets(self, boundary: str) -> NDArray:
         boundaries = self.mesh.boundaries or {}
         if boundary not in boundaries:

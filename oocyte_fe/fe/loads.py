@@ -35,6 +35,16 @@ class Prescribed:
 
 
 @dataclass(frozen=True)
+class PinnedPoint:
+    """Displacement component ``component`` of the mesh vertex at ``point`` [um] equals
+    ``value(t)`` [um]: removes a rigid-body motion (e.g. ``u_Z`` at the centre of a sphere)."""
+
+    point: tuple[float, float]
+    component: int
+    value: Callable[[float], float] = _zero
+
+
+@dataclass(frozen=True)
 class FollowerPressure:
     """Pressure ``pressure(t)`` [kPa] on ``boundary``; positive pushes against the normal."""
 

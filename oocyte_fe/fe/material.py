@@ -11,7 +11,7 @@ Strain energy (mixed displacement-pressure form, ``p`` an independent field)::
 
 applied to the deviatoric second Piola-Kirchhoff stress (Simo 1987; the ANSYS ``TB,PRONY``
 shear series and FEBio's ``viscoelastic`` material with ``g_i``, ``t_i``). The material file is
-the one :mod:`afm` writes::
+the one :mod:`afm.material_file` writes and validates::
 
     [material]
     name = "zona_pellucida"
@@ -25,13 +25,13 @@ the one :mod:`afm` writes::
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
+from afm.material_file import read_material
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.kinematics import ACTIVE_I, ACTIVE_J, Kinematics, active, cross5, outer5
 
@@ -96,32 +96,10 @@ class Material:
 
 
 def read_material_file(path: str | Path) -> Material:
-    """Read a material TOML file (see module docstring); errors name the file and field."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise InputError(path, "", "an existing material file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(path, "", f"valid TOML ({exc})") from None
-    mat = data.get("material")
-    if not isinstance(mat, dict):
-        raise InputError(path, "material", "a [material] table")
-    for key in ("E_kPa", "nu"):
-        if not isinstance(mat.get(key), int | float):
-            raise InputError(path, f"material.{key}", "a number", got=mat.get(key))
-    pr = data.get("prony", {})
-    g, tau = pr.get("g", []), pr.get("tau_s", [])
-    if not all(isinstance(v, int | float) for v in [*g, *tau]):
-        raise InputError(path, "prony", "lists of numbers g and tau_s")
-    prony = Prony(tuple(map(float, g)), tuple(map(float, tau)), source=str(path))
-    return Material(
-        float(mat["E_kPa"]),
-        float(mat["nu"]),
-        prony,
-        name=str(mat.get("name", path.stem)),
-        source=str(path),
-    )
+    """Read the material file written by :mod:`afm` (format and validation live there)."""
+    record = read_material(path)
+    prony = Prony(record.g, record.tau_s, source=str(path))
+    return Material(record.E_kPa, record.nu, prony, name=record.name, source=str(path))
 
 
 @dataclass

@@ -37,7 +37,13 @@ from oocyte_fe.fe.forms import (
     volume_constraint,
 )
 from oocyte_fe.fe.kinematics import Kinematics, grad5
-from oocyte_fe.fe.loads import FollowerPressure, Prescribed, pressure_force, pressure_stiffness
+from oocyte_fe.fe.loads import (
+    FollowerPressure,
+    PinnedPoint,
+    Prescribed,
+    pressure_force,
+    pressure_stiffness,
+)
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
 
 LOG = logging.getLogger("oocyte_fe.fe")
@@ -106,7 +112,7 @@ class Problem:
     def __init__(
         self,
         body: Body,
-        prescribed: Sequence[Prescribed] = (),
+        prescribed: Sequence[Prescribed | PinnedPoint] = (),
         pressures: Sequence[FollowerPressure] = (),
         contacts: Sequence[ct.Contact] = (),
         log: logging.Logger | None = None,
@@ -116,7 +122,15 @@ class Problem:
         self.pressures = [(pl, body.facet_basis(pl.boundary)) for pl in pressures]
         self.contacts = [(c, body.facet_basis(c.boundary)) for c in contacts]
         self.log = log or LOG
-        self._fixed = [(body.boundary_dofs(b.boundary, b.component), b) for b in prescribed]
+        self._fixed = [
+            (
+                body.point_dofs(b.point, b.component)
+                if isinstance(b, PinnedPoint)
+                else body.boundary_dofs(b.boundary, b.component),
+                b,
+            )
+            for b in prescribed
+        ]
         fixed = [d for d, _ in self._fixed] + [body.unused_pressure_dofs]
         self.fixed_dofs = np.unique(np.concatenate(fixed)).astype(int)
         self.x = np.zeros(body.n_dofs)
