@@ -157,5 +157,5 @@ class Body:
         return self.ubasis.nodal_dofs
 
     def vertex_displacement(self, x: NDArray) -> NDArray:
-        """(2, nverts) displacement at the mesh vertices."""
+        """(2, nverts) displacement at the mesh vertices ``mesh.p[:, :mesh.nvertices]``."""
         return self.displacement(x)[self.ubasis.nodal_dofs]

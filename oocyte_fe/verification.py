@@ -1,0 +1,142 @@
+"""Verification problems of the FE core with their closed-form solutions (gmsh meshes).
+
+Each function builds a problem, solves it and returns a result with the FE figure, the closed
+form and the relative error. Units: um, kPa, nN. The unit tests run the same physics on tiny
+structured meshes; these run it on gmsh meshes at case resolution (``cases/fe_verification``).
+
+* Lame thick sphere, internal pressure ``p`` (small strain)::
+
+      u(r) = p a^3 / (E (b^3 - a^3)) [(1 - 2 nu) r + (1 + nu) b^3 / (2 r^2)]
+
+* Incompressible neo-Hookean thick sphere inflated to the inner stretch ``l_a``::
+
+      P = mu [f(l_b) - f(l_a)],  f(l) = 2/l + 1/(2 l^4),  l_b^3 = 1 + (l_a^3 - 1) a^3/b^3
+
+* Hertz, rigid sphere of radius ``R`` on an elastic half-space, depth ``d``::
+
+      F = 4/3 E/(1 - nu^2) sqrt(R) d^(3/2)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from oocyte_fe.fe.body import Body
+from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.loads import FollowerPressure, Prescribed
+from oocyte_fe.fe.material import Material
+from oocyte_fe.fe.obstacles import Circle
+from oocyte_fe.fe.solver import Problem, SolveResult
+from oocyte_fe.mesh import block_mesh, spherical_shell_mesh
+
+
+@dataclass(frozen=True)
+class Verification:
+    """An FE figure beside its closed form."""
+
+    name: str
+    computed: float
+    exact: float
+    n_dofs: int
+    problem: Problem
+    result: SolveResult
+
+    @property
+    def error(self) -> float:
+        return abs(self.computed / self.exact - 1.0)
+
+
+def _radial(body: Body, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    p = body.mesh.p[:, : body.mesh.nvertices]
+    u = body.vertex_displacement(x)
+    r = np.hypot(*p)
+    return r, (u[0] * p[0] + u[1] * p[1]) / r
+
+
+def lame_sphere(nu: float, size_um: float, a: float = 10.0, b: float = 20.0) -> Verification:
+    """Inner radial displacement of a thick sphere (E = 1 kPa, p = 1e-5 kPa)."""
+    E, p = 1.0, 1e-5
+    mesh = spherical_shell_mesh(a, b, size_um, order=2)
+    body = Body(mesh, {"body": Material(E, nu)}, "axisymmetric")
+    prob = Problem(
+        body,
+        [Prescribed("axis", 0), Prescribed("symmetry", 1)],
+        [FollowerPressure("inner", lambda t: p * t)],
+    )
+    result = prob.solve([1.0])
+    r, ur = _radial(body, result.frames[-1].x)
+    inner = np.isclose(r, a, rtol=1e-6)
+    exact = p * a**3 / (E * (b**3 - a**3)) * ((1 - 2 * nu) * a + (1 + nu) * b**3 / (2 * a**2))
+    return Verification(
+        f"lame_sphere_nu{nu}", float(ur[inner].mean()), exact, body.n_dofs, prob, result
+    )
+
+
+def inflation_pressure(stretch: float, a: float, b: float, mu: float) -> float:
+    """Pressure [kPa] that inflates an incompressible neo-Hookean sphere to ``stretch``."""
+
+    def f(lam: float) -> float:
+        return 2.0 / lam + 1.0 / (2.0 * lam**4)
+
+    lb = (1.0 + (stretch**3 - 1.0) * a**3 / b**3) ** (1.0 / 3.0)
+    return mu * (f(lb) - f(stretch))
+
+
+def neo_hookean_inflation(size_um: float, stretch: float = 1.5) -> Verification:
+    """Pressure needed for the inner stretch reached, against the one applied (mu = 1 kPa)."""
+    a, b, mu = 10.0, 20.0, 1.0
+    P = inflation_pressure(stretch, a, b, mu)
+    body = Body(spherical_shell_mesh(a, b, size_um, order=2), {"body": Material(3 * mu, 0.5)})
+    prob = Problem(
+        body,
+        [Prescribed("axis", 0), Prescribed("symmetry", 1)],
+        [FollowerPressure("inner", lambda t: P * t)],
+    )
+    result = prob.solve(np.linspace(0.125, 1.0, 8))
+    r, ur = _radial(body, result.frames[-1].x)
+    reached = 1.0 + float(ur[np.isclose(r, a, rtol=1e-6)].mean()) / a
+    return Verification(
+        "neo_hookean_inflation",
+        inflation_pressure(reached, a, b, mu),
+        P,
+        body.n_dofs,
+        prob,
+        result,
+    )
+
+
+def hertz(
+    contact_size_fraction: float, radius: float = 10.0, depth_ratio: float = 0.02
+) -> Verification:
+    """Force of a rigid sphere pressed to ``depth_ratio * radius`` into a half-space.
+
+    The half-space is a cylinder of radius and height ``80 a`` (``a = sqrt(R d)``), meshed with
+    elements of ``contact_size_fraction * a`` within ``4 a`` of the contact and ``W/8`` times the
+    same fraction elsewhere. E = 1 kPa, nu = 0.3;
+    penalty ``2000 E / a`` (penetration below 0.1 % of the depth).
+    """
+    E, nu = 1.0, 0.3
+    d = depth_ratio * radius
+    a = np.sqrt(radius * d)
+    W = 80.0 * a
+    h = contact_size_fraction * a
+    far = W / 8 * contact_size_fraction  # the whole mesh refines with the contact zone
+    mesh = block_mesh(W, W, far, refine_point=(0.0, W), refine_size_um=h, refine_radius_um=4 * a)
+    body = Body(mesh, {"body": Material(E, nu)}, "axisymmetric")
+    sphere = Circle((0.0, W + radius), radius)
+    contact = Contact("top", sphere, penalty=2000.0 * E / a, motion=lambda t: (0.0, -d * t))
+    prob = Problem(body, [Prescribed("left", 0), Prescribed("bottom", 1)], contacts=[contact])
+    result = prob.solve(np.linspace(0.25, 1.0, 4))
+    force = float(result.frames[-1].obstacle_forces["contact"][1])
+    exact = 4.0 / 3.0 * E / (1 - nu**2) * np.sqrt(radius) * d**1.5
+    return Verification(
+        f"hertz_h{contact_size_fraction:g}a", force, exact, body.n_dofs, prob, result
+    )
+
+
+def observed_order(values: list[float], ratio: float = 2.0) -> float:
+    """Observed convergence order from three solutions on meshes refined by ``ratio``."""
+    f1, f2, f3 = values
+    return float(np.log(abs((f1 - f2) / (f2 - f3))) / np.log(ratio))
