@@ -1,8 +1,9 @@
 """The ``oocyte-fe`` command line: thin wrappers over :mod:`oocyte_fe.runner`.
 
-``oocyte-fe run PATH...``, ``oocyte-fe validate PATH...``, ``oocyte-fe kinds``. Bad input is
-one line on stderr naming the file, the field and the expectation, exit code 2 (``--debug``
-shows the traceback). ``run`` exits 0 only when every check of every case passes.
+``oocyte-fe run PATH... [--scheduler ADDRESS]``, ``oocyte-fe validate PATH...``,
+``oocyte-fe kinds``. Bad input is one line on stderr naming the file, the field and the
+expectation, exit code 2 (``--debug`` shows the traceback). ``run`` exits 0 only when every
+check of every case passes.
 """
 
 from __future__ import annotations
@@ -57,9 +58,18 @@ def run(
     out: Path = typer.Option(Path("results"), "--out", help="Results folder."),
     jobs: int = typer.Option(1, "-j", "--jobs", min=1, help="Cases run in parallel processes."),
     quick: bool = typer.Option(False, "--quick", help="Coarse settings (the [quick] table)."),
+    scheduler: str = typer.Option(
+        None, "--scheduler", help="Dask scheduler address for sweeps (default: local cluster)."
+    ),
+    workers: int = typer.Option(
+        None, "--workers", min=1, help="Worker processes of the local sweep cluster (one per core)."
+    ),
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
-    """Run validation cases; write results/<case>/ and results/summary.md."""
+    """Run validation cases; write results/<case>/ and results/summary.md.
+
+    Cases with a [sweep] table run their samples on Dask (docs/sweeps.md).
+    """
     try:
         run_plan = plan(paths, only=only, quick=quick)
     except InputError as exc:
@@ -87,7 +97,15 @@ def run(
                 steps[name] = msg
                 live.update(progress_table())
 
-            results = run_cases(run_plan, out, jobs=jobs, quick=quick, notify=notify)
+            results = run_cases(
+                run_plan,
+                out,
+                jobs=jobs,
+                quick=quick,
+                notify=notify,
+                scheduler=scheduler,
+                workers=workers,
+            )
     except InputError as exc:
         raise _fail(exc, debug) from None
     console.print(_summary_table(results))

@@ -10,6 +10,10 @@ The format (see ``docs/cases.md``)::
     [quick]    ...                     # optional: input overrides for ``--quick``
     [reference.NAME]  value = 7.01, source = "seed 001, Section 3.1", unit = "kPa"
     [tolerances.NAME] rel = 0.05       # or abs, min, max (any combination)
+    [sweep]    ...                     # optional: a parameter sweep (see docs/sweeps.md)
+
+A case with a ``[sweep]`` table names aggregated metrics (``METRIC.mean``, ``.sd``, ``.p05``,
+``.p50``, ``.p95``, ``n_ok``, ``n_failed``) in ``[reference]`` and ``[tolerances]``.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ from pydantic import (
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseKind, get_kind
+from oocyte_fe.sweep.spec import SweepSpec, check_sweep, sweep_metric_names
 
 CASE_FILE = "case.toml"
 
@@ -118,17 +123,19 @@ class CaseSpec(BaseModel):
     quick: dict[str, Any] = Field(default_factory=dict)
     reference: dict[str, Reference] = Field(default_factory=dict)
     tolerances: dict[str, Tolerance] = Field(default_factory=dict)
+    sweep: SweepSpec | None = None
 
 
 @dataclass(frozen=True)
 class Case:
-    """A validated case, ready to run."""
+    """A validated case, ready to run (``quick``: loaded with the ``[quick]`` overrides)."""
 
     name: str
     directory: Path
     spec: CaseSpec
     kind: CaseKind
     inputs: BaseModel
+    quick: bool = False
 
     @property
     def file(self) -> Path:
@@ -180,14 +187,15 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
     except ValidationError as exc:
         raise_validation_error(file, exc)
     kind = get_kind(spec.kind, file, module=kind_module)
+    metrics = sweep_metric_names(kind.metrics) if spec.sweep else kind.metrics
     for table in ("reference", "tolerances"):
         for key in getattr(spec, table):
-            if key not in kind.metrics:
-                raise InputError(
-                    file,
-                    f"{table}.{key}",
-                    f"a metric of kind {kind.name!r}: {', '.join(kind.metrics)}",
-                )
+            if key not in metrics:
+                expected = f"a metric of kind {kind.name!r}: {', '.join(kind.metrics)}"
+                if spec.sweep:
+                    stats = "METRIC.(mean|sd|p05|p50|p95), n_ok or n_failed"
+                    expected = f"a sweep statistic {stats}; {expected}"
+                raise InputError(file, f"{table}.{key}", expected)
     for key, tol in spec.tolerances.items():
         if tol.needs_reference and key not in spec.reference:
             raise InputError(file, f"tolerances.{key}", f"a [reference.{key}] to be relative to")
@@ -200,7 +208,16 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
     except ValidationError as exc:
         table = "quick." if quick and str(exc.errors()[0]["loc"][0]) in spec.quick else "inputs."
         raise_validation_error(file, exc, prefix=table)
-    return Case(directory.name, directory, spec, kind, inputs)
+    if spec.sweep:
+        check_sweep(
+            str(file),
+            spec.sweep,
+            kind.name,
+            kind.metrics,
+            inputs.model_dump(),
+            lambda d: kind.inputs.model_validate(d, context={"case_dir": directory}),
+        )
+    return Case(directory.name, directory, spec, kind, inputs, quick)
 
 
 def discover(paths: list[Path]) -> list[Path]:

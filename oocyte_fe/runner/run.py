@@ -13,6 +13,7 @@ import multiprocessing
 import os
 import shutil
 import signal
+import threading
 import time
 import traceback
 import uuid
@@ -57,8 +58,13 @@ class CaseTimeout(Exception):
 
 
 @contextlib.contextmanager
-def _time_limit(seconds: float | None) -> Iterator[None]:
+def _time_limit(seconds: float | None, log: logging.Logger) -> Iterator[None]:
     if not seconds:
+        yield
+        return
+    if threading.current_thread() is not threading.main_thread():
+        # SIGALRM reaches the main thread only (a Dask worker runs tasks in a thread)
+        log.warning("timeout_s = %g s not enforced outside the main thread", seconds)
         yield
         return
 
@@ -85,7 +91,8 @@ def check_writable(out_root: Path) -> None:
         raise InputError(out_root, "--out", "a writable output folder", got=exc.strerror) from None
 
 
-def _swap_into_place(tmp: Path, final: Path) -> None:
+def swap_into_place(tmp: Path, final: Path) -> None:
+    """Replace ``final`` by ``tmp`` (two renames; the old folder is removed after)."""
     old = final.with_name(f".{final.name}.old-{uuid.uuid4().hex[:8]}")
     if final.exists():
         final.rename(old)
@@ -103,12 +110,13 @@ def _case_logger(name: str, log_file: Path) -> tuple[logging.Logger, logging.Han
     return logger, handler
 
 
-def run_case(
-    case: Case, out_root: Path, quick: bool = False, notify: Notify | None = None
+def execute_case(
+    case: Case, tmp: Path, quick: bool = False, notify: Notify | None = None
 ) -> CaseResult:
-    """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
-    tmp = out_root / f".{case.name}.partial-{uuid.uuid4().hex[:8]}"
-    tmp.mkdir(parents=True)
+    """Run one validated case with ``tmp`` as its result folder; never raises for a case failure.
+
+    On failure ``tmp`` is emptied and holds only ``report.md`` (the reason) and ``error.log``.
+    """
     logger, handler = _case_logger(case.name, tmp / "log.txt")
     ctx = CaseContext(
         name=case.name,
@@ -122,7 +130,7 @@ def run_case(
     start = time.perf_counter()
     try:
         ctx.step("started" + (" (quick)" if quick else ""))
-        with _time_limit(case.spec.timeout_s):
+        with _time_limit(case.spec.timeout_s, logger):
             outcome = case.kind.run(ctx)
         checks = evaluate_checks(case, outcome)
         seconds = time.perf_counter() - start
@@ -153,7 +161,23 @@ def run_case(
         result = CaseResult(case.name, case.kind.name, "ERROR", 0, 0, seconds, reason)
     finally:
         logger.removeHandler(handler)
-    _swap_into_place(tmp, out_root / case.name)
+    return result
+
+
+def partial_folder(out_root: Path, name: str) -> Path:
+    """A fresh temporary result folder for ``out_root/<name>`` (renamed into place later)."""
+    tmp = out_root / f".{name}.partial-{uuid.uuid4().hex[:8]}"
+    tmp.mkdir(parents=True)
+    return tmp
+
+
+def run_case(
+    case: Case, out_root: Path, quick: bool = False, notify: Notify | None = None
+) -> CaseResult:
+    """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
+    tmp = partial_folder(out_root, case.name)
+    result = execute_case(case, tmp, quick, notify)
+    swap_into_place(tmp, out_root / case.name)
     return result
 
 
@@ -201,19 +225,43 @@ def run_cases(
     jobs: int = 1,
     quick: bool = False,
     notify: Notify | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
 ) -> list[CaseResult]:
-    """Run every case of the plan, ``jobs`` at a time; write ``summary.md``; return results."""
+    """Run every case of the plan, ``jobs`` at a time; write ``summary.md``; return results.
+
+    Cases with a ``[sweep]`` table run after the others, their samples on Dask: a local
+    cluster of ``workers`` processes (one per core by default) or the ``scheduler`` address.
+    """
     check_writable(out_root)
     results = [CaseResult(name, "?", "ERROR", 0, 0, 0.0, err) for name, err in run_plan.invalid]
-    if jobs <= 1 or len(run_plan.cases) <= 1:
-        for case in run_plan.cases:
+    plain = [c for c in run_plan.cases if c.spec.sweep is None]
+    sweeps = [c for c in run_plan.cases if c.spec.sweep is not None]
+    if jobs <= 1 or len(plain) <= 1:
+        for case in plain:
             results.append(run_case(case, out_root, quick, notify))
     else:
-        results.extend(_run_parallel(run_plan.cases, out_root, jobs, quick, notify))
+        results.extend(_run_parallel(plain, out_root, jobs, quick, notify))
+    if sweeps:
+        results.extend(_run_sweeps(sweeps, out_root, notify, scheduler, workers))
     order = {c.name: i for i, c in enumerate(run_plan.cases)}
     results.sort(key=lambda r: (order.get(r.name, -1), r.name))
     write_summary(results, out_root)
     return results
+
+
+def _run_sweeps(
+    cases: list[Case],
+    out_root: Path,
+    notify: Notify | None,
+    scheduler: str | None,
+    workers: int | None,
+) -> list[CaseResult]:
+    from oocyte_fe.sweep.cluster import dask_client
+    from oocyte_fe.sweep.run import run_sweep
+
+    with dask_client(scheduler, workers) as client:
+        return [run_sweep(case, out_root, client, notify) for case in cases]
 
 
 def _run_parallel(
