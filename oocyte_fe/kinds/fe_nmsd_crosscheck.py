@@ -1,0 +1,346 @@
+"""Case kind ``nmsd_vs_fe``: one pipette press by the layered plane-strain FE model and by the
+NMSD lattice calibrated to the FE force curve; forces and internal displacements compared
+(issue 9)."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from nmsd.calibration import calibrate
+from nmsd.displacement_field import press_displacements
+from nmsd.errors import NmsdInputError
+from nmsd.lattice import circular_lattice
+from nmsd.parameters import NmsdParameters, node_mass_for
+from nmsd.press import press_setup
+from nmsd.tableII import ForceDisplacement, read_force_displacement
+from oocyte_fe.crosscheck.agreement import (
+    displacement_agreement,
+    force_agreement,
+    largest_departure,
+)
+from oocyte_fe.crosscheck.fe_press import FeSettings, pipette_at, run_fe_press
+from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_overlay
+from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
+from oocyte_fe.crosscheck.zp_material import afm_layer_materials
+from oocyte_fe.errors import InputError
+from oocyte_fe.io import write_history_csv
+from oocyte_fe.plotting import plot_section
+from oocyte_fe.runner.casefile import DataFile
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+
+UN = 1e-3  # nN -> uN
+
+
+class CrosscheckInputs(BaseModel):
+    """Scenario, materials, FE mesh/steps, NMSD lattice/calibration, comparison grid."""
+
+    model_config = ConfigDict(extra="forbid")
+    creep_data: DataFile = Field(description="ZP force-clamp creep CSV (afm.curve_io format)")
+    table2_data: DataFile = Field(description="Table II CSV: displacement_um, force_*_uN")
+    cell_diameter_um: float = Field(115.625, gt=0, description="Table I R_c, outer diameter")
+    cytoplasm_diameter_um: float = Field(83.597, gt=0, description="Table I R_zp, inside the ZP")
+    pipette_width_um: float = Field(20.628, gt=0)
+    tip_angle_deg: float = Field(25.238, ge=0, lt=180)
+    speed_um_s: float = Field(30.0, gt=0)
+    hold_half_width_um: float = Field(25.0, gt=0)
+    spindle_paper_um: tuple[float, float] = (15.8718, 18.1392)
+    travel_um: float = Field(62.5, gt=0, description="pipette travel, um")
+    nu: float = Field(0.5, gt=-1, le=0.5)
+    cytoplasm_E_kPa: float = Field(1.55, gt=0)
+    afm_half_angle_deg: float = Field(10.0, gt=0, lt=90)
+    thickness_um: float = Field(115.625, gt=0, description="effective plane-strain thickness")
+    fe_size_um: float = Field(6.0, gt=0)
+    fe_refine_size_um: float = Field(2.5, gt=0)
+    fe_refine_half_window_deg: float = Field(30.0, gt=0, lt=90)
+    fe_refine_depth_um: float = Field(20.0, gt=0)
+    fe_step_um: float = Field(2.5, gt=0)
+    fe_max_step_um: float = Field(1.25, gt=0)
+    fe_penalty_factor: float = Field(30.0, gt=0)
+    fe_rtol: float = Field(1e-6, gt=0, lt=1e-2)
+    nmsd_spacings_across: int = Field(17, ge=2)
+    nmsd_dl_c: float = Field(0.8, gt=0)
+    nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
+    nmsd_n_steps: int = Field(50, ge=1, description="NMSD steps over the travel")
+    n_starts: int = Field(2, ge=1)
+    max_evaluations: int = Field(60, ge=4)
+    grid_spacing_um: float = Field(10.0, gt=0)
+    grid_margin_um: float = Field(8.0, ge=0)
+    arrow_advances_um: list[float] = Field(default_factory=lambda: [20.0, 40.0, 60.0])
+    goal_abs_um: float = Field(2.0, gt=0)
+    goal_rel: float = Field(0.10, gt=0)
+    drag_scale: float = Field(0.01, gt=0, description="diagnostic: NMSD drag d0, d1 times this")
+
+
+METRICS = {
+    "fe_force_end_uN": "FE force at the end of the travel times the effective thickness, uN",
+    "fe_vs_table2_rmse_uN": "RMSE of the unfitted FE force against Table II, uN",
+    "fe_vs_table2_r2": "R^2 of the unfitted FE force against Table II",
+    "fe_over_table2_end": "FE force / measured force at the last Table II point within travel",
+    "nmsd_fe_rmse_uN": "RMSE of the NMSD calibrated to the FE curve, uN",
+    "nmsd_fe_r2": "R^2 of the NMSD calibrated to the FE curve",
+    "nmsd_fe_similarity": "cosine similarity of NMSD and FE force curves",
+    "nmsd_departure_um": "advance of the largest NMSD - FE force difference, um",
+    "spindle_fe_end_um": "FE spindle displacement at the end of the travel, um",
+    "spindle_nmsd_end_um": "NMSD spindle displacement at the end of the travel, um",
+    "spindle_error_max_um": "largest spindle error |u_FE - u_NMSD| over the advances, um",
+    "spindle_goal_ratio_max": "largest spindle error / max(goal_abs, goal_rel |u_FE|)",
+    "grid_error_max_um": "largest point error over the grid and advances, um",
+    "grid_error_mean_um": "mean point error over the grid and advances, um",
+    "drag_scaled_spindle_error_max_um": "spindle error max with the NMSD drag scaled, um",
+    "penetration_max_um": "largest pipette penetration into the FE surface, um",
+    "fe_steps": "FE solver steps",
+    "fe_cutbacks": "FE step cutbacks",
+    "fe_seconds": "wall time of the FE press, s",
+    "calibration_seconds": "wall time of the NMSD calibration to the FE curve, s",
+}
+
+
+def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
+    inp = ctx.inputs
+    source = str(ctx.case_dir / "case.toml")
+    scenario = PressScenario(
+        inp.cell_diameter_um,
+        inp.cytoplasm_diameter_um,
+        inp.pipette_width_um,
+        inp.tip_angle_deg,
+        inp.speed_um_s,
+        inp.hold_half_width_um,
+        tuple(inp.spindle_paper_um),
+        source=source,
+    )
+    settings = FeSettings(
+        inp.fe_size_um,
+        inp.fe_refine_size_um,
+        inp.fe_refine_half_window_deg,
+        inp.fe_refine_depth_um,
+        inp.fe_step_um,
+        inp.fe_max_step_um,
+        inp.fe_penalty_factor,
+        inp.fe_rtol,
+        source=source,
+    )
+    return scenario, settings
+
+
+def _nmsd_setup(ctx: CaseContext):
+    inp = ctx.inputs
+    try:
+        lattice = circular_lattice(inp.cell_diameter_um, inp.nmsd_spacings_across)
+        setup = press_setup(
+            lattice,
+            inp.pipette_width_um,
+            inp.tip_angle_deg,
+            inp.hold_half_width_um,
+            inp.nmsd_contact_stiffness_nN_per_um,
+            inp.speed_um_s,
+            inp.travel_um,
+            inp.nmsd_n_steps,
+        )
+        base = NmsdParameters(
+            dl_c=inp.nmsd_dl_c, node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes)
+        )
+    except NmsdInputError as exc:
+        raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
+    return setup, base
+
+
+@case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)
+def run(ctx: CaseContext) -> CaseOutcome:
+    """Layered FE press and NMSD press (calibrated to it): forces and internal motion."""
+    inp: CrosscheckInputs = ctx.inputs  # type: ignore[assignment]
+    scenario, settings = _scenario(ctx)
+    ctx.step("ZP material from the AFM creep record")
+    materials = afm_layer_materials(
+        inp.creep_data, inp.cytoplasm_E_kPa, inp.nu, inp.afm_half_angle_deg
+    )
+    grid = interior_grid(scenario.radius_um, inp.grid_spacing_um, inp.grid_margin_um)
+    points = np.vstack([scenario.spindle_world_um, grid])
+
+    ctx.step("FE press (plane strain)")
+    fe = run_fe_press(scenario, materials, settings, inp.travel_um, points, log=ctx.log)
+    fe_nN = fe.force_nN_per_um * inp.thickness_um
+    table = read_force_displacement(inp.table2_data)
+    within = table.displacement_um <= fe.advance_um[-1] + 1e-9
+    d_tab = table.displacement_um[within]
+    fe_at_tab = np.interp(d_tab, fe.advance_um, fe_nN)
+    vs_table = force_agreement(fe_at_tab, table.force_nN[within])
+
+    ctx.step("NMSD calibrated to the FE force curve")
+    setup, base = _nmsd_setup(ctx)
+    fe_curve = ForceDisplacement(fe.advance_um, fe_nN, source="FE press")
+    cal = calibrate(
+        setup, fe_curve, "nmsd", base, inp.n_starts, max_evaluations=inp.max_evaluations
+    )
+    vs_fe = force_agreement(cal.force_nN, fe_nN)
+    depart_um, depart_nN = largest_departure(fe.advance_um, cal.force_nN, fe_nN)
+
+    ctx.step("displacement fields of both models")
+    advances = fe.advance_um[1:]
+    field = press_displacements(setup, cal.params, advances, points)
+    u_nm = np.array([field.at_points[float(a)] for a in advances])
+    u_fe = fe.point_displacement_um[1:]
+    agree = displacement_agreement(advances, u_fe, u_nm, 0, inp.goal_abs_um, inp.goal_rel)
+    scale = inp.drag_scale
+    slow = cal.params.with_values(d0=cal.params.d0 * scale, d1=cal.params.d1 * scale)
+    field_slow = press_displacements(setup, slow, advances, points[:1])
+    u_slow = np.array([field_slow.at_points[float(a)] for a in advances])
+    slow_error = np.linalg.norm(u_slow[:, 0] - u_fe[:, 0], axis=1)
+
+    ctx.step("figures and tables")
+    arrows = [a for a in inp.arrow_advances_um if np.any(np.isclose(advances, a))]
+    plot_force_overlay(
+        ctx.output("force_curves.png"),
+        {
+            f"FE (AFM moduli, x {inp.thickness_um:g} um)": (fe.advance_um, fe_nN * UN),
+            f"NMSD calibrated to FE (R^2 {vs_fe.r2:.4f})": (fe.advance_um, cal.force_nN * UN),
+        },
+        measured=(table.displacement_um, table.force_nN * UN),
+        difference=(fe.advance_um, (cal.force_nN - fe_nN) * UN),
+    )
+    plot_displacement_arrows(
+        ctx.output("displacement_arrows.png"),
+        points,
+        agree,
+        u_fe,
+        u_nm,
+        arrows,
+        scenario.radius_um,
+        {a: setup.pipette.outline(a) for a in arrows},
+    )
+    end = pipette_at(scenario, fe.advance_um[-1])
+    plot_section(
+        ctx.output("fe_section_end.png"),
+        fe.mesh,
+        fe.vertex_displacement_um[-1],
+        obstacles=[np.asarray(end.points)],
+        title=f"FE at {fe.advance_um[-1]:g} um advance, |u| (um)",
+    )
+    write_history_csv(
+        ctx.output("force_history.csv"),
+        {
+            "advance": fe.advance_um,
+            "force_fe_per_thickness": fe.force_nN_per_um,
+            "force_fe": fe_nN * UN,
+            "force_nmsd": cal.force_nN * UN,
+            "penetration": fe.penetration_um,
+        },
+        {
+            "advance": "um",
+            "force_fe_per_thickness": "nN_per_um",
+            "force_fe": "uN",
+            "force_nmsd": "uN",
+            "penetration": "um",
+        },
+    )
+    write_history_csv(
+        ctx.output("spindle_history.csv"),
+        {
+            "advance": advances,
+            "spindle_fe_ux": agree.spindle_fe_um[:, 0],
+            "spindle_fe_uy": agree.spindle_fe_um[:, 1],
+            "spindle_nmsd_ux": agree.spindle_nmsd_um[:, 0],
+            "spindle_nmsd_uy": agree.spindle_nmsd_um[:, 1],
+            "spindle_error": agree.spindle_error_um,
+            "goal": agree.spindle_tolerance_um,
+            "grid_error_max": agree.error_um.max(axis=1),
+        },
+        {k: "um" for k in ("advance", "spindle_fe_ux", "spindle_fe_uy", "spindle_nmsd_ux",
+                           "spindle_nmsd_uy", "spindle_error", "goal", "grid_error_max")},
+    )  # fmt: skip
+
+    metrics = {
+        "fe_force_end_uN": float(fe_nN[-1] * UN),
+        "fe_vs_table2_rmse_uN": vs_table.rmse_nN * UN,
+        "fe_vs_table2_r2": vs_table.r2,
+        "fe_over_table2_end": float(fe_at_tab[-1] / table.force_nN[within][-1]),
+        "nmsd_fe_rmse_uN": vs_fe.rmse_nN * UN,
+        "nmsd_fe_r2": vs_fe.r2,
+        "nmsd_fe_similarity": vs_fe.similarity,
+        "nmsd_departure_um": depart_um,
+        "spindle_fe_end_um": float(np.linalg.norm(agree.spindle_fe_um[-1])),
+        "spindle_nmsd_end_um": float(np.linalg.norm(agree.spindle_nmsd_um[-1])),
+        "spindle_error_max_um": float(agree.spindle_error_um.max()),
+        "spindle_goal_ratio_max": float(agree.spindle_ratio.max()),
+        "grid_error_max_um": agree.max_error_um,
+        "grid_error_mean_um": float(agree.error_um.mean()),
+        "drag_scaled_spindle_error_max_um": float(slow_error.max()),
+        "penetration_max_um": float(fe.penetration_um.max()),
+        "fe_steps": float(fe.steps),
+        "fe_cutbacks": float(fe.cutbacks),
+        "fe_seconds": fe.seconds,
+        "calibration_seconds": cal.seconds,
+    }
+    return CaseOutcome(
+        metrics=metrics,
+        figures=[
+            Figure(
+                "force_curves.png",
+                "FE force (per unit thickness times the effective thickness) and the NMSD "
+                "calibrated to it, with Table II (measured, not fitted); lower panel NMSD - FE.",
+            ),
+            Figure(
+                "displacement_arrows.png",
+                "Displacements (true scale) at the spindle (star) and the grid: FE blue, NMSD "
+                "red, pipette grey; last panel: spindle displacement, error and goal.",
+            ),
+            Figure("fe_section_end.png", "FE disc at the end of the travel (ZP and cytoplasm)."),
+        ],
+        sections=[
+            ("Materials (AFM chain)", _materials_text(materials, inp)),
+            ("NMSD constants calibrated to the FE curve (um, nN, s)", _params_text(cal, vs_fe)),
+            ("Spindle displacement by advance (um)", _spindle_table(agree, slow_error, inp)),
+            (
+                "Where the reduced model departs",
+                f"Largest force difference NMSD - FE: {depart_nN * UN:+.2f} uN at "
+                f"{depart_um:g} um. Spindle goal met at "
+                f"{int(np.sum(agree.spindle_ratio <= 1))} of {len(advances)} advances. "
+                f"With the NMSD drag d0, d1 scaled by {inp.drag_scale:g} (springs unchanged, "
+                f"force no longer fitted) the spindle error falls to at most "
+                f"{slow_error.max():.1f} um (from {agree.spindle_error_um.max():.1f} um).",
+            ),
+            (
+                "FE solver",
+                f"{fe.steps} steps, {fe.cutbacks} cutbacks, {fe.newton_iterations} Newton "
+                f"iterations, {fe.seconds:.1f} s; {fe.mesh.nelements} P2 triangles; largest "
+                f"penetration {fe.penetration_um.max():.3f} um.",
+            ),
+        ],
+    )
+
+
+def _materials_text(materials, inp: CrosscheckInputs) -> str:
+    z = materials.zona
+    terms = ", ".join(
+        f"g={g:.4f} tau={t:.4g} s" for g, t in zip(z.prony.g, z.prony.tau_s, strict=True)
+    )
+    return (
+        f"ZP: E0 = {z.E_kPa:.4g} kPa, nu = {z.nu:g}, Prony {terms} (from `{inp.creep_data.name}`"
+        f": {materials.zona_record.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
+        f"nu = {materials.cytoplasm.nu:g}, elastic."
+    )
+
+
+def _params_text(cal, metrics) -> str:
+    p = cal.params
+    return (
+        f"k1 = {p.k1:.4g} nN, k2 = {p.k2:.4g} nN, dl_c = {p.dl_c:g}, d0 = {p.d0:.4g} nN s/um, "
+        f"d1 = {p.d1:.4g} nN s/um^2; RMSE {metrics.rmse_nN * UN:.3f} uN, R^2 {metrics.r2:.4f}, "
+        f"S {metrics.similarity:.5f}; {cal.evaluations} presses in {cal.seconds:.1f} s."
+    )
+
+
+def _spindle_table(agree, slow_error: np.ndarray, inp: CrosscheckInputs) -> str:
+    rows = [
+        "| advance | FE (ux, uy) | NMSD (ux, uy) | error | goal | max grid error | "
+        f"error, drag x {inp.drag_scale:g} |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for k, a in enumerate(agree.advance_um):
+        fe, nm = agree.spindle_fe_um[k], agree.spindle_nmsd_um[k]
+        rows.append(
+            f"| {a:g} | ({fe[0]:.2f}, {fe[1]:.2f}) | ({nm[0]:.2f}, {nm[1]:.2f}) | "
+            f"{agree.spindle_error_um[k]:.2f} | {agree.spindle_tolerance_um[k]:.2f} | "
+            f"{agree.error_um[k].max():.2f} | {slow_error[k]:.2f} |"
+        )
+    return "\n".join(rows)

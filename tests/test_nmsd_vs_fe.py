@@ -1,0 +1,116 @@
+"""NMSD-vs-FE cross-check (issue 9): scenario mapping, AFM material chain, FE probes, agreement
+measures, and the quick case end to end."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+import skfem
+
+from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
+from oocyte_fe.crosscheck.fe_press import FeSettings, held_mesh, point_probes
+from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
+from oocyte_fe.crosscheck.zp_material import afm_layer_materials
+from oocyte_fe.errors import InputError
+from oocyte_fe.fe.body import Body
+from oocyte_fe.fe.material import Material
+from oocyte_fe.runner.run import plan, run_cases
+
+CASES = Path(__file__).parents[1] / "cases"
+CASE = CASES / "nmsd_vs_fe"
+
+
+def test_table_i_mapping_gives_a_16_um_zona_and_the_spindle_in_it() -> None:
+    s = PressScenario()
+    assert s.zona_thickness_um == pytest.approx((115.625 - 83.597) / 2)
+    assert s.spindle_world_um == pytest.approx([115.625 / 2 - 15.8718, 18.1392])
+    r = np.hypot(*s.spindle_world_um)
+    assert 83.597 / 2 < r < 115.625 / 2  # in the ZP ring of the FE disc
+
+
+def test_interior_grid_is_symmetric_and_inside_the_margin() -> None:
+    pts = interior_grid(57.8125, 10.0, 8.0)
+    assert np.all(np.hypot(pts[:, 0], pts[:, 1]) <= 57.8125 - 8.0)
+    assert len(pts) == len({(x, -y) for x, y in pts} & {tuple(p) for p in pts})
+    assert [0.0, 0.0] in pts.tolist()
+
+
+def test_bad_scenario_names_the_field() -> None:
+    with pytest.raises(InputError, match="cytoplasm_diameter_um"):
+        PressScenario(cytoplasm_diameter_um=120.0)
+    with pytest.raises(InputError, match="spindle_paper_um"):
+        PressScenario(spindle_paper_um=(-5.0, 0.0))
+
+
+def test_afm_chain_recovers_the_series_the_creep_record_was_made_from() -> None:
+    made = tomllib.loads((CASES / "afm_creep_prony" / "case.toml").read_text())["inputs"]
+    mats = afm_layer_materials(CASE / "creep_zp.csv", 1.55)
+    assert mats.zona.E_kPa == pytest.approx(made["E0_kPa"], rel=0.01)
+    assert mats.zona.prony.g == pytest.approx(made["prony_g"], abs=0.01)
+    assert mats.zona.prony.tau_s == pytest.approx(made["prony_tau_s"], rel=0.02)
+    assert mats.cytoplasm.E_kPa == 1.55 and not mats.cytoplasm.prony.g
+
+
+def test_bad_creep_record_is_an_input_error(tmp_path: Path) -> None:
+    bad = tmp_path / "creep.csv"
+    bad.write_text("time_s,force_nN,height_um\n0,1,2\n")
+    with pytest.raises(InputError, match="creep.csv"):
+        afm_layer_materials(bad, 1.55)
+
+
+def test_held_patch_and_probes_reproduce_a_quadratic_field_exactly() -> None:
+    scenario = PressScenario()
+    mesh = held_mesh(scenario, FeSettings(size_um=14.0, refine_size_um=7.0))
+    held = mesh.boundaries["held"]
+    mid = mesh.p[:, mesh.facets[:, held]].mean(axis=1)
+    assert np.all(mid[0] < 0) and np.all(np.abs(mid[1]) <= 25.0)
+    assert np.hypot(*mid).min() == pytest.approx(scenario.radius_um, rel=5e-3)  # chord midpoints
+    layers = {"zona": Material(7.0, 0.5), "cytoplasm": Material(1.55, 0.5)}
+    body = Body(mesh, layers, "plane_strain")
+    pts = interior_grid(scenario.radius_um, 15.0, 8.0)
+    straight = skfem.Basis(skfem.MeshTri(mesh.p, mesh.t), body.uelem)
+    u = straight.project(lambda x: np.array([x[0] ** 2 - x[1], 0.5 * x[0] * x[1]]))
+    got = (point_probes(body, pts) @ u).reshape(2, -1)
+    x, y = pts.T
+    assert got == pytest.approx(np.array([x**2 - y, 0.5 * x * y]), abs=1e-9)
+
+
+def test_spindle_goal_is_the_larger_of_2_um_and_10_percent() -> None:
+    assert spindle_tolerance_um(np.array([[3.0, 4.0], [30.0, 40.0]])) == pytest.approx([2, 5])
+    u_fe = np.zeros((2, 3, 2))
+    u_fe[:, 0] = [[10.0, 0.0], [40.0, 0.0]]
+    u_nm = u_fe.copy()
+    u_nm[:, 0, 1] += [1.5, 3.0]
+    u_nm[1, 2] = [0.0, 7.0]
+    agree = displacement_agreement(np.array([10.0, 40.0]), u_fe, u_nm)
+    assert agree.spindle_error_um == pytest.approx([1.5, 3.0])
+    assert agree.spindle_ratio == pytest.approx([0.75, 0.75])
+    assert agree.max_error_um == pytest.approx(7.0)
+
+
+@pytest.mark.slow
+def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_path: Path) -> None:
+    [result] = run_cases(plan([CASE], quick=True), tmp_path, quick=True)
+    data = json.loads((tmp_path / "nmsd_vs_fe" / "metrics.json").read_text())
+    checks = {c["name"]: c for c in data["checks"]}
+    m = data["metrics"]
+    # held: the NMSD reproduces the FE force curve it is calibrated to; contact is resolved
+    assert checks["nmsd_fe_r2"]["passed"], m["nmsd_fe_r2"]
+    assert checks["nmsd_fe_similarity"]["passed"]
+    assert checks["penetration_max_um"]["passed"]
+    # both spindles move towards the holder; the FE one by more than half the advance
+    assert 0.5 * 62.5 < m["spindle_fe_end_um"] < 62.5
+    assert 0.0 < m["spindle_nmsd_end_um"] < m["spindle_fe_end_um"]
+    # issue 9 goal (max(2 um, 10 %)) held as stated: missed, so the case FAILs on it alone
+    assert not checks["spindle_goal_ratio_max"]["passed"]
+    assert result.status == "FAIL"
+    assert [n for n, c in checks.items() if not c["passed"]] == ["spindle_goal_ratio_max"]
+    assert {p.name for p in (tmp_path / "nmsd_vs_fe").glob("*.png")} >= {
+        "force_curves.png",
+        "displacement_arrows.png",
+        "fe_section_end.png",
+    }
