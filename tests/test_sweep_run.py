@@ -204,3 +204,28 @@ def test_resume_after_killed_run(tmp_path: Path, client: object) -> None:
     assert res.status == "PASS" and metrics(out, "echo")["n_ok"] == 12
     assert not [p for p in out.iterdir() if p.name.startswith(".")]
     assert not [p for p in (out / "echo" / SAMPLES).iterdir() if p.name.startswith(".")]
+
+
+@pytest.mark.slow
+def test_spindle_offset_quick_sweep(tmp_path: Path, client: object) -> None:
+    """cases/sweep_spindle_offset --quick: 4 resampled Table II curves, 4 recalibrations."""
+    from oocyte_fe.sweep.resample import resample_relative
+
+    case = load_case(ROOT / "cases" / "sweep_spindle_offset", quick=True)
+    res = run_sweep(case, tmp_path, client)
+    m = metrics(tmp_path, "sweep_spindle_offset")
+    assert res.status == "PASS" and m["n_ok"] == 4 and m["n_failed"] == 0
+    # the stated 2.5 % noise: the RMS change over 8 points lies well inside (0.5, 6) %
+    assert 0.5 < m["force_change_rms_pct.p05"] <= m["force_change_rms_pct.p95"] < 6.0
+    assert m["offset_x_um.sd"] > 0 and m["offset_y_um.sd"] > 0
+    assert np.isfinite(m["offset_x_um.mean"]) and np.isfinite(m["offset_y_um.mean"])
+    # each sample's resampled table is rebuilt from its seed alone
+    with (tmp_path / "sweep_spindle_offset" / "samples.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    measured = np.loadtxt(case.inputs.data, delimiter=",", skiprows=1)[:, 1]
+    for row in rows:
+        table = tmp_path / "sweep_spindle_offset" / SAMPLES / row["key"] / "tableII_resampled.csv"
+        got = np.loadtxt(table, delimiter=",", skiprows=1)[:, 1]
+        want = resample_relative(measured, 0.025, int(row["input.noise_seed"]))
+        np.testing.assert_allclose(got, want, rtol=1e-12)
+    assert len({r["input.noise_seed"] for r in rows}) == 4

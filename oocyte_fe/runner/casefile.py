@@ -36,7 +36,7 @@ from pydantic import (
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseKind, get_kind
-from oocyte_fe.sweep.spec import SweepSpec, check_sweep, sweep_metric_names
+from oocyte_fe.sweep.spec import SweepSpec, check_sweep, resolved_inputs, sweep_metric_names
 
 CASE_FILE = "case.toml"
 
@@ -214,7 +214,7 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
             spec.sweep,
             kind.name,
             kind.metrics,
-            inputs.model_dump(),
+            resolved_inputs(inputs),
             lambda d: kind.inputs.model_validate(d, context={"case_dir": directory}),
         )
     return Case(directory.name, directory, spec, kind, inputs, quick)

@@ -27,7 +27,7 @@ from oocyte_fe.runner.run import CaseResult, execute_case, partial_folder
 from oocyte_fe.sweep.paths import PathError
 from oocyte_fe.sweep.report import SampleRow, aggregate
 from oocyte_fe.sweep.sampling import design
-from oocyte_fe.sweep.spec import apply_values
+from oocyte_fe.sweep.spec import apply_values, resolved_inputs
 from oocyte_fe.sweep.store import (
     SAMPLES,
     SampleRecord,
@@ -59,7 +59,7 @@ def plan_samples(case: Case) -> list[PlannedSample]:
         raise ValueError(f"case {case.name} has no [sweep] table")
     d = design(sweep, case.quick)
     raw = {**case.spec.inputs, **case.spec.quick} if case.quick else dict(case.spec.inputs)
-    base = case.inputs.model_dump()
+    base = resolved_inputs(case.inputs)
     spec = case.spec.model_copy(update={"reference": {}, "tolerances": {}, "sweep": None})
     planned = []
     for values, unit in zip(d.values, d.unit, strict=True):

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -202,6 +203,21 @@ def check_sweep(
                 raise InputError(file, field, expected, got=probe) from None
             if isinstance(probe, float) and not math.isfinite(probe):
                 raise InputError(file, field, "finite values", got=probe)
+
+
+def resolved_inputs(inputs: BaseModel) -> dict[str, Any]:
+    """Validated inputs as a dict, data-file paths made absolute (they validate again as is)."""
+
+    def walk(value: Any) -> Any:
+        if isinstance(value, Path):
+            return value.resolve()
+        if isinstance(value, dict):
+            return {k: walk(v) for k, v in value.items()}
+        if isinstance(value, list | tuple):
+            return [walk(v) for v in value]
+        return value
+
+    return walk(inputs.model_dump())
 
 
 def apply_values(base: dict[str, Any], values: dict[str, Any]) -> dict[str, Any]:
