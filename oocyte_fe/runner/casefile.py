@@ -155,7 +155,9 @@ def raise_validation_error(file: Path | str, err: ValidationError, prefix: str =
         raise InputError(file, field, "this key (it is required)") from None
     if kind == "extra_forbidden":
         raise InputError(file, field, "no such key (unknown key)") from None
-    msg = first["msg"].removeprefix("Value error, ")
+    msg = first["msg"].removeprefix("Value error, ").removeprefix("Input should be ")
+    if msg.startswith(("greater", "less")):
+        msg = "a value " + msg
     more = len(err.errors()) - 1
     expected = msg[0].lower() + msg[1:] if msg else "a valid value"
     if more:
