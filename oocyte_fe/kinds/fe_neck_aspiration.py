@@ -1,0 +1,355 @@
+"""Case kind ``fe_neck_aspiration``: the AFM-derived layered oocyte through a 200 -> 150 um neck
+(seed 001, Section 3.2, Fig. 5)."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
+from oocyte_fe.io import FieldSeriesWriter, write_history_csv
+from oocyte_fe.neck import plotting
+from oocyte_fe.neck.materials import materials_from_afm_case
+from oocyte_fe.neck.passage import PassageResult, PassageSettings, run_passage
+from oocyte_fe.neck.pipette import NeckedPipette
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+
+
+class NeckInputs(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    material_case: str = Field(description="folder of the afm_creep_prony case, relative")
+    cytoplasm_radius_um: float = Field(gt=0)
+    zona_thickness_um: float = Field(gt=0)
+    bore_diameter_um: float = Field(gt=0)
+    neck_diameter_um: float = Field(gt=0)
+    taper_length_um: float = Field(gt=0, description="length of the cosine taper, um")
+    friction: float = Field(ge=0)
+    suction_Pa: float = Field(gt=0, description="the seed's suction, Pa (compared, see reading)")
+    duration_s: float = Field(gt=0)
+    steps: int = Field(ge=2)
+    advance_um: float = Field(gt=0, description="rear-cap advance over duration_s, um")
+    size_um: float = Field(gt=0, description="element size away from the side band, um")
+    refine_factor: float = Field(ge=1)
+    penalty_factor: float = Field(gt=0, description="normal penalty = factor * E_max / h")
+    mesh_study_sizes_um: list[float] = Field(default_factory=list)
+    sensitivity: bool = True
+    sensitivity_size_um: float = Field(default=14.0, gt=0)
+    friction_values: list[float] = Field(default_factory=lambda: [0.0, 0.4])
+    zona_E_sd_kPa: float = Field(default=2.88, ge=0)
+    vtu: bool = True
+
+
+UNITS = {"s", "um", "kPa", "nN"}
+METRICS = {
+    "deformation_min_um": "smallest deformation |u - (0, w)| at the five points at t_end, um",
+    "deformation_max_um": "largest deformation at the five points at t_end, um",
+    "radial_inward_max_um": "largest radial inward displacement -u_R at the five points, um",
+    "volume_change_pct": "largest |V/V0 - 1| over the passage, %",
+    "suction_needed_max_Pa": "largest suction the quasi-static passage needs, Pa",
+    "stall_advance_um": "centroid advance where the needed suction first exceeds suction_Pa, um",
+    "centroid_advance_um": "centroid advance at t_end, um",
+    "push_fraction_max": "largest |rear-cap push| / wall force after contact (driver lag), 1",
+    "mesh_change_pct": "largest change of the five deformations between the two finest meshes, %",
+    "elastic_vs_visco_pct": "largest change of the five deformations without the Prony terms, %",
+}
+
+
+def _settings(inp: NeckInputs, size: float | None = None, friction: float | None = None):
+    return PassageSettings(
+        size_um=size or inp.size_um,
+        refine_factor=inp.refine_factor,
+        duration_s=inp.duration_s,
+        steps=inp.steps,
+        advance_um=inp.advance_um,
+        friction=inp.friction if friction is None else friction,
+        penalty_factor=inp.penalty_factor,
+    )
+
+
+def _end(result: PassageResult, key: str) -> np.ndarray:
+    return np.asarray(result.history[key][-1], dtype=float)
+
+
+def _stall(result: PassageResult, dp_kPa: float) -> float:
+    need = result.series("suction_kPa")
+    over = np.nonzero(need > dp_kPa)[0]
+    return float(result.series("centroid_advance_um")[over[0]]) if over.size else float("nan")
+
+
+def _require(result: PassageResult, label: str) -> None:
+    if not result.complete:
+        raise RuntimeError(f"{label}: {result.failure}")
+
+
+def _table(header: list[str], rows: list[list[str]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows])
+
+
+@case_kind("fe_neck_aspiration", inputs=NeckInputs, metrics=METRICS)
+def run(ctx: CaseContext) -> CaseOutcome:
+    """Layered viscoelastic oocyte through a narrowed pipette neck; peripheral deformation."""
+    inp: NeckInputs = ctx.inputs  # type: ignore[assignment]
+    afm_dir = (ctx.case_dir / inp.material_case).resolve()
+    if not (afm_dir / "case.toml").is_file():
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            "inputs.material_case",
+            "a folder holding the afm_creep_prony case.toml",
+            got=inp.material_case,
+        )
+    ctx.step(f"materials: re-running {afm_dir.name} into material/")
+    mats = materials_from_afm_case(afm_dir, ctx.output("material"), ctx.log, ctx.quick)
+    pipette = NeckedPipette(inp.bore_diameter_um / 2, inp.neck_diameter_um / 2, inp.taper_length_um)
+    geometry = {"cytoplasm_radius_um": inp.cytoplasm_radius_um, "zona_um": inp.zona_thickness_um}
+    dp0 = inp.suction_Pa * 1e-3
+
+    failures: list[str] = []
+
+    def passage(label: str, settings: PassageSettings, **kw) -> PassageResult | None:
+        """A comparison run; one that stops early is reported, not fatal."""
+        ctx.step(f"passage: {label}")
+        result = run_passage(mats.regions(**kw), settings, pipette, log=ctx.log, **geometry)
+        if not result.complete:
+            failures.append(f"{label}: {result.failure}")
+            return None
+        return result
+
+    # main run, with the VTU series written frame by frame
+    ctx.step(f"passage: viscoelastic (main), element size {inp.size_um:g} um")
+    series: list = []
+
+    def keep(result: PassageResult, frame) -> None:
+        if inp.vtu:
+            body = result.problem.body
+            series.append(
+                (
+                    frame.t,
+                    body.vertex_displacement(frame.x),
+                    stress_fields(result.problem, frame.x)["von_mises"],
+                    contact_pressure_at_vertices(result.problem, frame),
+                )
+            )
+
+    main = run_passage(
+        mats.regions(), _settings(inp), pipette, log=ctx.log, on_frame=keep, **geometry
+    )
+    _require(main, "viscoelastic passage")
+    body = main.problem.body
+    if inp.vtu:
+        with FieldSeriesWriter(ctx.output("fields"), body.mesh, "neck") as vtu:
+            for t, u, vm, cp in series:
+                vtu.write(t, u, von_mises=vm, contact_pressure=cp)
+
+    ctx.step("outputs")
+    h = main.history
+    columns = {k: np.asarray(v, dtype=float) for k, v in h.items() if np.ndim(v[0]) == 0}
+    for j, angle in enumerate(main.points.polar_deg):
+        columns[f"radial_inward_{angle:.0f}deg_um"] = np.asarray(h["radial_inward_um"])[:, j]
+        columns[f"deformation_{angle:.0f}deg_um"] = np.asarray(h["deformation_um"])[:, j]
+    units = {k: (k.rsplit("_", 1)[-1] if k.rsplit("_", 1)[-1] in UNITS else "") for k in columns}
+    write_history_csv(ctx.output("history.csv"), columns, units)
+
+    n = len(main.frames)
+    front = main.series("front_pole_um") + inp.cytoplasm_radius_um + inp.zona_thickness_um
+    entering = int(np.argmax(front > main.pipette.z_neck_um))
+    picks = [
+        (0, "start (touching the taper)"),
+        (entering, "entering the neck"),
+        (n - 1, "in the neck"),
+    ]
+    figures = []
+    for k, label in picks:
+        name = f"section_{k:02d}.png"
+        plotting.plot_state(main, k, ctx.output(name), f"t = {main.frames[k].t:.2f} s: {label}")
+        figures.append(
+            Figure(
+                name,
+                f"Section at t = {main.frames[k].t:.2f} s ({label}), oocyte "
+                "frame (centroid advance removed), coloured by |u - (0, w)| in um.",
+            )
+        )
+    plotting.plot_history(main, ctx.output("history.png"), dp0)
+    plotting.plot_wall_pressure(main, ctx.output("wall_pressure.png"), [k for k, _ in picks[1:]])
+    figures += [
+        Figure(
+            "history.png",
+            "Advance against time; suction the quasi-static passage needs "
+            "against the advance (dotted: the seed's 100 Pa); axial force balance.",
+        ),
+        Figure("wall_pressure.png", "Contact pressure along the pipette wall."),
+    ]
+
+    deform = _end(main, "deformation_um")
+    radial = _end(main, "radial_inward_um")
+    runs = {"viscoelastic (main)": deform}
+    metrics = {
+        "deformation_min_um": float(deform.min()),
+        "deformation_max_um": float(deform.max()),
+        "radial_inward_max_um": float(radial.max()),
+        "volume_change_pct": float(100 * np.abs(main.series("volume_change")).max()),
+        "suction_needed_max_Pa": float(1e3 * main.series("suction_kPa").max()),
+        "stall_advance_um": _stall(main, dp0),
+        "centroid_advance_um": float(main.series("centroid_advance_um")[-1]),
+    }
+    wall = main.series("wall_force_nN")
+    touching = wall > 0.05 * wall.max()
+    metrics["push_fraction_max"] = float(
+        np.max(np.abs(main.series("push_force_nN")[touching]) / wall[touching])
+    )
+    sections = []
+
+    elastic = passage("elastic (Prony terms dropped)", _settings(inp), viscoelastic=False)
+    if elastic is not None:
+        runs["elastic"] = _end(elastic, "deformation_um")
+        change = runs["elastic"] / deform - 1
+        metrics["elastic_vs_visco_pct"] = float(100 * np.max(np.abs(change)))
+        sections.append(
+            (
+                "Viscoelastic vs elastic",
+                _table(
+                    ["polar angle (deg)", "viscoelastic (um)", "elastic (um)"],
+                    [
+                        [f"{a:.1f}", f"{v:.2f}", f"{e:.2f}"]
+                        for a, v, e in zip(
+                            main.points.polar_deg, deform, runs["elastic"], strict=True
+                        )
+                    ],
+                )
+                + "\n\nSuction needed, max: viscoelastic "
+                f"{metrics['suction_needed_max_Pa']:.0f} Pa, "
+                f"elastic {1e3 * elastic.series('suction_kPa').max():.0f} Pa.",
+            )
+        )
+
+    sens_rows = []
+    if inp.sensitivity:
+        base = passage("sensitivity base", _settings(inp, inp.sensitivity_size_um))
+        cases = [
+            (f"friction {mu:g}", _settings(inp, inp.sensitivity_size_um, mu), {})
+            for mu in inp.friction_values
+        ]
+        e0 = mats.zona.E_kPa
+        cases += [
+            (f"E_ZP {e:.2f} kPa", _settings(inp, inp.sensitivity_size_um), {"zona_E_kPa": e})
+            for e in (e0 - inp.zona_E_sd_kPa, e0 + inp.zona_E_sd_kPa)
+        ]
+        for label, st, kw in [("base (coarse)", None, None), *cases]:
+            r = base if st is None else passage(label, st, **kw)
+            if r is None:
+                continue
+            d = _end(r, "deformation_um")
+            runs[label] = d
+            sens_rows.append(
+                [
+                    label,
+                    f"{d.min():.2f}",
+                    f"{d.max():.2f}",
+                    f"{1e3 * r.series('suction_kPa').max():.0f}",
+                    f"{_stall(r, dp0):.1f}",
+                ]
+            )
+        sections.append(
+            (
+                f"Sensitivity (coarse mesh, size {inp.sensitivity_size_um:g} um)",
+                _table(
+                    [
+                        "run",
+                        "deformation min (um)",
+                        "max (um)",
+                        "suction needed max (Pa)",
+                        "stall advance at 100 Pa (um)",
+                    ],
+                    sens_rows,
+                ),
+            )
+        )
+
+    if inp.mesh_study_sizes_um:
+        study = []
+        for size in sorted(inp.mesh_study_sizes_um, reverse=True):
+            r = main if size == inp.size_um else passage(f"mesh {size:g} um", _settings(inp, size))
+            if r is None:
+                continue
+            study.append(
+                (
+                    size,
+                    r.problem.body.mesh.nelements,
+                    r.problem.body.n_dofs,
+                    _end(r, "deformation_um"),
+                )
+            )
+        if len(study) >= 2:
+            a, b = study[-2][3], study[-1][3]
+            metrics["mesh_change_pct"] = float(100 * np.max(np.abs(a / b - 1)))
+        sections.append(
+            (
+                "Mesh study",
+                _table(
+                    ["size (um)", "elements", "dofs", "deformation at the five points (um)"],
+                    [
+                        [f"{s:g}", str(ne), str(nd), ", ".join(f"{v:.2f}" for v in d)]
+                        for s, ne, nd, d in study
+                    ],
+                ),
+            )
+        )
+
+    plotting.plot_periphery(main.points.polar_deg, runs, ctx.output("periphery.png"), (8.0, 18.0))
+    figures.append(
+        Figure(
+            "periphery.png",
+            "Deformation |u - (0, w)| at the five material "
+            "points at t_end for each run, and the seed's 8-18 um range.",
+        )
+    )
+    pts = _table(
+        ["polar angle (deg)", "radial inward -u_R (um)", "deformation (um)"],
+        [
+            [f"{a:.1f}", f"{r:.2f}", f"{d:.2f}"]
+            for a, r, d in zip(main.points.polar_deg, radial, deform, strict=True)
+        ],
+    )
+    sections.insert(0, ("Peripheral deformation at t_end (main run)", pts))
+    sections.insert(
+        1,
+        (
+            "Materials (regenerated through afm)",
+            f"ZP: E0 = {mats.zona.E_kPa:.4g} kPa, g = {mats.zona.prony.g}, "
+            f"tau = {mats.zona.prony.tau_s} s; cytoplasm: E = "
+            f"{mats.cytoplasm.E_kPa:.4g} kPa (elastic). Files: "
+            "`material/material_zp.toml`, `material/material_cytoplasm.toml`.",
+        ),
+    )
+    steps = main.steps
+    sections.append(
+        (
+            "Solver",
+            f"{len(steps)} steps, {sum(s.iterations for s in steps)} Newton "
+            f"iterations, {sum(s.cutbacks for s in steps)} cutbacks; "
+            f"{body.mesh.nelements} P2/P1 triangles, {body.n_dofs} dofs.",
+        )
+    )
+    if failures:
+        sections.append(("Runs that stopped early", "\n".join(f"- {f}" for f in failures)))
+    checks = [
+        Check(
+            "volume conserved (nu = 0.5) within 0.5 %",
+            metrics["volume_change_pct"],
+            metrics["volume_change_pct"] <= 0.5,
+            "<= 0.5 %",
+            unit="%",
+        )
+    ]
+    if "mesh_change_pct" in metrics:
+        checks.append(
+            Check(
+                "deformation changes < 2 % between the two finest meshes",
+                metrics["mesh_change_pct"],
+                metrics["mesh_change_pct"] < 2.0,
+                "< 2 %",
+                unit="%",
+            )
+        )
+    return CaseOutcome(metrics=metrics, figures=figures, sections=sections, checks=checks)

@@ -1,0 +1,87 @@
+"""The suction load: a pressure drop across the seal the oocyte makes with the pipette wall.
+
+The oocyte plugs the pipette where it touches the wall; the fluid ahead of that seal is at the
+pipette pressure, behind it at the dish pressure. The surface ahead of the seal's rear edge
+``z_s`` (current configuration) carries the suction ``-dp`` [kPa] as a follower pressure, so the
+net axial pull is ``dp * pi r_s^2`` with ``r_s`` the radius of the surface at ``z_s`` (the seed's
+"external force calculated based on the penetration depth", Section 3.2). Before the oocyte
+touches the wall there is no seal (the 10 um annular gap leaks) and no suction force.
+
+A point of the surface is "at the wall" when ``R_w(Z) - R < tol`` (um).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from skfem import Basis, FacetBasis, asm
+
+from oocyte_fe.fe.loads import pressure_force
+from oocyte_fe.neck.pipette import NeckedPipette
+
+
+def seal_mask(pipette: NeckedPipette, tol_um: float) -> Callable[[NDArray], NDArray]:
+    """``where(x)``: True on the surface ahead of the seal's rear edge (the rearmost point
+    within ``tol_um`` of the wall, in the configuration ``x`` (2, ...)); all False without
+    contact. (Evaluated on the Newton iterate: the solver passes only ``x``.)"""
+
+    def where(x: NDArray) -> NDArray:
+        r, z = x[0], x[1]
+        at_wall = pipette.wall_radius(z) - r < tol_um
+        if not np.any(at_wall):
+            return np.zeros(r.shape, dtype=bool)
+        return z >= z[at_wall].min()
+
+    return where
+
+
+def axial_dofs(basis: Basis) -> NDArray:
+    """All ``u_Z`` dofs of a vector basis (their force entries sum to the net axial force)."""
+    return basis.get_dofs(elements=np.arange(basis.mesh.nelements)).all("u^2")
+
+
+def axial_suction_force(
+    fb: FacetBasis,
+    z_dofs: NDArray,
+    u: NDArray,
+    dp_kPa: float,
+    where: Callable[[NDArray], NDArray],
+) -> float:
+    """Net axial force [nN] of the suction ``-dp`` on the masked surface, ``sum_i f_Z,i``
+    (axisymmetric, ring sums included); positive pulls the oocyte towards +Z."""
+    uq = fb.interpolate(u)
+    pn = -dp_kPa * where(np.asarray(fb.global_coordinates()) + np.asarray(uq)).astype(float)
+    f = asm(pressure_force, fb, u=uq, pn=pn, axisym=1.0)
+    return float(f[z_dofs].sum())
+
+
+@dataclass
+class RequiredSuction:
+    """Suction that balances the wall's axial resistance, updated after each step (lagged).
+
+    After a step with wall force ``F_n`` and suction force ``S_n`` under ``dp_n``, the suction
+    for the next step is ``dp_{n+1} = max(0, 2 F_n - F_{n-1}) / (S_n / dp_n)`` (linear
+    extrapolation of the wall force over the effective sealed area ``S_n / dp_n``). The
+    prescribed advance then only carries the lag, a small residual push.
+    """
+
+    dp_kPa: float = 0.0
+    default_area_um2: float = float(np.pi * 90.0**2)
+    _walls: list[float] = field(default_factory=lambda: [0.0])
+
+    def pressure(self, _t: float) -> float:
+        """Follower pressure [kPa] for :class:`oocyte_fe.fe.loads.FollowerPressure`."""
+        return -self.dp_kPa
+
+    def update(self, wall_force_nN: float, suction_force_nN: float) -> None:
+        area = (
+            suction_force_nN / self.dp_kPa
+            if self.dp_kPa > 0 and suction_force_nN > 0
+            else self.default_area_um2
+        )
+        previous = self._walls[-1]
+        self._walls.append(wall_force_nN)
+        self.dp_kPa = max(0.0, 2.0 * wall_force_nN - previous) / area
