@@ -54,6 +54,16 @@ def test_missing_physical_group_is_named() -> None:
         Problem(body, [Prescribed("outer_surface", 0)])
 
 
+def test_inverted_element_is_refused() -> None:
+    mesh = rectangle(1, 1, 2, 2)
+    p = mesh.p.copy()
+    centre = np.flatnonzero(np.all(np.isclose(p, 0.5), axis=0))
+    p[:, centre] = [[1.4], [1.4]]  # drags the centre node across the far corner
+    folded = type(mesh)(p, mesh.t).with_subdomains({"solid": lambda x: x[0] > -1})
+    with pytest.raises(InputError, match="oocyte.msh"):
+        Body(folded, {"solid": Material(1.0, 0.3)}, "plane_strain", source="oocyte.msh")
+
+
 def test_obstacle_starting_inside_the_body() -> None:
     body = Body(rectangle(1, 1, 2, 2), {"solid": Material(1.0, 0.3)}, "plane_strain")
     sphere = Circle((0.5, 1.1), 0.3, name="sphere")

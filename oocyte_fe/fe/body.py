@@ -27,6 +27,7 @@ from skfem import (
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.material import Material
+from oocyte_fe.mesh.quality import check_mesh
 
 Form = Literal["axisymmetric", "plane_strain"]
 
@@ -73,6 +74,7 @@ class Body:
             raise InputError(source, "order", "1 or 2", got=order)
         if isinstance(mesh, MeshTri2) and order != 2:
             raise InputError(source, "order", "2 with a quadratic (MeshTri2) mesh", got=order)
+        check_mesh(mesh, source)  # inverted or degenerate elements are named, not solved
         self.mesh = mesh
         self.form = form
         self.axisym = 1.0 if form == "axisymmetric" else 0.0
