@@ -1,0 +1,63 @@
+"""Neck passage setup: pipette profile, seal mask, suction update, peripheral measures."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
+from oocyte_fe.neck.periphery import POLAR_DEG, MaterialPoints
+from oocyte_fe.neck.pipette import NeckedPipette
+from oocyte_fe.neck.suction import RequiredSuction, seal_mask
+
+
+def test_wall_radius_bore_taper_neck() -> None:
+    p = NeckedPipette(100.0, 75.0, 200.0)
+    z = np.array([-500.0, -200.0, -100.0, 0.0, 300.0])
+    # cosine taper: midway the radius is the mean of bore and neck
+    assert np.allclose(p.wall_radius(z), [100.0, 100.0, 87.5, 75.0, 75.0], atol=1e-9)
+    assert p.taper_half_angle_deg == pytest.approx(np.degrees(np.arctan(np.pi * 25 / 400)))
+
+
+@pytest.mark.parametrize("clearance", [0.1, 2.0, -1e-4])
+def test_touching_places_the_sphere_at_the_clearance(clearance: float) -> None:
+    p = NeckedPipette().touching(90.0, clearance)
+    gap, _ = p.obstacle().distance(np.zeros((2, 1)))
+    assert gap[0] == pytest.approx(90.0 + clearance, abs=1e-7)
+    # the sphere fits the bore but not the neck: the touching point is on the taper
+    assert p.z_neck_um - p.taper_length_um < 0.0 < p.z_neck_um + 90.0
+
+
+def test_pipette_rejects_a_neck_wider_than_the_bore() -> None:
+    with pytest.raises(InputError, match="bore_radius_um"):
+        NeckedPipette(bore_radius_um=70.0, neck_radius_um=75.0)
+
+
+def test_seal_mask_is_the_surface_ahead_of_the_rearmost_wall_contact() -> None:
+    p = NeckedPipette(100.0, 75.0, 200.0)  # neck from Z = 0
+    z = np.array([-300.0, -150.0, -50.0, 20.0, 60.0])
+    r = p.wall_radius(z) - np.array([20.0, 5.0, 0.1, 0.2, 30.0])  # 3rd, 4th at the wall
+    mask = seal_mask(p, 0.5)(np.stack([r, z]))
+    assert mask.tolist() == [False, False, True, True, True]
+    assert not seal_mask(p, 0.5)(np.stack([r - 1.0, z])).any()  # no contact: no seal
+
+
+def test_required_suction_extrapolates_the_wall_force_over_the_sealed_area() -> None:
+    s = RequiredSuction(dp_kPa=0.2)
+    s.update(wall_force_nN=1000.0, suction_force_nN=900.0)  # area 4500 um^2
+    assert s.dp_kPa == pytest.approx((2 * 1000.0 - 0.0) / 4500.0)
+    assert s.pressure(0.3) == -s.dp_kPa
+    s.update(wall_force_nN=1100.0, suction_force_nN=s.dp_kPa * 4000.0)
+    assert s.dp_kPa == pytest.approx((2 * 1100.0 - 1000.0) / 4000.0)
+
+
+def test_periphery_measures_of_a_uniform_contraction_plus_translation() -> None:
+    mesh = layered_oocyte_mesh(LayeredOocyte(size_um=10.0))
+    pts = MaterialPoints.on_surface(mesh)
+    assert np.allclose(pts.polar_deg, POLAR_DEG, atol=3.0)
+    eps, w = 0.05, 37.0
+    u = -eps * mesh.p + np.array([[0.0], [w]])
+    R = mesh.p[0, pts.vertices]
+    assert np.allclose(pts.radial_inward(u), eps * R)
+    assert np.allclose(pts.deformation(u, w), eps * 90.0)
