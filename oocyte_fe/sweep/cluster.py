@@ -45,7 +45,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None) -> Ite
             n_workers=n,
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            dashboard_address=":0",  # any free port (8787 is often taken)
             silence_logs=logging.ERROR,
         ) as cluster,
         Client(cluster) as client,
