@@ -224,6 +224,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         )
 
     sens_rows = []
+    base = None
     if inp.sensitivity:
         base = passage("sensitivity base", _settings(inp, inp.sensitivity_size_um))
         cases = [
@@ -269,7 +270,10 @@ def run(ctx: CaseContext) -> CaseOutcome:
     if inp.mesh_study_sizes_um:
         study = []
         for size in sorted(inp.mesh_study_sizes_um, reverse=True):
-            r = main if size == inp.size_um else passage(f"mesh {size:g} um", _settings(inp, size))
+            done = {inp.size_um: main}
+            if base is not None:
+                done[inp.sensitivity_size_um] = base
+            r = done.get(size) or passage(f"mesh {size:g} um", _settings(inp, size))
             if r is None:
                 continue
             study.append(
