@@ -26,4 +26,12 @@ class InputError(ValueError):
 
 
 class SolverError(RuntimeError):
-    """A solver that did not converge: the message names the time, residual and cause."""
+    """A solver that did not converge: the message names the time, residual and cause.
+
+    ``result`` holds what was solved before the failure (for example the FE
+    ``SolveResult`` with its frames and step log), or ``None``.
+    """
+
+    def __init__(self, message: str, result: object | None = None) -> None:
+        super().__init__(message)
+        self.result = result

@@ -84,6 +84,17 @@ def test_step_that_never_converges_stops_loudly() -> None:
         prob.solve([1.0], NewtonSettings(max_cutbacks=2))
     msg = str(info.value)
     assert "no convergence at t = " in msg and "after 2 cutbacks" in msg and "residual" in msg
+    assert info.value.result is not None and info.value.result.frames == []
+
+
+def test_rigid_translation_converges() -> None:
+    """Forces vanish in a rigid motion: the residual floor still lets the step converge."""
+    body = Body(rectangle(1, 1, 2, 2), {"solid": Material(1.0, 0.3)}, "plane_strain")
+    prob = Problem(body, [Prescribed("left", 0, lambda t: 2.0 * t), Prescribed("left", 1)])
+    result = prob.solve([1.0])
+    u = body.vertex_displacement(result.frames[-1].x)
+    assert np.allclose(u[0], 2.0) and np.allclose(u[1], 0.0, atol=1e-12)
+    assert result.steps[-1].iterations <= 2
 
 
 def test_frictionless_plate_contact_force_balances_pressure() -> None:

@@ -7,8 +7,10 @@ system is saddle-point (indefinite at ``nu = 0.5``) and unsymmetric (friction, f
 pressure), so it is solved with SuperLU (``scipy.sparse.linalg.splu``, partial pivoting,
 COLAMD ordering), which handles both; Cholesky or symmetric solvers would not.
 
-A step converges when ``|r_u| <= rtol * |f_int|`` and ``|r_p| <= rtol * V``. A step that fails
-(iteration limit, NaN, an inverted element, a diverging residual) is halved, up to
+A step converges when ``|r_u| <= rtol * max(|f_int|, |f_ext|, f_floor)`` and
+``|r_p| <= rtol * V``, with the floor ``f_floor = 1e-6 E_max L^2`` (``2 pi`` more in
+axisymmetry) so that a step with vanishing forces (rigid motion) is judged sensibly.
+A step that fails (iteration limit, NaN, an inverted element, a diverging residual) is halved, up to
 ``max_cutbacks`` times, then :class:`~oocyte_fe.errors.SolverError` names the time, the
 residual and the cause. Every iteration's residual is logged, so quadratic convergence is
 visible in the log.
@@ -135,6 +137,11 @@ class Problem:
         self.fixed_dofs = np.unique(np.concatenate(fixed)).astype(int)
         self.x = np.zeros(body.n_dofs)
         self.t = 0.0
+        # force scale floor: a strain of 1e-6 over the body, E_max L^2 1e-6 [nN]; keeps the
+        # relative residual meaningful when the forces vanish (rigid motion, unloaded steps)
+        size = float(np.ptp(body.mesh.p, axis=1).max())
+        e_max = max(r.material.E_kPa for r in body.regions)
+        self.force_floor = 1e-6 * e_max * size**2 * (2.0 * np.pi if body.axisym else 1.0)
         self._quad = [
             (np.asarray(r.ubasis.global_coordinates())[0], r.ubasis.dx) for r in body.regions
         ]
@@ -250,7 +257,7 @@ class Problem:
             r, K, f_scale = self.assemble(x, t, dt)
             ru = np.linalg.norm(r[free_u])
             rp = np.linalg.norm(r[free_p])
-            res = max(ru / max(f_scale, 1e-300), rp / volume) if (ru or rp) else 0.0
+            res = max(ru / max(f_scale, self.force_floor), rp / volume) if (ru or rp) else 0.0
             history.append(float(res))
             self.log.info(
                 "  t=%.6g it=%d residual=%.3e (|r_u|=%.3e nN, |r_p|=%.3e um3)", t, it, res, ru, rp
@@ -351,7 +358,8 @@ class Problem:
                             raise SolverError(
                                 f"no convergence at t = {t_new:.6g} s (dt = {step:.3g} s) after "
                                 f"{settings.max_cutbacks} cutbacks: {fail.cause}, residual "
-                                f"{fail.residual:.3e}"
+                                f"{fail.residual:.3e}",
+                                result,
                             ) from None
                         dt = step / 2.0
                 self._accept(x, t_new, step)
