@@ -39,8 +39,18 @@ def test_seal_mask_is_the_surface_ahead_of_the_rearmost_wall_contact() -> None:
     z = np.array([-300.0, -150.0, -50.0, 20.0, 60.0])
     r = p.wall_radius(z) - np.array([20.0, 5.0, 0.1, 0.2, 30.0])  # 3rd, 4th at the wall
     mask = seal_mask(p, 0.5)(np.stack([r, z]))
-    assert mask.tolist() == [False, False, True, True, True]
+    assert mask[:2].tolist() == [0.0, 0.0] and mask[3:].tolist() == [1.0, 1.0]
+    assert 0.0 < mask[2] < 1.0  # the seal's rear edge sits on the ramp
     assert not seal_mask(p, 0.5)(np.stack([r - 1.0, z])).any()  # no contact: no seal
+
+
+def test_seal_mask_is_continuous_in_the_configuration() -> None:
+    p = NeckedPipette(100.0, 75.0, 200.0)
+    z = np.linspace(-200.0, 100.0, 301)
+    where = seal_mask(p, 0.5)
+    base = where(np.stack([p.wall_radius(z) - 0.3, z]))
+    moved = where(np.stack([p.wall_radius(z) - 0.3 - 1e-6, z]))  # a tiny move off the wall
+    assert np.max(np.abs(moved - base)) < 1e-4
 
 
 def test_required_suction_extrapolates_the_wall_force_over_the_sealed_area() -> None:

@@ -54,11 +54,13 @@ class Kinematics:
         F = full3(F5)
         det2 = F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
         Finv = np.zeros_like(F)
-        Finv[0, 0] = F[1, 1] / det2
-        Finv[1, 1] = F[0, 0] / det2
-        Finv[0, 1] = -F[0, 1] / det2
-        Finv[1, 0] = -F[1, 0] / det2
-        Finv[2, 2] = 1.0 / F[2, 2]
+        # a collapsed element gives inf/nan here; the solver detects J <= 0 or non-finite J
+        with np.errstate(divide="ignore", invalid="ignore"):
+            Finv[0, 0] = F[1, 1] / det2
+            Finv[1, 1] = F[0, 0] / det2
+            Finv[0, 1] = -F[0, 1] / det2
+            Finv[1, 0] = -F[1, 0] / det2
+            Finv[2, 2] = 1.0 / F[2, 2]
         return cls(F=F, Finv=Finv, J=det2 * F[2, 2], I1=np.einsum("ij...,ij...->...", F, F))
 
     @property

@@ -59,6 +59,7 @@ class NewtonSettings:
     rtol: float = 1e-8
     max_cutbacks: int = 8
     divergence: float = 1e4  # residual growth over its first value that counts as divergence
+    line_search: int = 3  # halvings of a Newton step that would raise the residual
 
 
 @dataclass(frozen=True)
@@ -252,19 +253,23 @@ class Problem:
         free_u, free_p = free[free < n_u], free[free >= n_u]
         volume = self.volume(self.x)
         target = self._targets(t)
-        history: list[float] = []
-        for it in range(settings.max_iterations + 1):
-            r, K, f_scale = self.assemble(x, t, dt)
-            ru = np.linalg.norm(r[free_u])
-            rp = np.linalg.norm(r[free_p])
+
+        def evaluate(xx: NDArray) -> tuple[NDArray, object, float, float, float]:
+            r, K, f_scale = self.assemble(xx, t, dt)
+            ru, rp = np.linalg.norm(r[free_u]), np.linalg.norm(r[free_p])
             res = max(ru / max(f_scale, self.force_floor), rp / volume) if (ru or rp) else 0.0
-            history.append(float(res))
+            return r, K, float(res), float(ru), float(rp)
+
+        history: list[float] = []
+        r, K, res, ru, rp = evaluate(x)
+        for it in range(settings.max_iterations + 1):
+            history.append(res)
             self.log.info(
                 "  t=%.6g it=%d residual=%.3e (|r_u|=%.3e nN, |r_p|=%.3e um3)", t, it, res, ru, rp
             )
             if not np.isfinite(res):
                 raise _StepFailed("residual is not finite", res)
-            pending = np.any(target[D] != x[D])
+            pending = bool(np.any(target[D] != x[D]))
             if res <= settings.rtol and not pending:
                 return x, history
             if it >= 3 and res > settings.divergence * max(history[1], settings.rtol):
@@ -278,8 +283,37 @@ class Problem:
                 dx[I] = splu(A.tocsc()).solve(b)
             except RuntimeError as exc:
                 raise _StepFailed(f"singular tangent ({exc})", res) from None
-            x += dx
+            x, r, K, res, ru, rp = self._line_search(x, dx, res, pending, evaluate, settings)
         raise _StepFailed(f"no convergence in {settings.max_iterations} iterations", history[-1])
+
+    def _line_search(
+        self,
+        x: NDArray,
+        dx: NDArray,
+        res: float,
+        pending: bool,
+        evaluate: Callable[[NDArray], tuple],
+        settings: NewtonSettings,
+    ) -> tuple:
+        """Backtracking on the residual: the full Newton step unless it raises the residual
+        (or inverts an element); then halve it, at most ``settings.line_search`` times."""
+        alpha = 1.0
+        for attempt in range(settings.line_search + 1):
+            last = attempt == settings.line_search
+            x_try = x + alpha * dx
+            try:
+                r, K, res_try, ru, rp = evaluate(x_try)
+            except _StepFailed:
+                if last:
+                    raise
+                alpha /= 2.0
+                continue
+            if pending or res_try < res or last:
+                if alpha < 1.0:
+                    self.log.info("  line search: step scaled by %g", alpha)
+                return x_try, r, K, res_try, ru, rp
+            alpha /= 2.0
+        raise AssertionError("unreachable")
 
     def _accept(self, x: NDArray, t: float, dt: float) -> None:
         for k, region in enumerate(self.body.regions):
@@ -327,7 +361,8 @@ class Problem:
         """Advance through the output ``times`` [s] (increasing, > current time).
 
         Each output interval is one step (at most ``max_dt``); a failed step is halved and
-        retried; after three easy steps the step grows back.
+        retried, never below ``dt_nominal / 2^max_cutbacks`` (so a stuck interval fails in
+        bounded time); after three easy steps the step grows back.
         """
         settings = settings or NewtonSettings()
         times = [float(t) for t in times]
@@ -354,7 +389,8 @@ class Problem:
                             fail.cause,
                             cutbacks,
                         )
-                        if cutbacks > settings.max_cutbacks:
+                        smallest = dt_nominal / 2.0**settings.max_cutbacks
+                        if cutbacks > settings.max_cutbacks or step / 2.0 < smallest * 0.999:
                             raise SolverError(
                                 f"no convergence at t = {t_new:.6g} s (dt = {step:.3g} s) after "
                                 f"{settings.max_cutbacks} cutbacks: {fail.cause}, residual "

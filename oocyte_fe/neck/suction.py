@@ -23,17 +23,31 @@ from oocyte_fe.fe.loads import pressure_force
 from oocyte_fe.neck.pipette import NeckedPipette
 
 
-def seal_mask(pipette: NeckedPipette, tol_um: float) -> Callable[[NDArray], NDArray]:
-    """``where(x)``: True on the surface ahead of the seal's rear edge (the rearmost point
-    within ``tol_um`` of the wall, in the configuration ``x`` (2, ...)); all False without
-    contact. (Evaluated on the Newton iterate: the solver passes only ``x``.)"""
+def seal_mask(
+    pipette: NeckedPipette, tol_um: float, ramp_um: float | None = None
+) -> Callable[[NDArray], NDArray]:
+    """``where(x)``: the share (0..1) of the suction on each surface point in the configuration
+    ``x`` (2, ...): 1 ahead of the seal's rear edge, 0 behind it, a linear ramp of ``ramp_um``
+    (default ``4 tol_um``) across it; all 0 without contact.
+
+    The load must be continuous in ``x`` for Newton to converge (a step mask makes the iterate
+    cycle between two masks). So "at the wall" is graded, ``w = clip(1 - gap / tol, 0, 1)``,
+    the rear edge is the ``w``-weighted soft minimum of Z,
+    ``z_s = -s ln(sum w_i exp(-z_i / s) / sum w_i)`` with ``s = ramp / 4``, and the whole mask
+    fades in with ``min(1, sum w_i)`` as the seal forms.
+    """
+    ramp = 4.0 * tol_um if ramp_um is None else ramp_um
+    soft = ramp / 4.0
 
     def where(x: NDArray) -> NDArray:
         r, z = x[0], x[1]
-        at_wall = pipette.wall_radius(z) - r < tol_um
-        if not np.any(at_wall):
-            return np.zeros(r.shape, dtype=bool)
-        return z >= z[at_wall].min()
+        w = np.clip(1.0 - (pipette.wall_radius(z) - r) / tol_um, 0.0, 1.0)
+        total = float(w.sum())
+        if total <= 0.0:
+            return np.zeros(r.shape)
+        z0 = float(z[w > 0].min())
+        z_seal = z0 - soft * np.log(np.sum(w * np.exp(-(z - z0) / soft)) / total)
+        return min(1.0, total) * np.clip((z - z_seal) / ramp + 0.5, 0.0, 1.0)
 
     return where
 
@@ -53,7 +67,7 @@ def axial_suction_force(
     """Net axial force [nN] of the suction ``-dp`` on the masked surface, ``sum_i f_Z,i``
     (axisymmetric, ring sums included); positive pulls the oocyte towards +Z."""
     uq = fb.interpolate(u)
-    pn = -dp_kPa * where(np.asarray(fb.global_coordinates()) + np.asarray(uq)).astype(float)
+    pn = -dp_kPa * where(np.asarray(fb.global_coordinates()) + np.asarray(uq))
     f = asm(pressure_force, fb, u=uq, pn=pn, axisym=1.0)
     return float(f[z_dofs].sum())
 
