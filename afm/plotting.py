@@ -11,6 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from afm.batch import BatchResult
 from afm.creep import CreepFit
 from afm.fit import IndentationFit
 
@@ -46,6 +47,21 @@ def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title
     ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
     ax_e.legend(fontsize=7)
     return _save(fig, path)
+
+
+def plot_batch(result: BatchResult, folder: str | Path) -> list[Path]:
+    """One figure per fitted curve of a batch (:func:`plot_fit`), ``<curve name>.png`` in
+    ``folder``; curves that failed have no figure (their error is in the batch table)."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for row in result.rows:
+        if row.error or row.fit is None:
+            continue
+        fits = [("ZP", row.fit)] + ([("cytoplasm", row.cytoplasm)] if row.cytoplasm else [])
+        name = Path(row.file).stem
+        paths.append(plot_fit(fits, folder / f"{name}.png", title=Path(row.file).name))
+    return paths
 
 
 def plot_histogram(

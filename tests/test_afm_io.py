@@ -10,6 +10,7 @@ from afm.batch import curve_files, fit_batch, write_batch_table
 from afm.curve import ForceCurve
 from afm.curve_io import read_curve, write_curve
 from afm.errors import AfmInputError, MissingExtraError
+from afm.plotting import plot_batch
 from afm.synthetic import indentation_curve
 
 
@@ -100,6 +101,9 @@ def test_batch_of_30_reports_the_drawn_mean_and_sd_and_skips_a_bad_curve(tmp_pat
     table = write_batch_table(result, tmp_path / "fits.csv").read_text().splitlines()
     assert len(table) == 32 and "two columns" in table[-1]
     assert math.isfinite(float(table[1].split(",")[2]))
+    plots = plot_batch(result, tmp_path / "plots")  # one figure per good curve, none for bad
+    assert len(plots) == 30 and all(p.stat().st_size > 10_000 for p in plots)
+    assert not (tmp_path / "plots" / "curve_99_broken.png").exists()
 
 
 def test_unreadable_instrument_file_names_the_file(tmp_path):

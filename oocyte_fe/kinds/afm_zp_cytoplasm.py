@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from afm.batch import curve_files, fit_batch, write_batch_table
 from afm.curve import spring_constant_nN_per_um
 from afm.curve_io import write_curve
-from afm.plotting import plot_fit, plot_histogram
+from afm.plotting import plot_batch, plot_fit, plot_histogram
 from afm.synthetic import pierce_curve
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 
@@ -103,6 +103,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     truth = np.array([drawn[Path(r.file).name] for r in good])
 
     ctx.step("plots")
+    plot_batch(batch, ctx.output("curve_plots/.keep").parent)
     first = good[int(np.argsort(zp)[len(zp) // 2])]  # the curve with the median ZP modulus
     plot_fit(
         [("ZP", first.fit), ("cytoplasm", first.cytoplasm)],
