@@ -58,6 +58,12 @@ def test_required_suction_extrapolates_the_wall_force_over_the_sealed_area() -> 
     s.update(wall_force_nN=1000.0, suction_force_nN=900.0)  # area 4500 um^2
     assert s.dp_kPa == pytest.approx((2 * 1000.0 - 0.0) / 4500.0)
     assert s.pressure(0.3) == -s.dp_kPa
+    ramped = RequiredSuction(dp_kPa=0.2)
+    ramped.update(wall_force_nN=1000.0, suction_force_nN=900.0, t=0.1)  # frames 0.1 s apart
+    new = ramped.dp_kPa
+    assert ramped.pressure(0.1) == pytest.approx(-0.2)  # continuous at the update
+    assert ramped.pressure(0.15) == pytest.approx(-(0.2 + new) / 2)
+    assert ramped.pressure(0.2) == pytest.approx(-new)
     s.update(wall_force_nN=1100.0, suction_force_nN=s.dp_kPa * 4000.0)
     assert s.dp_kPa == pytest.approx((2 * 1100.0 - 1000.0) / 4000.0)
 

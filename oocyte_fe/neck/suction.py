@@ -85,12 +85,22 @@ class RequiredSuction:
     dp_kPa: float = 0.0
     default_area_um2: float = float(np.pi * 90.0**2)
     _walls: list[float] = field(default_factory=lambda: [0.0])
+    _start_kPa: float = 0.0
+    _t: float = 0.0
+    _interval: float = 0.0
 
-    def pressure(self, _t: float) -> float:
-        """Follower pressure [kPa] for :class:`oocyte_fe.fe.loads.FollowerPressure`."""
-        return -self.dp_kPa
+    def pressure(self, t: float) -> float:
+        """Follower pressure [kPa] for :class:`oocyte_fe.fe.loads.FollowerPressure`.
 
-    def update(self, wall_force_nN: float, suction_force_nN: float) -> None:
+        Ramped linearly over the step from the last value to the new one (when the update
+        times are given), so the load path is continuous in time and a cut-back step meets
+        a proportionally smaller load change."""
+        if self._interval <= 0.0:
+            return -self.dp_kPa
+        share = min(max((t - self._t) / self._interval, 0.0), 1.0)
+        return -(self._start_kPa + share * (self.dp_kPa - self._start_kPa))
+
+    def update(self, wall_force_nN: float, suction_force_nN: float, t: float | None = None) -> None:
         area = (
             suction_force_nN / self.dp_kPa
             if self.dp_kPa > 0 and suction_force_nN > 0
@@ -98,4 +108,6 @@ class RequiredSuction:
         )
         previous = self._walls[-1]
         self._walls.append(wall_force_nN)
+        if t is not None:
+            self._start_kPa, self._interval, self._t = self.dp_kPa, t - self._t, t
         self.dp_kPa = max(0.0, 2.0 * wall_force_nN - previous) / area
