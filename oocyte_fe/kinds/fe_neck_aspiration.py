@@ -37,6 +37,12 @@ class NeckInputs(BaseModel):
     sensitivity_size_um: float = Field(default=14.0, gt=0)
     friction_values: list[float] = Field(default_factory=lambda: [0.0, 0.4])
     zona_E_sd_kPa: float = Field(default=2.88, ge=0)
+    zona_E_kPa: float | None = Field(
+        default=None, gt=0, description="replaces the ZP modulus of the material file, kPa"
+    )
+    cytoplasm_E_kPa: float | None = Field(
+        default=None, gt=0, description="replaces the cytoplasm modulus of the material file, kPa"
+    )
     vtu: bool = True
 
 
@@ -101,6 +107,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         )
     ctx.step(f"materials: re-running {afm_dir.name} into material/")
     mats = materials_from_afm_case(afm_dir, ctx.output("material"), ctx.log, ctx.quick)
+    mats = mats.with_moduli(inp.zona_E_kPa, inp.cytoplasm_E_kPa)
     pipette = NeckedPipette(inp.bore_diameter_um / 2, inp.neck_diameter_um / 2, inp.taper_length_um)
     geometry = {"cytoplasm_radius_um": inp.cytoplasm_radius_um, "zona_um": inp.zona_thickness_um}
     dp0 = inp.suction_Pa * 1e-3

@@ -29,6 +29,19 @@ class OocyteMaterials:
     zona_file: Path
     cytoplasm_file: Path
 
+    def with_moduli(
+        self, zona_E_kPa: float | None = None, cytoplasm_E_kPa: float | None = None
+    ) -> OocyteMaterials:
+        """The same materials with the instantaneous moduli replaced where given (a sweep or a
+        sensitivity over the AFM scatter); the Prony terms are kept."""
+        zona = self.zona if zona_E_kPa is None else replace(self.zona, E_kPa=zona_E_kPa)
+        cyto = (
+            self.cytoplasm
+            if cytoplasm_E_kPa is None
+            else replace(self.cytoplasm, E_kPa=cytoplasm_E_kPa)
+        )
+        return replace(self, zona=zona, cytoplasm=cyto)
+
     def regions(self, viscoelastic: bool = True, zona_E_kPa: float | None = None) -> dict:
         """``{"zona": ..., "cytoplasm": ...}``; ``viscoelastic=False`` drops the Prony terms
         (instantaneous moduli kept), ``zona_E_kPa`` replaces the ZP's instantaneous modulus."""
