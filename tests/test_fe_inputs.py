@@ -116,3 +116,19 @@ def test_frictionless_plate_contact_force_balances_pressure() -> None:
     assert length > 2.0
     assert frame.obstacle_forces["contact"][1] == pytest.approx(-p * length, rel=1e-6)
     assert np.all(frame.contact_pressure["contact"] == pytest.approx(p, rel=0.02))
+
+
+@pytest.mark.parametrize("smoothing", [0.0, 2e-6])
+def test_plate_penetration_follows_the_penalty_law(smoothing: float) -> None:
+    """Uniform pressure p on a block on a plate: penetration p / eps (+ delta / 2 when the
+    C1-smoothed law is in its linear branch)."""
+    body = Body(rectangle(2.0, 1.0, 4, 2), {"solid": Material(1.0, 0.3)}, "plane_strain")
+    p, eps = 1e-2, 1e3
+    contact = Contact("bottom", flat_plate(0.0, -1.0, 3.0), penalty=eps, smoothing_um=smoothing)
+    prob = Problem(
+        body, [Prescribed("left", 0)], [FollowerPressure("top", lambda t: p * t)], [contact]
+    )
+    x = prob.solve([0.5, 1.0]).frames[-1].x
+    u = body.vertex_displacement(x)
+    bottom = np.isclose(body.mesh.p[1], 0.0)
+    assert -u[1, bottom].mean() == pytest.approx(p / eps + smoothing / 2, rel=0.02)

@@ -38,7 +38,10 @@ class Contact:
     """Contact of the boundary ``boundary`` with a rigid ``obstacle`` moving by ``motion(t)``.
 
     ``penalty`` (normal) and ``tangential_penalty`` in kPa/um; ``friction`` the Coulomb
-    coefficient ``mu`` (0.2 in the seed paper's Table 1).
+    coefficient ``mu`` (0.2 in the seed paper's Table 1). ``smoothing_um`` > 0 makes the
+    normal law C1: ``lambda = eps pen^2 / (2 delta)`` for a penetration ``pen < delta``, then
+    ``eps (pen - delta/2)``; a point that touches lightly then no longer switches the tangent
+    on and off between iterations (contact chatter at corners).
     """
 
     boundary: str
@@ -48,6 +51,7 @@ class Contact:
     tangential_penalty: float | None = None
     motion: Callable[[float], tuple[float, float]] = _still
     name: str = "contact"
+    smoothing_um: float = 0.0
 
     @property
     def eps_t(self) -> float:
@@ -90,8 +94,17 @@ def evaluate(
     d_n = np.asarray(contact.motion(state.t), dtype=float)[:, None, None]
     gap, n = contact.obstacle.distance(X + u_q - d)
     tau = np.stack([-n[1], n[0]])
-    closed = gap < 0.0
-    lam = contact.penalty * np.where(closed, -gap, 0.0)
+    pen = -gap
+    closed = pen > 0.0
+    delta = contact.smoothing_um
+    if delta > 0.0:  # C1 law: quadratic over the first delta of penetration, then linear
+        lam = contact.penalty * np.where(
+            pen >= delta, pen - delta / 2.0, np.where(closed, pen**2 / (2.0 * delta), 0.0)
+        )
+        dlam = contact.penalty * np.clip(pen / delta, 0.0, 1.0)
+    else:
+        lam = contact.penalty * np.where(closed, pen, 0.0)
+        dlam = np.where(closed, contact.penalty, 0.0)
     ds = np.einsum("i...,i...->...", (u_q - state.u) - (d - d_n), tau)
     s_trial = state.slip + ds
     q_trial = -contact.eps_t * s_trial
@@ -108,9 +121,9 @@ def evaluate(
         pressure=lam,
         shear=q,
         slip=s_new,
-        k_nn=np.where(closed, contact.penalty, 0.0),
+        k_nn=dlam,
         k_tt=np.where(stick, contact.eps_t, 0.0),
-        k_tn=np.where(slip, -contact.friction * contact.penalty * sgn, 0.0),
+        k_tn=np.where(slip, -contact.friction * dlam * sgn, 0.0),
     )
 
 
