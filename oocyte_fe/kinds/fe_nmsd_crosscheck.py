@@ -58,6 +58,9 @@ class CrosscheckInputs(BaseModel):
     fe_max_step_um: float = Field(1.25, gt=0)
     fe_penalty_factor: float = Field(30.0, gt=0)
     fe_rtol: float = Field(1e-6, gt=0, lt=1e-2)
+    fe_contact_smoothing_um: float = Field(
+        0.2, ge=0, description="C1 smoothing of the normal contact law, um (0: exact kink)"
+    )
     nmsd_spacings_across: int = Field(17, ge=2)
     nmsd_dl_c: float = Field(0.8, gt=0)
     nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
@@ -118,6 +121,7 @@ def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
         inp.fe_max_step_um,
         inp.fe_penalty_factor,
         inp.fe_rtol,
+        inp.fe_contact_smoothing_um,
         source=source,
     )
     return scenario, settings
