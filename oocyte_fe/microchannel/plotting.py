@@ -17,6 +17,16 @@ from oocyte_fe.microchannel.rheology_fit import ViscosityFit
 PA_S = 1e3  # kPa s -> Pa s, for axis labels in the paper's units
 
 
+def _finish(fig: plt.Figure, ax: plt.Axes, file: Path, which: str = "major") -> Path:
+    """Grid, legend, layout; save at 130 dpi and close."""
+    ax.grid(True, which=which, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=130)
+    plt.close(fig)
+    return file
+
+
 def plot_viscosity_fits(
     shear_rate: np.ndarray, viscosity: np.ndarray, fits: Sequence[ViscosityFit], file: Path
 ) -> Path:
@@ -28,12 +38,7 @@ def plot_viscosity_fits(
         ax.loglog(g, fit.rheology.viscosity(g) * PA_S, label=f"{fit.model.name}, R² = {fit.r2:.4f}")
     ax.set_xlabel("shear rate (1/s)")
     ax.set_ylabel("viscosity (Pa s)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(file, dpi=130)
-    plt.close(fig)
-    return file
+    return _finish(fig, ax, file, which="both")
 
 
 def plot_profiles(
@@ -46,12 +51,7 @@ def plot_profiles(
         ax.plot(x, u, style, label=name, ms=4)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("u / U (mean velocity)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(file, dpi=130)
-    plt.close(fig)
-    return file
+    return _finish(fig, ax, file)
 
 
 def plot_convergence(studies: Mapping[str, tuple[np.ndarray, np.ndarray]], file: Path) -> Path:
@@ -61,12 +61,7 @@ def plot_convergence(studies: Mapping[str, tuple[np.ndarray, np.ndarray]], file:
         ax.loglog(h, err, "o-", label=name)
     ax.set_xlabel("element size / section size")
     ax.set_ylabel("|Q_FE / Q_exact - 1|")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(file, dpi=130)
-    plt.close(fig)
-    return file
+    return _finish(fig, ax, file, which="both")
 
 
 def plot_junction_ratio(
@@ -94,12 +89,7 @@ def plot_junction_ratio(
     )
     ax.set_xlabel("driving pressure (hPa)")
     ax.set_ylabel("axis ratio minor/major")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(file, dpi=130)
-    plt.close(fig)
-    return file
+    return _finish(fig, ax, file)
 
 
 def plot_duct_velocity(flow: DuctFlow, file: Path, title: str) -> Path:
