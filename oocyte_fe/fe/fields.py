@@ -33,7 +33,7 @@ def stress_fields(problem: Problem, x: NDArray) -> dict[str, NDArray]:
     fields = {"von_mises": np.zeros(ne), "mean_stress": np.zeros(ne)}
     area = np.zeros(ne)
     for k, region in enumerate(body.regions):
-        kin, pq = problem._region_fields(x, k)
+        kin, pq = problem.region_kinematics(x, k)
         elastic = response(kin, np.zeros_like(pq), region.material, None, 0.0)
         S_dev = elastic.S0
         prony = region.material.prony

@@ -168,7 +168,8 @@ class Problem:
 
     # --- assembly ----------------------------------------------------------------------------
 
-    def _region_fields(self, x: NDArray, k: int):
+    def region_kinematics(self, x: NDArray, k: int) -> tuple[Kinematics, NDArray]:
+        """Kinematics and pressure [kPa] at the quadrature points of region ``k`` for ``x``."""
         body, region = self.body, self.body.regions[k]
         uq = region.ubasis.interpolate(body.displacement(x))
         pq = np.asarray(region.pbasis.interpolate(body.pressure(x, region)))
@@ -186,7 +187,7 @@ class Problem:
         f_int_norm2 = 0.0
         f_ext = np.zeros(body.n_u)
         for k, region in enumerate(body.regions):
-            kin, pq = self._region_fields(x, k)
+            kin, pq = self.region_kinematics(x, k)
             if np.any(kin.J <= 0) or not np.all(np.isfinite(kin.J)):
                 raise _StepFailed(f"inverted element in region {region.name!r}", np.inf)
             res = response(kin, pq, region.material, self.histories[k], dt)
@@ -321,7 +322,7 @@ class Problem:
     def _accept(self, x: NDArray, t: float, dt: float) -> None:
         for k, region in enumerate(self.body.regions):
             if region.material.prony.g:
-                kin, pq = self._region_fields(x, k)
+                kin, pq = self.region_kinematics(x, k)
                 res = response(kin, pq, region.material, self.histories[k], dt)
                 self.histories[k] = update_history(self.histories[k], region.material, res.S0, dt)
         u = self.body.displacement(x)
@@ -337,7 +338,7 @@ class Problem:
         """Current volume ``int J dV`` [um^3] (axisymmetric) or area [um^2] (plane strain)."""
         total = 0.0
         for k, _region in enumerate(self.body.regions):
-            kin, _ = self._region_fields(x, k)
+            kin, _ = self.region_kinematics(x, k)
             R, dx = self._quad[k]
             measure = 2.0 * np.pi * R if self.body.axisym else 1.0
             total += float(np.sum(kin.J * dx * measure))
