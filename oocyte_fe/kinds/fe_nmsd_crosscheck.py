@@ -9,10 +9,9 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from nmsd.calibration import calibrate
 from nmsd.displacement_field import press_displacements
-from nmsd.errors import NmsdDivergence, NmsdInputError
-from nmsd.lattice import circular_lattice
-from nmsd.parameters import NmsdParameters, node_mass_for
-from nmsd.press import press_setup
+from nmsd.errors import NmsdDivergence
+from nmsd.parameters import NmsdParameters
+from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement, read_force_displacement
 from oocyte_fe.crosscheck.agreement import (
     displacement_agreement,
@@ -23,8 +22,8 @@ from oocyte_fe.crosscheck.fe_press import FeSettings, pipette_at, run_fe_press
 from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_overlay
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import afm_layer_materials
-from oocyte_fe.errors import InputError
 from oocyte_fe.io import write_history_csv
+from oocyte_fe.kinds.nmsd_cases import build_press
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
@@ -127,26 +126,15 @@ def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
     return scenario, settings
 
 
-def _nmsd_setup(ctx: CaseContext):
+def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
     inp = ctx.inputs
-    try:
-        lattice = circular_lattice(inp.cell_diameter_um, inp.nmsd_spacings_across)
-        setup = press_setup(
-            lattice,
-            inp.pipette_width_um,
-            inp.tip_angle_deg,
-            inp.hold_half_width_um,
-            inp.nmsd_contact_stiffness_nN_per_um,
-            inp.speed_um_s,
-            inp.travel_um,
-            inp.nmsd_n_steps,
-        )
-        base = NmsdParameters(
-            dl_c=inp.nmsd_dl_c, node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes)
-        )
-    except NmsdInputError as exc:
-        raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
-    return setup, base
+    return build_press(
+        ctx,
+        spacings_across=inp.nmsd_spacings_across,
+        contact_stiffness_nN_per_um=inp.nmsd_contact_stiffness_nN_per_um,
+        n_steps=inp.nmsd_n_steps,
+        dl_c=inp.nmsd_dl_c,
+    )
 
 
 @case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)

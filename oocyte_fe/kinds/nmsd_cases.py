@@ -64,27 +64,56 @@ class SpindleInputs(PressInputs):
     spindle_length_um: float = Field(10.0, ge=0, description="spindle extent aspirated with it")
 
 
-def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, object]:
+def build_press(
+    ctx: CaseContext,
+    *,
+    spacings_across: int,
+    contact_stiffness_nN_per_um: float,
+    n_steps: int,
+    dl_c: float,
+    gap_um: float = 0.0,
+) -> tuple[PressSetup, NmsdParameters]:
+    """The Table I lattice, pipette and hold from a case's inputs, and the base parameters.
+
+    The geometry and speed fields (``cell_diameter_um``, ``pipette_width_um``, ...) are read
+    from ``ctx.inputs``; an NMSD input error becomes an ``InputError`` naming the case file.
+    """
     inp = ctx.inputs
     try:
-        data = read_force_displacement(inp.data)
-        lattice = circular_lattice(inp.cell_diameter_um, inp.spacings_across)
+        lattice = circular_lattice(inp.cell_diameter_um, spacings_across)
         setup = press_setup(
             lattice,
             inp.pipette_width_um,
             inp.tip_angle_deg,
             inp.hold_half_width_um,
-            inp.contact_stiffness_nN_per_um,
+            contact_stiffness_nN_per_um,
             inp.speed_um_s,
             inp.travel_um,
-            inp.n_steps,
-            inp.gap_um,
+            n_steps,
+            gap_um,
         )
         base = NmsdParameters(
-            dl_c=inp.dl_c, node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes)
+            dl_c=dl_c, node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes)
         )
     except NmsdInputError as exc:
         raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
+    return setup, base
+
+
+def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, object]:
+    inp = ctx.inputs
+    try:
+        data = read_force_displacement(inp.data)
+    except NmsdInputError as exc:
+        raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
+    setup, base = build_press(
+        ctx,
+        spacings_across=inp.spacings_across,
+        contact_stiffness_nN_per_um=inp.contact_stiffness_nN_per_um,
+        n_steps=inp.n_steps,
+        dl_c=inp.dl_c,
+        gap_um=inp.gap_um,
+    )
     return setup, base, data
 
 
