@@ -1,22 +1,31 @@
-"""Backward-Euler time step of eq 1 with Newton iterations on a banded tangent.
+"""Backward-Euler time step of eq 1 with (chord) Newton iterations on a banded tangent.
 
 Eq 1 of seed 000, per node i (um, nN, s):
 
     M_i a_i + F_i^d + F_i^k = F_i^ext
 
-with the link forces ``F^k`` of eqs 2-5 (:mod:`nmsd.spring`), the nodal damping ``F^d`` of
-eq 6 (:mod:`nmsd.damping`) and the pipette contact ``F^ext`` (:mod:`nmsd.pipette`). Backward
-Euler takes ``v+ = (x+ - x)/dt``, ``a+ = (v+ - v)/dt`` and solves the residual
+with the link forces ``F^k`` of eqs 2-5 (:mod:`nmsd.spring`), the damping ``F^d`` of eq 6
+(:mod:`nmsd.damping`, nodal or per link) and the pipette contact ``F^ext``
+(:mod:`nmsd.pipette`). Backward Euler takes ``v+ = (x+ - x)/dt``, ``a+ = (v+ - v)/dt`` and
+solves the residual
 
-    R(x+) = M (x+ - x - dt v)/dt^2 + (d0 + d1 |x+ - X|)(x+ - x)/dt + F^k(x+) - F^ext(x+) = 0
+    R(x+) = M (x+ - x - dt v)/dt^2 + F^d(x+, v+) + F^k(x+) - F^ext(x+) = 0
 
-by Newton with the exact tangent ``M/dt^2 + D/dt + d1 v+ (x) u_hat + K_links + K_contact``.
-Backward Euler is A-stable (L-stable): for the linearised system every mode decays for any
-dt > 0, so the step is set by accuracy and contact resolution, not by the explicit limit
-``dt < 2 / omega_max`` (``omega_max^2`` the largest eigenvalue of ``M^-1 K``, see
-:func:`explicit_time_step_limit`). The tangent is assembled with ``np.bincount`` straight into
-LAPACK band storage (links join nodes in neighbouring grid rows only) and solved by
-LAPACK ``dgbsv`` (banded LU); no Python loop over links or nodes.
+by Newton iterations with the exact tangent (nodal reading:
+``M/dt^2 + D/dt + d1 v+ (x) u_hat + K_links + K_contact``; link reading: the Voigt tangent
+of :mod:`nmsd.assembly`). Backward Euler is A-stable (L-stable): for the linearised system
+every mode decays for any dt > 0, so the step is set by accuracy and contact resolution, not
+by the explicit limit ``dt < 2 / omega_max`` (``omega_max^2`` the largest eigenvalue of
+``M^-1 K``, see :func:`explicit_time_step_limit`).
+
+Cost: residual and tangent are filled by one compiled pass (:func:`nmsd.assembly.assemble`)
+straight into LAPACK band storage (links join nodes in neighbouring grid rows only). The band
+LU (``dgbtrf``) is computed at the predictor of each step and refreshed while the update is
+large (``|dx| > chord_um``) or contracts slowly (``|dx_k| > refresh_rate |dx_k-1|``); near the
+solution the factor is kept (chord Newton) and an iteration costs one residual and one pair
+of triangular solves (``dgbtrs``). Convergence: ``|dx| < xtol`` as with full Newton. Reusing
+the factor across steps was tried and is slower: a stale tangent at the predictor sends the
+iterate into other contact states (more iterations and halvings).
 """
 
 from __future__ import annotations
@@ -25,9 +34,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import eigh
-from scipy.linalg.lapack import dgbsv
+from scipy.linalg.lapack import dgbtrf, dgbtrs
 
-from nmsd.damping import nodal_damping
+from nmsd.assembly import assemble
 from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
@@ -48,15 +57,6 @@ class NewtonFailure(Exception):
     """Newton did not converge within the iteration limit (the caller shortens the step)."""
 
 
-def _block_indices(rows: np.ndarray, cols: np.ndarray, band: int, n_dof: int) -> np.ndarray:
-    """Flat indices into LAPACK ``gbsv`` storage (3 band + 1, n_dof) of the 2x2 blocks."""
-    p = np.array([0, 0, 1, 1])
-    q = np.array([0, 1, 0, 1])
-    r = 2 * rows[:, None] + p
-    c = 2 * cols[:, None] + q
-    return ((2 * band + r - c) * n_dof + c).ravel()
-
-
 class BackwardEulerStepper:
     """Implicit stepper for one lattice, parameter set, pipette and set of held nodes."""
 
@@ -68,103 +68,131 @@ class BackwardEulerStepper:
         held: np.ndarray,
         xtol_um: float = 1e-5,
         max_iterations: int = 30,
+        refresh_rate: float = 0.2,
+        chord_um: float = 1e-2,
     ) -> None:
         self.lattice = lattice
         self.params = params
         self.pipette = pipette
         self.xtol = xtol_um
         self.max_iterations = max_iterations
+        self.refresh_rate = refresh_rate
+        self.chord_um = chord_um
         n = lattice.n_nodes
         self.n_dof = 2 * n
         a, b = lattice.edges[:, 0], lattice.edges[:, 1]
         self.band = int(2 * np.abs(a - b).max() + 1)
-        pairs = ((a, a), (b, b), (a, b), (b, a))
-        idx = [_block_indices(r, c, self.band, self.n_dof) for r, c in pairs]
-        nodes = np.arange(n)
-        self._index = np.concatenate([*idx, _block_indices(nodes, nodes, self.band, self.n_dof)])
-        self._size = (3 * self.band + 1) * self.n_dof
         held_dof = np.zeros((n, 2), dtype=bool)
         held_dof[np.asarray(held, dtype=bool)] = True
         self.held_dof = held_dof.ravel()
-        held_rows = np.flatnonzero(self.held_dof)
-        cols = held_rows[:, None] + np.arange(-self.band, self.band + 1)
-        rows = np.broadcast_to(held_rows[:, None], cols.shape)
-        ok = (cols >= 0) & (cols < self.n_dof)
-        self._held_band = (2 * self.band + rows[ok] - cols[ok]) * self.n_dof + cols[ok]
-        self._held_diag = 2 * self.band * self.n_dof + held_rows
-        self._a2 = np.concatenate([2 * a, 2 * a + 1, 2 * b, 2 * b + 1])
+        self._held_nodes = held_dof
+        self._normals, self._offsets = pipette.faces()
+        self._edges = np.ascontiguousarray(lattice.edges, dtype=np.int64)
+        self._rest = np.ascontiguousarray(lattice.rest_length)
+        self._res = np.zeros(self.n_dof)
+        self._ab = np.zeros((3 * self.band + 1, self.n_dof), order="F")
+        self._contact = np.zeros((n, 2))
+        self._lu: tuple[np.ndarray, np.ndarray] | None = None
+        self.factorizations = 0
 
     def internal_force(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Link forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um."""
+        """Link spring forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um."""
         lat, p = self.lattice, self.params
         d = x[lat.edges[:, 0]] - x[lat.edges[:, 1]]
         length = np.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2)
         n = d / length[:, None]
         l0 = lat.rest_length
         f, df = link_force(length / l0 - 1.0, p.k1, p.k2, p.dl_c)
-        fvec = f[:, None] * n
-        weights = np.concatenate([fvec.T.ravel(), -fvec.T.ravel()])
-        force = np.bincount(self._a2, weights, self.n_dof)
+        force = np.zeros_like(x)
+        np.add.at(force, lat.edges[:, 0], f[:, None] * n)
+        np.add.at(force, lat.edges[:, 1], -f[:, None] * n)
         nn = n[:, :, None] * n[:, None, :]
         g = f / length
         tangent = (df / l0 - g)[:, None, None] * nn
         tangent[:, 0, 0] += g
         tangent[:, 1, 1] += g
-        return force.reshape(-1, 2), tangent
-
-    def contact(self, x: np.ndarray, advance: float) -> tuple[np.ndarray, np.ndarray]:
-        """Contact forces on the nodes (n, 2) nN and 2x2 tangents (n, 2, 2) nN/um."""
-        g, normal = self.pipette.gap(x, advance)
-        kappa = self.pipette.contact_stiffness * (g < 0)
-        force = (-kappa * g)[:, None] * normal
-        tangent = kappa[:, None, None] * normal[:, :, None] * normal[:, None, :]
         return force, tangent
 
     def residual(
-        self, x_new: np.ndarray, x: np.ndarray, v: np.ndarray, advance: float, dt: float
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Residual R (n, 2) nN, its band-stored tangent and the contact forces."""
+        self,
+        x_new: np.ndarray,
+        x: np.ndarray,
+        v: np.ndarray,
+        advance: float,
+        dt: float,
+        with_tangent: bool = True,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+        """Residual (2n,) nN, band-stored tangent, contact forces (n, 2) nN, max |R| (nN).
+
+        The returned arrays are the stepper's work buffers (overwritten by the next call).
+        """
         p = self.params
-        v_new = (x_new - x) / dt
-        u = x_new - self.lattice.nodes
-        damping, coefficient = nodal_damping(u, v_new, p.d0, p.d1)
-        f_links, k_links = self.internal_force(x_new)
-        f_contact, k_contact = self.contact(x_new, advance)
-        res = p.node_mass * (v_new - v) / dt + damping + f_links - f_contact
-        unorm = np.sqrt(u[:, 0] ** 2 + u[:, 1] ** 2)
-        scale = np.divide(p.d1, unorm, out=np.zeros_like(unorm), where=unorm > 0)
-        diag = p.node_mass / dt**2 + coefficient / dt
-        node_blocks = k_contact + (scale[:, None] * v_new)[:, :, None] * u[:, None, :]
-        node_blocks[:, 0, 0] += diag
-        node_blocks[:, 1, 1] += diag
-        k = k_links.ravel()
-        values = np.concatenate([k, k, -k, -k, node_blocks.ravel()])
-        ab = np.bincount(self._index, values, self._size)
-        return res, ab.reshape(3 * self.band + 1, self.n_dof), f_contact
+        worst = assemble(
+            x_new,
+            x,
+            v,
+            self.lattice.nodes,
+            self._edges,
+            self._rest,
+            p.k1,
+            p.k2,
+            p.dl_c,
+            p.d0,
+            p.d1,
+            p.damping == "link",
+            p.node_mass,
+            dt,
+            self._normals,
+            self._offsets,
+            self.pipette.mouth(advance),
+            self.pipette.contact_stiffness,
+            self.held_dof,
+            self.band,
+            self._res,
+            self._ab,
+            self._contact,
+            with_tangent,
+        )
+        return self._res, self._ab, self._contact, worst
+
+    def _factor(self) -> None:
+        lu, piv, info = dgbtrf(self._ab, self.band, self.band, overwrite_ab=1)
+        if info != 0:
+            self._lu = None
+            raise NewtonFailure("singular tangent")
+        self._lu = (lu, piv)
+        self.factorizations += 1
 
     def step(self, x: np.ndarray, v: np.ndarray, advance: float, dt: float) -> StepResult:
         """Advance one step of length dt (s) to the pipette advance ``advance`` (um)."""
         x_new = x + dt * v
-        x_new[self.held_dof.reshape(-1, 2)] = x[self.held_dof.reshape(-1, 2)]
+        x_new[self._held_nodes] = x[self._held_nodes]
+        refresh = True  # a fresh tangent at the predictor (a stale one strays in contact)
+        fresh = False
+        previous = np.inf
         for iteration in range(1, self.max_iterations + 1):
-            res, ab, f_contact = self.residual(x_new, x, v, advance, dt)
-            rhs = -res.ravel()
-            rhs[self.held_dof] = 0.0
-            ab = self._hold(ab)
-            _, _, dx, info = dgbsv(self.band, self.band, ab, rhs, overwrite_ab=1, overwrite_b=1)
+            res = self.residual(x_new, x, v, advance, dt, with_tangent=refresh)[0]
+            if refresh:
+                self._factor()
+                fresh, refresh = True, False
+            lu, piv = self._lu
+            dx, info = dgbtrs(lu, self.band, self.band, -res, piv)
             if info != 0 or not np.all(np.isfinite(dx)):
-                raise NewtonFailure("singular tangent or non-finite Newton update")
-            x_new = x_new + dx.reshape(-1, 2)
-            if np.max(np.abs(dx)) < self.xtol:
-                f_contact = self.contact(x_new, advance)[0]
-                return StepResult(x_new, (x_new - x) / dt, f_contact, iteration)
+                if fresh:
+                    raise NewtonFailure("non-finite Newton update")
+                refresh = True
+                continue
+            x_new += dx.reshape(-1, 2)
+            size = float(np.max(np.abs(dx)))
+            if size < self.xtol:
+                f_contact = self.residual(x_new, x, v, advance, dt, with_tangent=False)[2]
+                return StepResult(x_new, (x_new - x) / dt, f_contact.copy(), iteration)
+            # slow contraction with an old factor: refresh it; a fresh one: plain Newton
+            refresh = size > self.chord_um or size > self.refresh_rate * previous
+            fresh = False
+            previous = size
+        self._lu = None
         raise NewtonFailure(f"no convergence in {self.max_iterations} Newton iterations")
-
-    def _hold(self, ab: np.ndarray) -> np.ndarray:
-        """Band matrix with the held DOFs' rows replaced by identity rows."""
-        ab.flat[self._held_band] = 0.0
-        ab.flat[self._held_diag] = 1.0
-        return ab
 
 
 def explicit_time_step_limit(stepper: BackwardEulerStepper) -> float:

@@ -2,8 +2,9 @@
 
 The spring law (eq 3) acts on the link strain ``dl = (l - l0) / l0`` (dimensionless), so
 ``k1`` and ``k2`` are forces (nN), as the paper's printed unit "N" implies, and the
-constraint ``k2 >= 50 k1`` (eq 8) compares like with like. Damping (eq 6) is nodal:
-``d0`` in nN s/um, ``d1`` in nN s/um^2.
+constraint ``k2 >= 50 k1`` (eq 8) compares like with like. Damping (eq 6): ``d0`` in
+nN s/um, ``d1`` in nN s/um^2, per node (``damping = "nodal"``, eq 6 as printed) or per link
+(``"link"``, a Voigt dashpot along each link, Fig. 3); see :mod:`nmsd.damping`.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields, replace
 
+from nmsd.damping import READINGS
 from nmsd.errors import NmsdInputError
 
 WATER_DENSITY = 1.0e-12
@@ -24,9 +26,10 @@ class NmsdParameters:
     k1: linear coefficient of the link force, nN (per unit strain).
     k2: cubic coefficient of the link force, nN (per unit strain cubed).
     dl_c: critical link strain above which the force continues linearly (eqs 4-5), > 0.
-    d0: velocity damping per node, nN s/um.
-    d1: displacement-velocity damping per node, nN s/um^2.
+    d0: velocity damping per node (or per link), nN s/um.
+    d1: displacement-velocity damping per node (or per link), nN s/um^2.
     node_mass: mass of each node, nN s^2/um (= 1e-3 kg); 0 makes the model first order.
+    damping: "nodal" (eq 6 as printed) or "link" (Voigt dashpots along the links).
     """
 
     k1: float = 100.0
@@ -35,12 +38,13 @@ class NmsdParameters:
     d0: float = 10.0
     d1: float = 0.1
     node_mass: float = 3.5e-9
+    damping: str = "nodal"
     source: str = "NmsdParameters"
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name == "source":
+            if f.name in ("source", "damping"):
                 continue
             if not isinstance(value, int | float) or not math.isfinite(value):
                 raise NmsdInputError(self.source, f.name, "a finite number", got=value)
@@ -51,6 +55,8 @@ class NmsdParameters:
             raise NmsdInputError(self.source, "dl_c", "a critical strain > 0", got=self.dl_c)
         if self.node_mass < 0:
             raise NmsdInputError(self.source, "node_mass", "a mass >= 0", got=self.node_mass)
+        if self.damping not in READINGS:
+            raise NmsdInputError(self.source, "damping", f"one of {READINGS}", got=self.damping)
         if self.k1 + self.k2 <= 0:
             raise NmsdInputError(self.source, "k1/k2", "a positive spring stiffness")
 

@@ -7,6 +7,7 @@ import pytest
 
 from nmsd.calibration import fit_metrics
 from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
+from nmsd.damping import link_damping, nodal_damping
 from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.integrator import BackwardEulerStepper, explicit_time_step_limit
 from nmsd.lattice import Lattice, circular_lattice
@@ -172,3 +173,83 @@ def test_blow_up_names_step_and_time_step():
     params = NmsdParameters(k1=1e6, k2=1e9, d0=0.0, d1=0.0, node_mass=0.0, dl_c=5.0)
     with pytest.raises(NmsdDivergence, match=r"step 1 .*time step of"):
         setup.run(params)
+
+
+def _band_to_dense(ab: np.ndarray, band: int) -> np.ndarray:
+    n = ab.shape[1]
+    dense = np.zeros((n, n))
+    for j in range(n):
+        for i in range(max(0, j - band), min(n, j + band + 1)):
+            dense[i, j] = ab[2 * band + i - j, j]
+    return dense
+
+
+@pytest.mark.parametrize("damping", ["nodal", "link"])
+def test_compiled_residual_matches_the_numpy_laws_and_its_tangent_is_exact(damping):
+    lat = circular_lattice(40.0, 5)
+    setup = press_setup(lat, n_steps=2)
+    params = NmsdParameters(k1=30.0, k2=2000.0, dl_c=0.1, d0=2.0, d1=0.7, damping=damping)
+    stepper = BackwardEulerStepper(lat, params, setup.pipette, setup.held)
+    rng = np.random.default_rng(3)
+    free = ~stepper.held_dof.reshape(-1, 2)
+    x = lat.nodes + free * rng.normal(scale=0.8, size=lat.nodes.shape)
+    x_new = x + free * rng.normal(scale=0.4, size=x.shape)
+    v = rng.normal(size=x.shape)
+    dt, advance = 0.05, 3.0
+    res, ab, contact, _ = stepper.residual(x_new, x, v, advance, dt)
+    res, dense = res.copy(), _band_to_dense(ab, stepper.band)
+    # the same residual from the numpy reference laws (springs with a 0.1 critical strain, so
+    # some links are on the linear branch; two nodes in contact)
+    v_new = (x_new - x) / dt
+    if damping == "nodal":
+        f_damp = nodal_damping(x_new - lat.nodes, v_new, params.d0, params.d1)[0]
+    else:
+        f_damp = link_damping(x_new, v_new, lat.edges, lat.rest_length, 2.0, 0.7)
+    gap, normal = setup.pipette.gap(x_new, advance)
+    f_contact = np.where(gap[:, None] < 0, -2e4 * gap[:, None] * normal, 0.0)
+    assert (gap < 0).sum() >= 2
+    expected = params.node_mass * (v_new - v) / dt + f_damp + stepper.internal_force(x_new)[0]
+    expected = (expected - f_contact).ravel()
+    expected[stepper.held_dof] = 0.0
+    assert res == pytest.approx(expected, rel=1e-10, abs=1e-8)
+    assert contact == pytest.approx(f_contact)
+    # tangent against central differences of the compiled residual (free DOFs)
+    h = 1e-6
+    for k in np.flatnonzero(~stepper.held_dof)[::3]:
+        xp, xm = x_new.copy(), x_new.copy()
+        xp.flat[k] += h
+        xm.flat[k] -= h
+        rp = stepper.residual(xp, x, v, advance, dt, with_tangent=False)[0].copy()
+        rm = stepper.residual(xm, x, v, advance, dt, with_tangent=False)[0].copy()
+        fd = (rp - rm) / (2 * h)
+        assert dense[:, k] == pytest.approx(fd, rel=1e-5, abs=1e-5 * np.abs(fd).max())
+
+
+def test_link_dampers_resist_stretching_rate_not_rigid_motion():
+    lat = circular_lattice(40.0, 5)
+    spin = np.array([[0.0, -1.0], [1.0, 0.0]])
+    rigid = np.array([3.0, -1.0]) + lat.nodes @ spin.T  # translation + rotation rate
+    # a rigid velocity field changes no link length: no damping force
+    f_rigid = link_damping(lat.nodes, rigid, lat.edges, lat.rest_length, 5.0, 1.0)
+    assert np.abs(f_rigid).max() < 1e-12
+    # uniform expansion rate e of the rest lattice: each link stretches at e l0
+    e = 0.1
+    f_grow = link_damping(lat.nodes, e * lat.nodes, lat.edges, lat.rest_length, 5.0, 1.0)
+    assert f_grow.sum(axis=0) == pytest.approx([0.0, 0.0], abs=1e-9)  # internal forces
+    inner = lat.degree == 8
+    assert np.abs(f_grow[inner]).max() < 1e-9  # interior nodes: balanced
+    rim = np.flatnonzero(~inner)
+    outward = np.sum(f_grow[rim] * lat.nodes[rim], axis=1)
+    # in the sign of eq 1 (F^d on the left, like +c v of a node): along the rim's motion
+    assert np.all(outward > 0)
+
+
+def test_link_damping_reading_is_selectable_and_checked():
+    with pytest.raises(NmsdInputError, match="damping"):
+        NmsdParameters(damping="voigt")
+    setup = press_setup(n_steps=10, travel_um=20.0)
+    nodal = setup.run(NmsdParameters(k1=20.0, k2=2000.0, d0=5.0, d1=0.1))
+    link = setup.run(NmsdParameters(k1=20.0, k2=2000.0, d0=5.0, d1=0.1, damping="link"))
+    assert np.isfinite(link.force_nN).all() and link.force_nN[-1] > 0
+    # nodal drag also resists the translation of the whole lattice: larger force
+    assert nodal.force_nN[-1] > link.force_nN[-1]
