@@ -4,6 +4,8 @@ NMSD lattice calibrated to the FE force curve; forces and internal displacements
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -62,6 +64,9 @@ class CrosscheckInputs(BaseModel):
     )
     nmsd_spacings_across: int = Field(17, ge=2)
     nmsd_dl_c: float = Field(0.8, gt=0)
+    nmsd_damping: Literal["nodal", "link"] = Field(
+        "nodal", description="NMSD eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
+    )
     nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
     nmsd_n_steps: int = Field(50, ge=1, description="NMSD steps over the travel")
     n_starts: int = Field(2, ge=1)
@@ -134,6 +139,7 @@ def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
         contact_stiffness_nN_per_um=inp.nmsd_contact_stiffness_nN_per_um,
         n_steps=inp.nmsd_n_steps,
         dl_c=inp.nmsd_dl_c,
+        damping=inp.nmsd_damping,
     )
 
 

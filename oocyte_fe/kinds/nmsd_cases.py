@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -37,6 +38,9 @@ class PressInputs(BaseModel):
     contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
     gap_um: float = Field(0.0, ge=0, description="pipette travel before touching the lattice")
     dl_c: float = Field(0.8, gt=0, description="critical link strain of eq 3")
+    damping: Literal["nodal", "link"] = Field(
+        "nodal", description="eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
+    )
     speed_um_s: float = Field(30.0, gt=0)
     travel_um: float = Field(65.0, gt=0)
     n_steps: int = Field(40, ge=1, description="backward-Euler steps over the travel")
@@ -72,6 +76,7 @@ def build_press(
     n_steps: int,
     dl_c: float,
     gap_um: float = 0.0,
+    damping: str = "nodal",
 ) -> tuple[PressSetup, NmsdParameters]:
     """The Table I lattice, pipette and hold from a case's inputs, and the base parameters.
 
@@ -93,7 +98,9 @@ def build_press(
             gap_um,
         )
         base = NmsdParameters(
-            dl_c=dl_c, node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes)
+            dl_c=dl_c,
+            node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes),
+            damping=damping,
         )
     except NmsdInputError as exc:
         raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
@@ -113,6 +120,7 @@ def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, objec
         n_steps=inp.n_steps,
         dl_c=inp.dl_c,
         gap_um=inp.gap_um,
+        damping=inp.damping,
     )
     return setup, base, data
 
