@@ -10,7 +10,7 @@ import pytest
 from scipy import signal
 
 from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.contact import Contact, ContactState, evaluate
 from oocyte_fe.fe.kinematics import Kinematics
 from oocyte_fe.fe.loads import FollowerPressure, Prescribed
 from oocyte_fe.fe.material import Material, Prony, ViscousHistory, response
@@ -198,11 +198,12 @@ def test_viscoelastic_creep_uneven_steps() -> None:
 # --- 5. friction: stick below mu N, slide at mu N --------------------------------------------
 
 
-def test_friction_stick_and_slip() -> None:
+@pytest.mark.parametrize("smooth", [False, True])
+def test_friction_stick_and_slip(smooth: bool) -> None:
     mu, E = 0.3, 1.0
     body = Body(rectangle(1.0, 0.5, 8, 4), {"solid": Material(E, 0.3)}, "plane_strain")
     plate = flat_plate(0.0, -5.0, 5.0)
-    contact = Contact("bottom", plate, penalty=1e3, friction=mu)
+    contact = Contact("bottom", plate, penalty=1e3, friction=mu, smooth_friction=smooth)
     press, push = 0.01, 0.05
 
     def ux(t: float) -> float:
@@ -225,6 +226,45 @@ def test_friction_stick_and_slip() -> None:
     assert ratios[0] < 0.9 * mu and slips[0] < 0.05
     # late: sliding at mu N, within 1 %
     assert abs(ratios[-1] / mu - 1) < 0.01 and slips[-1] > 0.5
+
+
+@pytest.mark.parametrize("smooth", [False, True])
+def test_friction_tangent_matches_finite_differences(smooth: bool) -> None:
+    """k_tt = -dq/du_t and k_tn = -dq/du_n (n into the body) at stuck, sliding and near-limit
+    points of a flat plate, exact and tanh-regularised return mapping."""
+    contact = Contact("b", flat_plate(0.0, -5.0, 5.0), 100.0, 0.3, smooth_friction=smooth)
+    X = np.array([[0.1, 0.2, 0.3, 0.4]])[None].repeat(2, 0)
+    X[1] = 0.0
+    state = ContactState(np.zeros_like(X), np.array([[0.0, 0.001, -0.0004, 0.05]]), 0.0)
+    u = np.zeros_like(X)
+    u[1] = -np.array([0.01, 0.02, 0.003, 0.01])  # penetration
+    u[0] = np.array([0.0002, -0.0001, 0.0001, 0.01])  # tangential moves
+    ev = evaluate(contact, None, X, u, state, 0.0)
+    assert np.all(ev.pressure > 0)
+    h = 1e-8
+    for comp, coeff in ((0, ev.k_tt), (1, ev.k_tn)):
+        du = np.zeros_like(u)
+        du[comp] = h
+        plus = evaluate(contact, None, X, u + du, state, 0.0).shear
+        minus = evaluate(contact, None, X, u - du, state, 0.0).shear
+        # tangent tau = (-n_2, n_1) = (-1, 0) for n = (0, 1): du_x = -du_t, du_y = +du_n
+        sign = -1.0 if comp == 0 else 1.0
+        np.testing.assert_allclose(-sign * (plus - minus) / (2 * h), coeff, rtol=1e-5, atol=1e-6)
+
+
+def test_smooth_friction_saturates_at_mu_lambda() -> None:
+    contact = Contact("b", flat_plate(0.0, -5.0, 5.0), 100.0, 0.3, smooth_friction=True)
+    X = np.zeros((2, 1, 3))
+    X[0] = [[0.0, 0.1, 0.2]]
+    u = np.zeros_like(X)
+    u[1] = -0.01  # lambda = 1 kPa, mu lambda = 0.3 kPa
+    u[0] = [[-0.009, -0.0003, -1.0]]  # tangential slip trial s = 0.009, 0.0003, 1 um
+    ev = evaluate(contact, None, X, u, ContactState(np.zeros_like(X), np.zeros((1, 3)), 0.0), 0.0)
+    q = -ev.shear[0]
+    assert q[0] == pytest.approx(0.3 * np.tanh(100 * 0.009 / 0.3), rel=1e-12)  # z = 3
+    assert q[0] > 0.995 * 0.3  # within 0.5 % of mu lambda beyond |z| = 3
+    assert q[1] == pytest.approx(100 * 0.0003, rel=0.01)  # stick: eps_t s for |z| << 1
+    assert q[2] == pytest.approx(0.3, rel=1e-12)  # sliding
 
 
 # --- 3. Hertz: rigid sphere on an elastic half-space ----------------------------------------

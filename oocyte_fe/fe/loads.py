@@ -7,7 +7,11 @@ Follower pressure ``p`` [kPa] on a boundary acts on the deformed surface (Nanson
     a = 2 pi r = 2 pi (R + u_R)  (axisymmetric)  or 1 (plane strain, per unit thickness)
 
 A ``where(x)`` mask (evaluated in the current configuration) restricts the pressure to part of
-the boundary, for example the surface inside a pipette (suction = negative pressure).
+the boundary, for example the surface inside a pipette (suction = negative pressure). Its
+derivative is not in the tangent (the mask may depend on the whole surface, e.g. a seal's rear
+edge); where that stalls Newton, ``lagged=True`` evaluates the mask once per step, in the last
+converged configuration, and holds it on the same material points during the step (an explicit
+update of the loaded region: its error is one step's motion of the region's edge).
 """
 
 from __future__ import annotations
@@ -52,6 +56,7 @@ class FollowerPressure:
     pressure: Callable[[float], float]
     where: Callable[[NDArray], NDArray] | None = None  # current x (2, ...) -> bool mask
     name: str = "pressure"
+    lagged: bool = False  # evaluate ``where`` at the start of each step (see module docstring)
 
 
 def _cof_n(Fg: NDArray, N: NDArray) -> NDArray:

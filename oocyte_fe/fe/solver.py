@@ -152,6 +152,8 @@ class Problem:
         self.histories = [
             ViscousHistory.zeros(len(r.material.prony.g), r.ubasis.dx.shape) for r in body.regions
         ]
+        self._masks = [self._mask(pl, fb, self.x) for pl, fb in self.pressures]
+        self.applied_masks = list(self._masks)
         self.contact_states = []
         for c, fb in self.contacts:
             X = np.asarray(fb.global_coordinates())
@@ -167,6 +169,22 @@ class Problem:
             self.contact_states.append(ct.ContactState(np.zeros_like(X), np.zeros(gap.shape), 0.0))
 
     # --- assembly ----------------------------------------------------------------------------
+
+    def _mask(self, load: FollowerPressure, fb, x: NDArray) -> NDArray | None:
+        """``load.where`` at the boundary's quadrature points in the configuration ``x``."""
+        if load.where is None:
+            return None
+        uq = np.asarray(fb.interpolate(self.body.displacement(x)))
+        return np.asarray(load.where(np.asarray(fb.global_coordinates()) + uq), dtype=float)
+
+    def pressure_mask(self, k: int, x: NDArray | None = None) -> NDArray | None:
+        """Mask of pressure load ``k`` for the step in progress: held from the step start if
+        ``lagged``, else evaluated at ``x`` (default: the current state). After a step,
+        ``applied_masks[k]`` is the mask that step was solved with."""
+        load, fb = self.pressures[k]
+        if load.lagged:
+            return self._masks[k]
+        return self._mask(load, fb, self.x if x is None else x)
 
     def region_kinematics(self, x: NDArray, k: int) -> tuple[Kinematics, NDArray]:
         """Kinematics and pressure [kPa] at the quadrature points of region ``k`` for ``x``."""
@@ -212,11 +230,12 @@ class Problem:
                 cols.append(Kpp.col + o)
                 vals.append(Kpp.data)
         u = body.displacement(x)
-        for load, fb in self.pressures:
+        for k, (load, fb) in enumerate(self.pressures):
             uq = fb.interpolate(u)
             pn = np.full(fb.dx.shape, float(load.pressure(t)))
-            if load.where is not None:
-                pn = pn * load.where(np.asarray(fb.global_coordinates()) + np.asarray(uq))
+            mask = self.pressure_mask(k, x)
+            if mask is not None:
+                pn = pn * mask
             fe = asm(pressure_force, fb, u=uq, pn=pn, axisym=a)
             f_ext += fe
             blocks_uu.append(asm(pressure_stiffness, fb, u=uq, pn=pn, axisym=a))
@@ -330,7 +349,9 @@ class Problem:
             uq = np.asarray(fb.interpolate(u))
             ev = ct.evaluate(c, fb, np.asarray(fb.global_coordinates()), uq, state, t)
             self.contact_states[k] = ct.ContactState(uq, ev.slip, t)
+        self.applied_masks = [self.pressure_mask(k, x) for k in range(len(self.pressures))]
         self.x, self.t = x, t
+        self._masks = [self._mask(pl, fb, x) for pl, fb in self.pressures]
 
     # --- outputs -----------------------------------------------------------------------------
 
