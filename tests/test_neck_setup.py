@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from skfem import Basis, ElementTriP2, ElementVector
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
@@ -68,12 +69,28 @@ def test_required_suction_extrapolates_the_wall_force_over_the_sealed_area() -> 
     assert s.dp_kPa == pytest.approx((2 * 1100.0 - 1000.0) / 4000.0)
 
 
-def test_periphery_measures_of_a_uniform_contraction_plus_translation() -> None:
+def test_periphery_points_sit_at_the_exact_polar_angles_on_the_surface() -> None:
     mesh = layered_oocyte_mesh(LayeredOocyte(size_um=10.0))
     pts = MaterialPoints.on_surface(mesh)
-    assert np.allclose(pts.polar_deg, POLAR_DEG, atol=3.0)
-    eps, w = 0.05, 37.0
-    u = -eps * mesh.p + np.array([[0.0], [w]])
-    R = mesh.p[0, pts.vertices]
-    assert np.allclose(pts.radial_inward(u), eps * R)
-    assert np.allclose(pts.deformation(u, w), eps * 90.0)
+    assert np.allclose(pts.polar_deg, POLAR_DEG, atol=1e-9)
+    # on the polygon of the meshed surface: within the chord sag (h^2 / 8R) of R = 90 um
+    radius = np.hypot(*pts.position_um)
+    assert np.all(radius <= 90.0 + 1e-9) and np.all(radius > 90.0 - 10.0**2 / (8 * 90.0))
+
+
+def test_periphery_measures_evaluate_the_p2_field_exactly() -> None:
+    mesh = layered_oocyte_mesh(LayeredOocyte(size_um=10.0))
+    pts = MaterialPoints.on_surface(mesh)
+    basis = Basis(mesh, ElementVector(ElementTriP2()))
+    # a quadratic field lies in P2: its trace is reproduced exactly at any surface point
+    eps, w, c = 0.05, 37.0, 1e-4
+
+    def field(x: np.ndarray) -> np.ndarray:
+        return np.stack([-eps * x[0] + c * x[0] * x[1], -eps * x[1] + w + c * x[0] ** 2])
+
+    u = basis.project(field)
+    up = pts.displacement(basis, u)
+    assert np.allclose(up, field(pts.position_um), atol=1e-9)
+    assert np.allclose(pts.radial_inward(up), -field(pts.position_um)[0], atol=1e-9)
+    rel = field(pts.position_um) - np.array([[0.0], [w]])
+    assert np.allclose(pts.deformation(up, w), np.hypot(*rel), atol=1e-9)

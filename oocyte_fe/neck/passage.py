@@ -51,6 +51,9 @@ class PassageSettings:
     clearance_um: float = 0.1
     cap_deg: float = 10.0
     max_cutbacks: int = 8
+    smooth_friction: bool = False
+    contact_smoothing_um: float = 0.0
+    lagged_seal: bool = False
 
     def __post_init__(self) -> None:
         checks = {
@@ -151,6 +154,8 @@ def run_passage(
         s.penalty_factor * e_max / h,
         s.friction,
         name="pipette",
+        smooth_friction=s.smooth_friction,
+        smoothing_um=s.contact_smoothing_um,
     )
     where = seal_mask(pipette, s.seal_tol_um)
     driver = RequiredSuction(dp_kPa=0.0)
@@ -159,7 +164,15 @@ def run_passage(
     problem = Problem(
         body,
         fixed,
-        [FollowerPressure("outer_surface", driver.pressure, where=where, name="suction")],
+        [
+            FollowerPressure(
+                "outer_surface",
+                driver.pressure,
+                where=where,
+                name="suction",
+                lagged=s.lagged_seal,
+            )
+        ],
         [contact],
         log=log,
     )
@@ -171,10 +184,11 @@ def run_passage(
     def record(frame: Frame) -> None:
         u = body.displacement(frame.x)
         applied = driver.dp_kPa
-        suction = axial_suction_force(fb, z_dofs, u, applied, where)
+        suction = axial_suction_force(fb, z_dofs, u, applied, problem.applied_masks[0])
         normal, friction, z_q, lam = _wall_split(problem, frame.t)
         wall = float(frame.obstacle_forces["pipette"][1])
         uv = body.vertex_displacement(frame.x)
+        up = result.points.displacement(body.ubasis, u)
         w = centroid_advance(body, u)
         row = {
             "time_s": frame.t,
@@ -188,8 +202,8 @@ def run_passage(
             "push_force_nN": wall - suction,
             "volume_change": frame.volume / v0 - 1.0,
             "max_contact_kPa": float(lam.max()) if lam.size else 0.0,
-            "radial_inward_um": result.points.radial_inward(uv).tolist(),
-            "deformation_um": result.points.deformation(uv, w).tolist(),
+            "radial_inward_um": result.points.radial_inward(up).tolist(),
+            "deformation_um": result.points.deformation(up, w).tolist(),
         }
         for key, value in row.items():
             result.history.setdefault(key, []).append(value)

@@ -62,12 +62,13 @@ def axial_suction_force(
     z_dofs: NDArray,
     u: NDArray,
     dp_kPa: float,
-    where: Callable[[NDArray], NDArray],
+    mask: NDArray,
 ) -> float:
-    """Net axial force [nN] of the suction ``-dp`` on the masked surface, ``sum_i f_Z,i``
+    """Net axial force [nN] of the suction ``-dp`` on the surface weighted by ``mask`` (its
+    values at the quadrature points of ``fb``, as the solver applied it), ``sum_i f_Z,i``
     (axisymmetric, ring sums included); positive pulls the oocyte towards +Z."""
     uq = fb.interpolate(u)
-    pn = -dp_kPa * where(np.asarray(fb.global_coordinates()) + np.asarray(uq))
+    pn = -dp_kPa * mask
     f = asm(pressure_force, fb, u=uq, pn=pn, axisym=1.0)
     return float(f[z_dofs].sum())
 
