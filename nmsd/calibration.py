@@ -13,6 +13,11 @@ Three model families (Section II.B.3):
 - ``msd_d0``: the cubic-linear links of eqs 3-5 with velocity damping d0 only (d1 = 0);
 - ``nmsd``: cubic-linear links and the full damping ``d0 + d1 |r - r0|`` of eq 6.
 
+Optional extra free variables (``extra``), bounded: the critical strain ``dl_c`` (eqs 3-5,
+0.05-2; the paper gives no value) and ``gap_um``, pipette travel before it touches the
+lattice (0-20 um; e.g. the zona pellucida, which the lattice omits). Both are readings we
+add, not constants the paper calibrates.
+
 Fit measures over the n table points: ``RMSE = sqrt(mean((f_model - f_exp)^2))``,
 ``R^2 = 1 - SS_res / SS_tot`` and the similarity ``S = f_model . f_exp /
 (|f_model| |f_exp|)`` (cosine of the angle between the two force vectors; 1 is a perfect
@@ -43,6 +48,8 @@ _START_BOX = {
     "s": (-5.0, np.log10(1.0 / K2_OVER_K1_MIN)),
     "d0": (-1.0, 2.5),
     "d1": (-3.0, 1.0),
+    "dl_c": (-1.0, 0.3),
+    "gap_um": (-0.3, 1.2),
 }
 _BOUNDS = {
     "k1": (0.0, np.inf),
@@ -50,8 +57,11 @@ _BOUNDS = {
     "s": (0.0, 1.0 / K2_OVER_K1_MIN),
     "d0": (0.0, np.inf),
     "d1": (0.0, np.inf),
+    "dl_c": (0.05, 2.0),
+    "gap_um": (0.0, 20.0),
 }
 _FREE = {"linear_msd": ("k1", "d0"), "msd_d0": ("k2", "s", "d0"), "nmsd": ("k2", "s", "d0", "d1")}
+EXTRA = ("dl_c", "gap_um")
 
 
 @dataclass(frozen=True)
@@ -75,6 +85,7 @@ class CalibrationResult:
     seconds: float
     success: bool
     message: str
+    gap_um: float | None = None
 
 
 def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
@@ -90,9 +101,13 @@ def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
     )
 
 
-def params_for(model: str, values: np.ndarray, base: NmsdParameters) -> NmsdParameters:
-    """Constants of ``model`` from its free variables (see ``_FREE``)."""
-    v = {k: float(x) for k, x in zip(_FREE[model], values, strict=True)}
+def params_for(
+    model: str, values: np.ndarray, base: NmsdParameters, extra: tuple[str, ...] = ()
+) -> NmsdParameters:
+    """Constants of ``model`` from its free variables (see ``_FREE``, then ``extra``)."""
+    v = {k: float(x) for k, x in zip(_FREE[model] + tuple(extra), values, strict=True)}
+    if "dl_c" in v:
+        base = base.with_values(dl_c=v["dl_c"])
     if model == "linear_msd":
         return base.with_values(k1=v["k1"], k2=0.0, d0=v["d0"], d1=0.0)
     k2 = v["k2"]
@@ -112,17 +127,30 @@ def calibrate(
     n_starts: int = 4,
     seed: int = 0,
     max_evaluations: int = 60,
+    extra: tuple[str, ...] = (),
 ) -> CalibrationResult:
     """Minimise eq 7 under eq 8 for ``model`` from ``n_starts`` starts.
 
-    ``base`` supplies the constants not fitted (dl_c, node mass).
+    ``base`` supplies the constants not fitted (dl_c, node mass, damping reading); ``extra``
+    frees ``dl_c`` and/or ``gap_um`` (the latter moves the pipette start of ``setup``).
     """
     if model not in MODELS:
         raise NmsdInputError("calibrate", "model", f"one of {', '.join(MODELS)}", got=model)
+    if not set(extra) <= set(EXTRA) or len(set(extra)) < len(extra):
+        raise NmsdInputError("calibrate", "extra", f"distinct names of {EXTRA}", got=extra)
+    extra = tuple(e for e in EXTRA if e in extra)  # gap_um, if free, is the last variable
     if n_starts < 1:
         raise NmsdInputError("calibrate", "n_starts", ">= 1", got=n_starts)
     base = NmsdParameters() if base is None else base
-    names = _FREE[model]
+    names = _FREE[model] + extra
+
+    def press_for(values: np.ndarray) -> tuple[PressSetup, NmsdParameters]:
+        params = params_for(model, values[: len(names) - ("gap_um" in extra)], base, extra_p)
+        if "gap_um" in extra:
+            return setup.with_gap(float(values[-1])), params
+        return setup, params
+
+    extra_p = tuple(e for e in extra if e != "gap_um")
     lower = np.array([_BOUNDS[n][0] for n in names])
     upper = np.array([_BOUNDS[n][1] for n in names])
     box = np.array([_START_BOX[n] for n in names])
@@ -135,7 +163,7 @@ def calibrate(
         nonlocal count
         count += 1
         try:
-            return model_forces(setup, params_for(model, values, base), data) - measured
+            return model_forces(*press_for(values), data) - measured
         except NmsdDivergence:
             return penalty
 
@@ -152,8 +180,8 @@ def calibrate(
         )
         if best is None or fit.cost < best.cost:
             best = fit
-    params = params_for(model, best.x, base)
-    forces = model_forces(setup, params, data)
+    best_setup, params = press_for(best.x)
+    forces = model_forces(best_setup, params, data)
     return CalibrationResult(
         model,
         params,
@@ -163,4 +191,5 @@ def calibrate(
         time.perf_counter() - tic,
         bool(best.success),
         str(best.message),
+        float(best.x[-1]) if "gap_um" in extra else None,
     )

@@ -10,7 +10,7 @@ holding pipette's mouth).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -69,6 +69,14 @@ class PressSetup:
         return simulate_press(
             self.lattice, params, self.pipette, self.held, record_um=record_um, **options
         )
+
+    def with_gap(self, gap_um: float) -> PressSetup:
+        """The same press with the mouth ``gap_um`` before touching the lattice (um)."""
+        if gap_um < 0:
+            raise NmsdInputError("PressSetup", "gap_um", ">= 0 (a pipette starting outside)")
+        touching = touching_start(self.lattice, self.pipette)
+        start = np.asarray(touching.start) - gap_um * np.asarray(self.pipette.direction)
+        return replace(self, pipette=replace(self.pipette, start=tuple(start)))
 
 
 def press_setup(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from nmsd.calibration import fit_metrics
+from nmsd.calibration import calibrate, fit_metrics, params_for
 from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.damping import link_damping, nodal_damping
 from nmsd.errors import NmsdDivergence, NmsdInputError
@@ -265,3 +265,31 @@ def test_press_force_converges_in_the_time_step():
     f1 = setup.run(params, record_um=advances, n_steps=800).force_at(advances)
     f2 = setup.run(params, record_um=advances, n_steps=1600).force_at(advances)
     assert np.abs(f1 - f2).max() < 0.01 * np.abs(f2).max()
+
+
+def test_with_gap_moves_the_pipette_back_and_delays_the_force():
+    setup = press_setup(n_steps=20, travel_um=20.0)
+    gapped = setup.with_gap(6.0)
+    shift = np.subtract(gapped.pipette.start, setup.pipette.start)
+    assert shift == pytest.approx([6.0, 0.0])  # back along +x, against the motion (-x)
+    assert setup.with_gap(0.0).pipette.start == pytest.approx(setup.pipette.start)
+    params = NmsdParameters(k1=20.0, k2=2000.0, d0=1.0, d1=0.05)
+    r = gapped.run(params, record_um=[5.0])
+    assert r.force_at([5.0])[0] == 0.0 and r.force_nN[-1] > 0
+    with pytest.raises(NmsdInputError, match="gap_um"):
+        setup.with_gap(-1.0)
+
+
+def test_calibration_frees_dl_c_and_gap_within_bounds():
+    base = NmsdParameters(dl_c=0.8)
+    p = params_for("nmsd", np.array([2000.0, 0.01, 3.0, 0.1, 0.4]), base, ("dl_c",))
+    assert (p.k1, p.k2, p.dl_c) == pytest.approx((20.0, 2000.0, 0.4))
+    with pytest.raises(NmsdInputError, match="extra"):
+        calibrate(press_setup(n_steps=2), read_force_displacement(TABLE), extra=("k1",))
+    data = read_force_displacement(TABLE)
+    cal = calibrate(
+        press_setup(n_steps=8), data, "linear_msd", base, 1, max_evaluations=4,
+        extra=("gap_um", "dl_c"),
+    )  # fmt: skip
+    assert 0.0 <= cal.gap_um <= 20.0 and 0.05 <= cal.params.dl_c <= 2.0
+    assert cal.force_nN.shape == data.force_nN.shape

@@ -44,6 +44,9 @@ class PressInputs(BaseModel):
     speed_um_s: float = Field(30.0, gt=0)
     travel_um: float = Field(65.0, gt=0)
     n_steps: int = Field(40, ge=1, description="backward-Euler steps over the travel")
+    calibrate_extra: list[Literal["dl_c", "gap_um"]] = Field(
+        default_factory=list, description="also calibrate dl_c and/or the contact gap (bounded)"
+    )
     n_starts: int = Field(2, ge=1, description="calibration starts")
     max_evaluations: int = Field(60, ge=4, description="press simulations per start")
 
@@ -128,24 +131,34 @@ def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, objec
 def _calibrate(ctx: CaseContext, setup, data, base, model: str) -> CalibrationResult:
     ctx.step(f"calibrating {model}")
     inp = ctx.inputs
-    return calibrate(setup, data, model, base, inp.n_starts, max_evaluations=inp.max_evaluations)
+    return calibrate(
+        setup,
+        data,
+        model,
+        base,
+        inp.n_starts,
+        max_evaluations=inp.max_evaluations,
+        extra=tuple(inp.calibrate_extra),
+    )
 
 
 def _params_table(results: dict[str, CalibrationResult], paper) -> str:
     rows = [
-        "| model | k1 (nN) | k2 (nN) | d0 (nN s/um) | d1 (nN s/um^2) | RMSE (uN) | R^2 | S |",
-        "|---|---|---|---|---|---|---|---|",
+        "| model | damping | k1 (nN) | k2 (nN) | d0 (nN s/um) | d1 (nN s/um^2) | dl_c | gap (um) "
+        "| RMSE (uN) | R^2 | S |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, r in results.items():
         p = r.params
         m = r.metrics
+        gap = "-" if r.gap_um is None else f"{r.gap_um:.3g}"
         rows.append(
-            f"| {name} | {p.k1:.4g} | {p.k2:.4g} | {p.d0:.4g} | {p.d1:.4g} | "
-            f"{m.rmse_nN * UN:.3f} | {m.r2:.4f} | {m.similarity:.5f} |"
+            f"| {name} | {p.damping} | {p.k1:.4g} | {p.k2:.4g} | {p.d0:.4g} | {p.d1:.4g} | "
+            f"{p.dl_c:.3g} | {gap} | {m.rmse_nN * UN:.3f} | {m.r2:.4f} | {m.similarity:.5f} |"
         )
     rows.append(
-        f"| paper model column | - | - | - | - | {paper.rmse_nN * UN:.3f} | {paper.r2:.4f} | "
-        f"{paper.similarity:.5f} |"
+        f"| paper model column | - | - | - | - | - | - | - | {paper.rmse_nN * UN:.3f} | "
+        f"{paper.r2:.4f} | {paper.similarity:.5f} |"
     )
     return "\n".join(rows)
 
@@ -175,6 +188,8 @@ def run_calibration(ctx: CaseContext) -> CaseOutcome:
     setup, base, data = _setup_and_data(ctx)
     results = {m: _calibrate(ctx, setup, data, base, m) for m in inp.models}
     best = results["nmsd"]
+    if best.gap_um is not None:
+        setup = setup.with_gap(best.gap_um)
     paper = fit_metrics(data.paper_model_nN, data.force_nN)
     ctx.step("rate dependence and snapshots")
     tic = time.perf_counter()
