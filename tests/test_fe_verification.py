@@ -12,7 +12,7 @@ from scipy import signal
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact, ContactState, evaluate
 from oocyte_fe.fe.kinematics import Kinematics
-from oocyte_fe.fe.loads import FollowerPressure, Prescribed
+from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
 from oocyte_fe.fe.material import Material, Prony, ViscousHistory, response
 from oocyte_fe.fe.obstacles import Circle, flat_plate
 from oocyte_fe.fe.solver import Problem
@@ -226,6 +226,42 @@ def test_friction_stick_and_slip(smooth: bool) -> None:
     assert ratios[0] < 0.9 * mu and slips[0] < 0.05
     # late: sliding at mu N, within 1 %
     assert abs(ratios[-1] / mu - 1) < 0.01 and slips[-1] > 0.5
+
+
+@pytest.mark.parametrize("lagged", [False, True])
+def test_reaction_control_finds_the_pressure_that_carries_the_friction(lagged: bool) -> None:
+    """A block pressed onto a plate (mu = 0.3) and slid by its top; the pressure on its left face
+    is the unknown that leaves the top no net horizontal force: sliding, p h = mu N."""
+    mu = 0.3
+    body = Body(rectangle(1.0, 0.5, 8, 4), {"solid": Material(1.0, 0.3)}, "plane_strain")
+    contact = Contact("bottom", flat_plate(0.0, -5.0, 5.0), penalty=1e3, friction=mu)
+    push = FollowerPressure(
+        "left", lambda t: 0.0, where=lambda x: np.ones(x.shape[1:]), name="push", lagged=lagged
+    )
+    prob = Problem(
+        body,
+        [
+            Prescribed("top", 1, lambda t: -0.01 * min(t, 1.0)),
+            Prescribed("top", 0, lambda t: 0.05 * max(t - 1.0, 0.0)),
+        ],
+        [push],
+        [contact],
+        control=ReactionControl("push", "top", 0),
+    )
+    left = np.unique(body.mesh.facets[:, body.mesh.boundaries["left"]])
+    values = []
+
+    def check(frame) -> None:
+        y = body.mesh.p[1, left] + body.vertex_displacement(frame.x)[1, left]
+        T, N = frame.obstacle_forces["contact"]
+        values.append((prob.control_value * np.ptp(y), T, N))
+
+    prob.solve([1.0, 1.5, 2.0, 2.5, 3.0], on_frame=check)
+    force, T, N = values[-1]
+    assert force > 0 and abs(force / (mu * abs(N)) - 1) < 0.01  # carries the sliding friction
+    assert abs(force - T) < 1e-6 * abs(T)  # and nothing else: the top pushes no net force
+    # before sliding the (nearly symmetric) squeeze needs almost no pressure
+    assert abs(values[0][0]) < 0.01 * mu * abs(values[0][2])
 
 
 @pytest.mark.parametrize("smooth", [False, True])

@@ -35,8 +35,9 @@ def test_short_passage_force_balance_and_volume() -> None:
     assert np.abs(res.series("volume_change")).max() < 1e-6  # nu = 0.5
     w = centroid_advance(prob.body, prob.body.displacement(prob.x))
     assert w == pytest.approx(res.series("centroid_advance_um")[-1])
-    # the suction (not the cap) carries the load after the first steps
-    assert abs(res.series("push_force_nN")[-1]) < 0.25 * wall
+    # the suction (the controlled unknown), not the cap, carries the load once sealed
+    assert abs(res.series("push_force_nN")[-1]) < 1e-3 * wall
+    assert res.series("suction_kPa")[-1] > 0.0
 
 
 def test_material_case_must_name_the_afm_case(tmp_path: Path) -> None:

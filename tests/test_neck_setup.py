@@ -10,7 +10,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
 from oocyte_fe.neck.periphery import POLAR_DEG, MaterialPoints
 from oocyte_fe.neck.pipette import NeckedPipette
-from oocyte_fe.neck.suction import RequiredSuction, seal_mask
+from oocyte_fe.neck.suction import seal_mask
 
 
 def test_wall_radius_bore_taper_neck() -> None:
@@ -52,21 +52,6 @@ def test_seal_mask_is_continuous_in_the_configuration() -> None:
     base = where(np.stack([p.wall_radius(z) - 0.3, z]))
     moved = where(np.stack([p.wall_radius(z) - 0.3 - 1e-6, z]))  # a tiny move off the wall
     assert np.max(np.abs(moved - base)) < 1e-4
-
-
-def test_required_suction_extrapolates_the_wall_force_over_the_sealed_area() -> None:
-    s = RequiredSuction(dp_kPa=0.2)
-    s.update(wall_force_nN=1000.0, suction_force_nN=900.0)  # area 4500 um^2
-    assert s.dp_kPa == pytest.approx((2 * 1000.0 - 0.0) / 4500.0)
-    assert s.pressure(0.3) == -s.dp_kPa
-    ramped = RequiredSuction(dp_kPa=0.2)
-    ramped.update(wall_force_nN=1000.0, suction_force_nN=900.0, t=0.1)  # frames 0.1 s apart
-    new = ramped.dp_kPa
-    assert ramped.pressure(0.1) == pytest.approx(-0.2)  # continuous at the update
-    assert ramped.pressure(0.15) == pytest.approx(-(0.2 + new) / 2)
-    assert ramped.pressure(0.2) == pytest.approx(-new)
-    s.update(wall_force_nN=1100.0, suction_force_nN=s.dp_kPa * 4000.0)
-    assert s.dp_kPa == pytest.approx((2 * 1100.0 - 1000.0) / 4000.0)
 
 
 def test_periphery_points_sit_at_the_exact_polar_angles_on_the_surface() -> None:

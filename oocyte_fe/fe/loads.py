@@ -59,6 +59,29 @@ class FollowerPressure:
     lagged: bool = False  # evaluate ``where`` at the start of each step (see module docstring)
 
 
+@dataclass(frozen=True)
+class ReactionControl:
+    """Load control by a reaction: the magnitude of the pressure load named ``load`` becomes an
+    unknown [kPa], found in every step together with the displacements so that the net reaction
+    on the prescribed ``component`` of ``boundary`` equals ``target_nN`` (nN; axisymmetric: the
+    ring sum). The prescribed boundary then sets the progress (a displacement control) while
+    the pressure carries the load: e.g. the suction that pulls an oocyte through a pipette at a
+    given advance with no net push from the rear. Solved with the bordered Newton system::
+
+        [K_ff  -g_f] [dx]    [-r_f    ]
+        [s     -g_c] [dp] =  [T - R   ],   s = sum of the rows of K on the boundary dofs
+
+    (``g`` the load vector of a unit pressure, ``R`` the current net reaction). While the load
+    has no resultant along ``component`` (e.g. a mask still empty) the pressure is held.
+    The load's own ``pressure(t)`` is not used.
+    """
+
+    load: str
+    boundary: str
+    component: int
+    target_nN: float = 0.0
+
+
 def _cof_n(Fg: NDArray, N: NDArray) -> NDArray:
     return np.stack([Fg[1, 1] * N[0] - Fg[1, 0] * N[1], -Fg[0, 1] * N[0] + Fg[0, 0] * N[1]])
 

@@ -43,6 +43,7 @@ from oocyte_fe.fe.loads import (
     FollowerPressure,
     PinnedPoint,
     Prescribed,
+    ReactionControl,
     pressure_force,
     pressure_stiffness,
 )
@@ -122,6 +123,7 @@ class Problem:
         pressures: Sequence[FollowerPressure] = (),
         contacts: Sequence[ct.Contact] = (),
         log: logging.Logger | None = None,
+        control: ReactionControl | None = None,
     ) -> None:
         self.body = body
         self.prescribed = list(prescribed)
@@ -137,6 +139,29 @@ class Problem:
             )
             for b in prescribed
         ]
+        self.control = control
+        self.control_value = 0.0  # the controlled pressure [kPa] at the current state
+        self._control_value = 0.0  # within a step (Newton iterate)
+        if control is not None:
+            names = [pl.name for pl, _ in self.pressures]
+            if control.load not in names:
+                raise InputError(
+                    "ReactionControl", "load", f"a pressure load's name ({names})", control.load
+                )
+            self._control_load = names.index(control.load)
+            self._control_dofs = body.boundary_dofs(control.boundary, control.component)
+            if not any(
+                isinstance(b, Prescribed)
+                and b.boundary == control.boundary
+                and b.component == control.component
+                for b in prescribed
+            ):
+                raise InputError(
+                    "ReactionControl",
+                    "boundary",
+                    "a prescribed boundary component (its reaction is controlled)",
+                    (control.boundary, control.component),
+                )
         fixed = [d for d, _ in self._fixed] + [body.unused_pressure_dofs]
         self.fixed_dofs = np.unique(np.concatenate(fixed)).astype(int)
         self.x = np.zeros(body.n_dofs)
@@ -230,9 +255,10 @@ class Problem:
                 cols.append(Kpp.col + o)
                 vals.append(Kpp.data)
         u = body.displacement(x)
-        for k, (load, fb) in enumerate(self.pressures):
+        for k, (_load, fb) in enumerate(self.pressures):
             uq = fb.interpolate(u)
-            pn = np.full(fb.dx.shape, float(load.pressure(t)))
+            value = self._load_value(k, t)
+            pn = np.full(fb.dx.shape, value)
             mask = self.pressure_mask(k, x)
             if mask is not None:
                 pn = pn * mask
@@ -259,6 +285,26 @@ class Problem:
         )
         return r, K, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
 
+    def _load_value(self, k: int, t: float) -> float:
+        """Pressure [kPa] of load ``k``: the controlled unknown or the load's ``pressure(t)``."""
+        if self.control is not None and k == self._control_load:
+            return self._control_value
+        return float(self.pressures[k][0].pressure(t))
+
+    def unit_load(self, k: int, x: NDArray) -> NDArray:
+        """External force vector of pressure load ``k`` at 1 kPa (mask included) at ``x``."""
+        load, fb = self.pressures[k]
+        uq = fb.interpolate(self.body.displacement(x))
+        pn = np.ones(fb.dx.shape)
+        mask = self.pressure_mask(k, x)
+        if mask is not None:
+            pn = pn * mask
+        return asm(pressure_force, fb, u=uq, pn=pn, axisym=self.body.axisym)
+
+    def reaction(self, r: NDArray) -> float:
+        """Net reaction [nN] on the controlled boundary component for the residual ``r``."""
+        return float(r[self._control_dofs].sum())
+
     # --- one step ----------------------------------------------------------------------------
 
     def _targets(self, t: float) -> NDArray:
@@ -280,10 +326,13 @@ class Problem:
         def evaluate(xx: NDArray) -> tuple[NDArray, object, float, float, float]:
             r, K, f_scale = self.assemble(xx, t, dt)
             ru, rp = np.linalg.norm(r[free_u]), np.linalg.norm(r[free_p])
+            if self.control is not None:  # the reaction's mismatch counts as a force residual
+                ru = float(np.hypot(ru, self.reaction(r) - self.control.target_nN))
             res = max(ru / max(f_scale, self.force_floor), rp / volume) if (ru or rp) else 0.0
             return r, K, float(res), float(ru), float(rp)
 
         history: list[float] = []
+        self._control_value = self.control_value
         r, K, res, ru, rp = evaluate(x)
         for it in range(settings.max_iterations + 1):
             history.append(res)
@@ -303,11 +352,32 @@ class Problem:
             dx[D] = target[D] - x[D]
             A, b, _, I = condense(K, -r, x=dx, D=D)
             try:
-                dx[I] = splu(A.tocsc()).solve(b)
+                lu = splu(A.tocsc())
+                dx[I] = lu.solve(b)
             except RuntimeError as exc:
                 raise _StepFailed(f"singular tangent ({exc})", res) from None
+            if self.control is not None:  # (a line search scales dx, not this increment)
+                self._control_value += self._control_increment(x, dx, r, K, lu, I)
             x, r, K, res, ru, rp = self._line_search(x, dx, res, pending, evaluate, settings)
         raise _StepFailed(f"no convergence in {settings.max_iterations} iterations", history[-1])
+
+    def _control_increment(self, x, dx, r, K, lu, free) -> float:
+        """Pressure increment of the bordered system (see :class:`ReactionControl`); ``dx``
+        is updated in place with the response to it."""
+        g = self.unit_load(self._control_load, x)
+        g_full = np.zeros_like(x)
+        g_full[: self.body.n_u] = g
+        c = self._control_dofs
+        s = np.asarray(K[c].sum(axis=0)).ravel()
+        v = lu.solve(g_full[free])
+        den = float(s[free] @ v) - float(g_full[c].sum())
+        scale = float(np.abs(s[free]) @ np.abs(v)) + float(np.abs(g_full[c]).sum())
+        if abs(den) <= 1e-12 * max(scale, 1e-300):
+            return 0.0  # the load has no resultant on the controlled component: hold it
+        reaction_new = self.reaction(r) + float(s @ dx)
+        dp = (self.control.target_nN - reaction_new) / den
+        dx[free] += dp * v
+        return dp
 
     def _line_search(
         self,
@@ -351,6 +421,7 @@ class Problem:
             self.contact_states[k] = ct.ContactState(uq, ev.slip, t)
         self.applied_masks = [self.pressure_mask(k, x) for k in range(len(self.pressures))]
         self.x, self.t = x, t
+        self.control_value = self._control_value
         self._masks = [self._mask(pl, fb, x) for pl, fb in self.pressures]
 
     # --- outputs -----------------------------------------------------------------------------

@@ -1,13 +1,15 @@
 """The oocyte passing the pipette neck: quasi-static, axisymmetric, penalty contact + friction.
 
 The driver is a prescribed advance of a small rear cap (polar angle > 180 - cap_deg) at a
-constant rate, together with the suction that balances the wall's resistance
-(:class:`~oocyte_fe.neck.suction.RequiredSuction`, lagged by one step). The cap removes the
-rigid motion along Z and carries only the lag; the suction is the physical driver, and its
-history ``dp(w)`` is the suction a quasi-static passage needs at the advance ``w``. Under a
+constant rate, together with the suction ``dp`` solved in every step so that the cap pushes no
+net axial force (:class:`~oocyte_fe.fe.loads.ReactionControl`: displacement control of the
+progress, the suction the unknown load). Until the oocyte seals against the wall there is no
+suction and the cap carries the (small) resistance. The suction is the physical driver, and
+its history ``dp(w)`` is the suction a quasi-static passage needs at the advance ``w``. Under a
 fixed suction ``dp0`` (100 Pa in the seed) the oocyte therefore stops at the first advance where
-``dp(w) > dp0``. The oocyte starts ``clearance_um`` from the taper (its free travel along the
-wide bore meets no resistance and is not modelled).
+``dp(w) > dp0``; where ``dp(w)`` falls with ``w`` a fixed suction would pull the oocyte through
+faster than quasi-statically (a snap into the neck). The oocyte starts ``clearance_um`` from
+the taper (its free travel along the wide bore meets no resistance and is not modelled).
 
 Coordinates: the oocyte's centre at the origin, the pipette axis along +Z (the direction of
 travel). Axial force balance on the oocyte (internal forces sum to zero along Z)::
@@ -27,13 +29,13 @@ from numpy.typing import NDArray
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.fe import contact as ct
 from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.loads import FollowerPressure, Prescribed
+from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
 from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
 from oocyte_fe.neck.periphery import MaterialPoints
 from oocyte_fe.neck.pipette import NeckedPipette
-from oocyte_fe.neck.suction import RequiredSuction, axial_dofs, axial_suction_force, seal_mask
+from oocyte_fe.neck.suction import axial_dofs, axial_suction_force, seal_mask
 
 
 @dataclass(frozen=True)
@@ -51,9 +53,7 @@ class PassageSettings:
     clearance_um: float = 0.1
     cap_deg: float = 10.0
     max_cutbacks: int = 8
-    smooth_friction: bool = False
-    contact_smoothing_um: float = 0.0
-    lagged_seal: bool = False
+    lagged_seal: bool = True  # seal mask held per step (its derivative is not in the tangent)
 
     def __post_init__(self) -> None:
         checks = {
@@ -129,6 +129,10 @@ def _wall_split(problem: Problem, t: float) -> tuple[float, float, NDArray, NDAr
     return normal, friction, (X + uq)[1].ravel(), ev.pressure.ravel()
 
 
+def _unused_pressure(_t: float) -> float:
+    return 0.0  # the suction is the unknown of the ReactionControl, not a function of time
+
+
 def run_passage(
     materials: dict[str, Material],
     settings: PassageSettings,
@@ -154,11 +158,8 @@ def run_passage(
         s.penalty_factor * e_max / h,
         s.friction,
         name="pipette",
-        smooth_friction=s.smooth_friction,
-        smoothing_um=s.contact_smoothing_um,
     )
     where = seal_mask(pipette, s.seal_tol_um)
-    driver = RequiredSuction(dp_kPa=0.0)
     rate = s.advance_um / s.duration_s
     fixed = [Prescribed("axis", 0), Prescribed("rear_cap", 1, lambda t: rate * t)]
     problem = Problem(
@@ -167,7 +168,7 @@ def run_passage(
         [
             FollowerPressure(
                 "outer_surface",
-                driver.pressure,
+                _unused_pressure,
                 where=where,
                 name="suction",
                 lagged=s.lagged_seal,
@@ -175,6 +176,7 @@ def run_passage(
         ],
         [contact],
         log=log,
+        control=ReactionControl("suction", "rear_cap", 1),
     )
     fb = body.facet_basis("outer_surface")
     z_dofs = axial_dofs(body.ubasis)
@@ -183,7 +185,7 @@ def run_passage(
 
     def record(frame: Frame) -> None:
         u = body.displacement(frame.x)
-        applied = driver.dp_kPa
+        applied = -problem.control_value
         suction = axial_suction_force(fb, z_dofs, u, applied, problem.applied_masks[0])
         normal, friction, z_q, lam = _wall_split(problem, frame.t)
         wall = float(frame.obstacle_forces["pipette"][1])
@@ -209,7 +211,6 @@ def run_passage(
             result.history.setdefault(key, []).append(value)
         result.wall_profiles.append((z_q, lam))
         result.frames.append(frame)
-        driver.update(wall, suction, frame.t)
         if on_frame is not None:
             on_frame(result, frame)
 

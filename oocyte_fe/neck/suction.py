@@ -13,7 +13,6 @@ A point of the surface is "at the wall" when ``R_w(Z) - R < tol`` (um).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -71,44 +70,3 @@ def axial_suction_force(
     pn = -dp_kPa * mask
     f = asm(pressure_force, fb, u=uq, pn=pn, axisym=1.0)
     return float(f[z_dofs].sum())
-
-
-@dataclass
-class RequiredSuction:
-    """Suction that balances the wall's axial resistance, updated after each step (lagged).
-
-    After a step with wall force ``F_n`` and suction force ``S_n`` under ``dp_n``, the suction
-    for the next step is ``dp_{n+1} = max(0, 2 F_n - F_{n-1}) / (S_n / dp_n)`` (linear
-    extrapolation of the wall force over the effective sealed area ``S_n / dp_n``). The
-    prescribed advance then only carries the lag, a small residual push.
-    """
-
-    dp_kPa: float = 0.0
-    default_area_um2: float = float(np.pi * 90.0**2)
-    _walls: list[float] = field(default_factory=lambda: [0.0])
-    _start_kPa: float = 0.0
-    _t: float = 0.0
-    _interval: float = 0.0
-
-    def pressure(self, t: float) -> float:
-        """Follower pressure [kPa] for :class:`oocyte_fe.fe.loads.FollowerPressure`.
-
-        Ramped linearly over the step from the last value to the new one (when the update
-        times are given), so the load path is continuous in time and a cut-back step meets
-        a proportionally smaller load change."""
-        if self._interval <= 0.0:
-            return -self.dp_kPa
-        share = min(max((t - self._t) / self._interval, 0.0), 1.0)
-        return -(self._start_kPa + share * (self.dp_kPa - self._start_kPa))
-
-    def update(self, wall_force_nN: float, suction_force_nN: float, t: float | None = None) -> None:
-        area = (
-            suction_force_nN / self.dp_kPa
-            if self.dp_kPa > 0 and suction_force_nN > 0
-            else self.default_area_um2
-        )
-        previous = self._walls[-1]
-        self._walls.append(wall_force_nN)
-        if t is not None:
-            self._start_kPa, self._interval, self._t = self.dp_kPa, t - self._t, t
-        self.dp_kPa = max(0.0, 2.0 * wall_force_nN - previous) / area
