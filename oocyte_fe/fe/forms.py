@@ -7,7 +7,10 @@ strain, ``axisym = 0``), ``du`` the trial and ``v`` the test displacement, ``q``
     r_p = int q (J - 1 - p / kappa) dV      K_up = int (J F^-T : Grad v) dp dV
                                             K_pp = -int q dp / kappa dV
 
-Quadrature-point fields (``P5``, ``A5``, ``JFinvT5``, ``Jm1``) come in through ``w``.
+The displacement blocks ``r_u``, ``K_uu``, ``K_up`` are assembled by
+:mod:`~oocyte_fe.fe.vectorized` (all element matrices in one ``einsum``); the pressure blocks
+below are scikit-fem forms, their quadrature-point fields (``Jm1``, ``p``, ``inv_kappa``) come
+in through ``w``.
 """
 
 from __future__ import annotations
@@ -16,32 +19,10 @@ import numpy as np
 from numpy.typing import NDArray
 from skfem import BilinearForm, LinearForm
 
-from oocyte_fe.fe.kinematics import grad5
-
 
 def volume_measure(w) -> NDArray:
     """``2 pi R`` (axisymmetric) or 1 (plane strain) at the quadrature points."""
     return np.where(w.axisym > 0, 2.0 * np.pi * w.x[0], 1.0)
-
-
-def _grad5(v, w) -> NDArray:
-    return grad5(v, v.grad, w.x[0] if w.axisym > 0 else None)
-
-
-@LinearForm
-def internal_force(v, w):
-    return np.einsum("a...,a...->...", w.P5, _grad5(v, w)) * volume_measure(w)
-
-
-@BilinearForm
-def stiffness_uu(du, v, w):
-    return np.einsum("a...,ab...,b...->...", _grad5(v, w), w.A5, _grad5(du, w)) * volume_measure(w)
-
-
-@BilinearForm
-def coupling_up(dp, v, w):
-    """Rows: displacement test ``v``; columns: pressure trial ``dp``."""
-    return np.einsum("a...,a...->...", w.JFinvT5, _grad5(v, w)) * dp * volume_measure(w)
 
 
 @LinearForm

@@ -33,12 +33,9 @@ from oocyte_fe.fe import contact as ct
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.forms import (
     compliance_pp,
-    coupling_up,
-    internal_force,
-    stiffness_uu,
     volume_constraint,
 )
-from oocyte_fe.fe.kinematics import Kinematics, grad5
+from oocyte_fe.fe.kinematics import Kinematics
 from oocyte_fe.fe.loads import (
     FollowerPressure,
     PinnedPoint,
@@ -48,6 +45,7 @@ from oocyte_fe.fe.loads import (
     pressure_stiffness,
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
+from oocyte_fe.fe.vectorized import RegionOperators
 
 LOG = logging.getLogger("oocyte_fe.fe")
 
@@ -174,6 +172,9 @@ class Problem:
         self._quad = [
             (np.asarray(r.ubasis.global_coordinates())[0], r.ubasis.dx) for r in body.regions
         ]
+        self._ops = [
+            RegionOperators.of(r.ubasis, r.pbasis, bool(body.axisym)) for r in body.regions
+        ]
         self.histories = [
             ViscousHistory.zeros(len(r.material.prony.g), r.ubasis.dx.shape) for r in body.regions
         ]
@@ -213,12 +214,12 @@ class Problem:
 
     def region_kinematics(self, x: NDArray, k: int) -> tuple[Kinematics, NDArray]:
         """Kinematics and pressure [kPa] at the quadrature points of region ``k`` for ``x``."""
-        body, region = self.body, self.body.regions[k]
-        uq = region.ubasis.interpolate(body.displacement(x))
-        pq = np.asarray(region.pbasis.interpolate(body.pressure(x, region)))
-        R = self._quad[k][0] if body.axisym else None
-        kin = Kinematics.from_grad5(grad5(np.asarray(uq), uq.grad, R))
-        return kin, pq
+        ops, region = self._ops[k], self.body.regions[k]
+        u = self.body.displacement(x)
+        gu5 = np.einsum("iaeq,ie->aeq", ops.B, u[ops.dofs])
+        p = self.body.pressure(x, region)
+        pq = np.einsum("keq,ke->eq", ops.p_values, p[ops.p_dofs])
+        return Kinematics.from_grad5(gu5), pq
 
     def assemble(self, x: NDArray, t: float, dt: float, evals: list | None = None):
         """Residual ``r`` and tangent ``K`` at ``x`` for the step ending at ``t``."""
@@ -234,21 +235,20 @@ class Problem:
             if np.any(kin.J <= 0) or not np.all(np.isfinite(kin.J)):
                 raise _StepFailed(f"inverted element in region {region.name!r}", np.inf)
             res = response(kin, pq, region.material, self.histories[k], dt)
-            fi = asm(internal_force, region.ubasis, P5=res.P5, axisym=a)
+            ops = self._ops[k]
+            fi = ops.internal_force(res.P5)
             f_int_norm2 += float(fi @ fi)
             r[: body.n_u] += fi
-            blocks_uu.append(asm(stiffness_uu, region.ubasis, A5=res.A5, axisym=a))
+            blocks_uu.append(ops.stiffness(res.A5))
             inv_k = region.material.inv_kappa
             o, n_p = region.p_offset, region.pbasis.N
             r[o : o + n_p] = asm(
                 volume_constraint, region.pbasis, Jm1=kin.J - 1.0, p=pq, inv_kappa=inv_k, axisym=a
             )
-            Kup = asm(
-                coupling_up, region.pbasis, region.ubasis, JFinvT5=res.JFinvT5, axisym=a
-            ).tocoo()
-            rows += [Kup.row, Kup.col + o]
-            cols += [Kup.col + o, Kup.row]
-            vals += [Kup.data, Kup.data]
+            up_rows, up_cols, up_vals = ops.coupling(res.JFinvT5)
+            rows += [up_rows, up_cols + o]
+            cols += [up_cols + o, up_rows]
+            vals += [up_vals, up_vals]
             if inv_k > 0:
                 Kpp = asm(compliance_pp, region.pbasis, inv_kappa=inv_k, axisym=a).tocoo()
                 rows.append(Kpp.row + o)
