@@ -102,9 +102,10 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_pa
     assert checks["nmsd_fe_r2"]["passed"], m["nmsd_fe_r2"]
     assert checks["nmsd_fe_similarity"]["passed"]
     assert checks["penetration_max_um"]["passed"]
-    # both spindles move towards the holder; the FE one by more than half the advance
+    # both spindles move towards the holder by more than half the advance; with link dampers
+    # (the case's reading) the NMSD spindle travel is within 25 % of the FE's (8 % measured)
     assert 0.5 * 62.5 < m["spindle_fe_end_um"] < 62.5
-    assert 0.0 < m["spindle_nmsd_end_um"] < m["spindle_fe_end_um"]
+    assert abs(m["spindle_nmsd_end_um"] - m["spindle_fe_end_um"]) < 0.25 * m["spindle_fe_end_um"]
     # issue 9 goal (max(2 um, 10 %)) held as stated: missed, so the case FAILs on it alone
     assert not checks["spindle_goal_ratio_max"]["passed"]
     assert result.status == "FAIL"
