@@ -63,3 +63,64 @@ def test_vectorised_blocks_equal_scikit_fem_forms(axisym: float) -> None:
     np.testing.assert_allclose(
         np.einsum("iaeq,ie->aeq", ops.B, u[ops.dofs]), grad5(uq, uq.grad, R), atol=1e-10
     )
+
+
+@pytest.mark.parametrize("axisym", [0.0, 1.0])
+def test_vectorised_facet_blocks_equal_scikit_fem_forms(axisym: float) -> None:
+    from skfem import FacetBasis
+
+    from oocyte_fe.fe.contact import ContactEval
+    from oocyte_fe.fe.vectorized import FacetOperators
+    from tests.reference_forms import (
+        contact_stiffness,
+        contact_traction,
+        pressure_force,
+        pressure_stiffness,
+    )
+
+    mesh = quarter_annulus(10.0, 20.0, 3, 4)
+    fb = FacetBasis(
+        mesh, ElementVector(ElementTriP2()), facets=mesh.boundaries["outer"], intorder=4
+    )
+    ops = FacetOperators.of(fb)
+    rng = np.random.default_rng(2)
+    u = 0.3 * rng.standard_normal(fb.N)
+    shape = fb.dx.shape
+    pn = rng.standard_normal(shape)
+    f, K = ops.pressure(u, pn, bool(axisym))
+    np.testing.assert_allclose(ops.pressure_force(u, pn, bool(axisym)), f, atol=0)
+    uq = fb.interpolate(u)
+    f_ref = asm(pressure_force, fb, u=uq, pn=pn, axisym=axisym)
+    K_ref = asm(pressure_stiffness, fb, u=uq, pn=pn, axisym=axisym).toarray()
+    np.testing.assert_allclose(f, f_ref, atol=1e-12 * np.abs(f_ref).max())
+    np.testing.assert_allclose(K.toarray(), K_ref, atol=1e-12 * np.abs(K_ref).max())
+    ang = rng.uniform(0, 2 * np.pi, shape)
+    n = np.stack([np.cos(ang), np.sin(ang)])
+    ev = ContactEval(
+        gap=np.zeros(shape),
+        normal=n,
+        tangent=np.stack([-n[1], n[0]]),
+        pressure=rng.uniform(0, 1, shape),
+        shear=rng.standard_normal(shape),
+        slip=np.zeros(shape),
+        k_nn=rng.uniform(0, 5, shape),
+        k_tt=rng.uniform(0, 5, shape),
+        k_tn=rng.standard_normal(shape),
+    )
+    f, K = ops.contact(ev, bool(axisym))
+    f_ref = asm(contact_traction, fb, tr=ev.traction, axisym=axisym)
+    K_ref = asm(
+        contact_stiffness,
+        fb,
+        n_c=ev.normal,
+        t_c=ev.tangent,
+        k_nn=ev.k_nn,
+        k_tt=ev.k_tt,
+        k_tn=ev.k_tn,
+        axisym=axisym,
+    ).toarray()
+    np.testing.assert_allclose(f, f_ref, atol=1e-12 * np.abs(f_ref).max())
+    np.testing.assert_allclose(K.toarray(), K_ref, atol=1e-12 * np.abs(K_ref).max())
+    value, grad = ops.interpolate(u)
+    np.testing.assert_allclose(value, np.asarray(uq), atol=1e-12)
+    np.testing.assert_allclose(grad, uq.grad, atol=1e-12)

@@ -34,9 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from skfem import BilinearForm, FacetBasis, LinearForm, asm
+from skfem import FacetBasis
 
-from oocyte_fe.fe.forms import volume_measure
 from oocyte_fe.fe.obstacles import Obstacle
 
 SLIP_CAP = 5.0  # stored |z| of the smooth friction law: 1 - tanh(5) = 9e-5
@@ -164,36 +163,6 @@ def _smooth_return(
     k_tn = np.where(on, -mu * (th - z * dth) * dlam, 0.0)
     s_new = np.where(on, np.clip(z, -SLIP_CAP, SLIP_CAP) * limit / eps_t, 0.0)
     return q, k_tt, k_tn, s_new
-
-
-@LinearForm
-def _traction_form(v, w):
-    return np.einsum("i...,i...->...", w.tr, v) * volume_measure(w)
-
-
-@BilinearForm
-def _stiffness_form(du, v, w):
-    vn = np.einsum("i...,i...->...", w.n_c, v)
-    vt = np.einsum("i...,i...->...", w.t_c, v)
-    dn = np.einsum("i...,i...->...", w.n_c, du)
-    dt = np.einsum("i...,i...->...", w.t_c, du)
-    return (w.k_nn * vn * dn + w.k_tt * vt * dt + w.k_tn * vt * dn) * volume_measure(w)
-
-
-def assemble(ev: ContactEval, fb: FacetBasis, axisym: float) -> tuple[NDArray, object]:
-    """External force vector of the contact tractions and its stiffness ``-d f / d u``."""
-    f = asm(_traction_form, fb, tr=ev.traction, axisym=axisym)
-    K = asm(
-        _stiffness_form,
-        fb,
-        n_c=ev.normal,
-        t_c=ev.tangent,
-        k_nn=ev.k_nn,
-        k_tt=ev.k_tt,
-        k_tn=ev.k_tn,
-        axisym=axisym,
-    )
-    return f, K
 
 
 def resultant(ev: ContactEval, fb: FacetBasis, axisym: float) -> NDArray:

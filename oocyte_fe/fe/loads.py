@@ -19,9 +19,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-import numpy as np
 from numpy.typing import NDArray
-from skfem import BilinearForm, LinearForm
 
 
 def _zero(_t: float) -> float:
@@ -80,27 +78,3 @@ class ReactionControl:
     boundary: str
     component: int
     target_nN: float = 0.0
-
-
-def _cof_n(Fg: NDArray, N: NDArray) -> NDArray:
-    return np.stack([Fg[1, 1] * N[0] - Fg[1, 0] * N[1], -Fg[0, 1] * N[0] + Fg[0, 0] * N[1]])
-
-
-def _radius_factor(w) -> NDArray:
-    return np.where(w.axisym > 0, 2.0 * np.pi * (w.x[0] + w.u[0]), 1.0)
-
-
-@LinearForm
-def pressure_force(v, w):
-    """External force ``-p a cof(F) N . v``."""
-    Fg = np.eye(2)[:, :, None, None] + w.u.grad
-    return -w.pn * _radius_factor(w) * np.einsum("i...,i...->...", _cof_n(Fg, w.n), v)
-
-
-@BilinearForm
-def pressure_stiffness(du, v, w):
-    """``-d f / d u``: ``p (da cof(F) N + a cof(dF) N) . v``."""
-    Fg = np.eye(2)[:, :, None, None] + w.u.grad
-    da = np.where(w.axisym > 0, 2.0 * np.pi * du[0], 0.0)
-    term = da * _cof_n(Fg, w.n) + _radius_factor(w) * _cof_n(du.grad, w.n)
-    return w.pn * np.einsum("i...,i...->...", term, v)

@@ -41,11 +41,9 @@ from oocyte_fe.fe.loads import (
     PinnedPoint,
     Prescribed,
     ReactionControl,
-    pressure_force,
-    pressure_stiffness,
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
-from oocyte_fe.fe.vectorized import RegionOperators
+from oocyte_fe.fe.vectorized import FacetOperators, RegionOperators
 
 LOG = logging.getLogger("oocyte_fe.fe")
 
@@ -172,6 +170,9 @@ class Problem:
         self._quad = [
             (np.asarray(r.ubasis.global_coordinates())[0], r.ubasis.dx) for r in body.regions
         ]
+        self._facet_ops = {
+            id(fb): FacetOperators.of(fb) for _, fb in [*self.pressures, *self.contacts]
+        }
         self._ops = [
             RegionOperators.of(r.ubasis, r.pbasis, bool(body.axisym)) for r in body.regions
         ]
@@ -256,20 +257,17 @@ class Problem:
                 vals.append(Kpp.data)
         u = body.displacement(x)
         for k, (_load, fb) in enumerate(self.pressures):
-            uq = fb.interpolate(u)
-            value = self._load_value(k, t)
-            pn = np.full(fb.dx.shape, value)
+            pn = np.full(fb.dx.shape, self._load_value(k, t))
             mask = self.pressure_mask(k, x)
             if mask is not None:
                 pn = pn * mask
-            fe = asm(pressure_force, fb, u=uq, pn=pn, axisym=a)
+            fe, Kp = self._facet_ops[id(fb)].pressure(u, pn, bool(a))
             f_ext += fe
-            blocks_uu.append(asm(pressure_stiffness, fb, u=uq, pn=pn, axisym=a))
+            blocks_uu.append(Kp)
         for (c, fb), state in zip(self.contacts, self.contact_states, strict=False):
-            ev = ct.evaluate(
-                c, fb, np.asarray(fb.global_coordinates()), np.asarray(fb.interpolate(u)), state, t
-            )
-            fc, Kc = ct.assemble(ev, fb, a)
+            ops = self._facet_ops[id(fb)]
+            ev = ct.evaluate(c, fb, ops.X, ops.interpolate(u)[0], state, t)
+            fc, Kc = ops.contact(ev, bool(a))
             f_ext += fc
             blocks_uu.append(Kc)
             if evals is not None:
@@ -293,13 +291,14 @@ class Problem:
 
     def unit_load(self, k: int, x: NDArray) -> NDArray:
         """External force vector of pressure load ``k`` at 1 kPa (mask included) at ``x``."""
-        load, fb = self.pressures[k]
-        uq = fb.interpolate(self.body.displacement(x))
+        fb = self.pressures[k][1]
         pn = np.ones(fb.dx.shape)
         mask = self.pressure_mask(k, x)
         if mask is not None:
             pn = pn * mask
-        return asm(pressure_force, fb, u=uq, pn=pn, axisym=self.body.axisym)
+        return self._facet_ops[id(fb)].pressure(
+            self.body.displacement(x), pn, bool(self.body.axisym)
+        )[0]
 
     def reaction(self, r: NDArray) -> float:
         """Net reaction [nN] on the controlled boundary component for the residual ``r``."""

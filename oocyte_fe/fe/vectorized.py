@@ -70,3 +70,95 @@ class RegionOperators:
         rows = np.broadcast_to(self.dofs[:, None, :], (nb, n_p, nel))
         cols = np.broadcast_to(self.p_dofs[None, :, :], (nb, n_p, nel))
         return rows.ravel(), cols.ravel(), Ge.ravel()
+
+
+def _cof_n(G: NDArray, N: NDArray) -> NDArray:
+    """``cof(G) N`` in the section plane, ``cof(G) = [[G22, -G21], [-G12, G11]]``."""
+    return np.stack([G[1, 1] * N[0] - G[1, 0] * N[1], -G[0, 1] * N[0] + G[0, 0] * N[1]])
+
+
+@dataclass(frozen=True)
+class FacetOperators:
+    """Stacked basis values and gradients of a vector basis on a boundary's facets.
+
+    Assembles (per reference arc length ``dS``, ``a = 2 pi r`` current or ``A = 2 pi R``
+    reference radius factor in axisymmetry, 1 in plane strain)::
+
+        follower pressure   f_i = -p a cof(F) N . v_i dS
+                            K_ij = p (da_j cof(F) N + a cof(Grad v_j) N) . v_i dS
+        contact traction    f_i = t . v_i A dS
+                            K_ij = (k_nn v_i.n v_j.n + k_tt v_i.t v_j.t + k_tn v_i.t v_j.n) A dS
+
+    (the forms of :mod:`~oocyte_fe.fe.loads` and :mod:`~oocyte_fe.fe.contact`).
+    """
+
+    phi: NDArray  # (nb, 2, nf, nq)
+    dphi: NDArray  # (nb, 2, 2, nf, nq)
+    X: NDArray  # (2, nf, nq) reference coordinates
+    N: NDArray  # (2, nf, nq) reference outward normal
+    dS: NDArray  # (nf, nq)
+    dofs: NDArray  # (nb, nf)
+    n_u: int
+
+    @classmethod
+    def of(cls, fb) -> FacetOperators:
+        phi = np.stack([np.asarray(b[0]) for b in fb.basis])
+        dphi = np.stack([b[0].grad for b in fb.basis])
+        X = np.asarray(fb.global_coordinates())
+        return cls(phi, dphi, X, np.asarray(fb.normals), fb.dx, fb.element_dofs, fb.N)
+
+    def interpolate(self, u: NDArray) -> tuple[NDArray, NDArray]:
+        """Value (2, nf, nq) and gradient (2, 2, nf, nq) of the field ``u`` [um]."""
+        ue = u[self.dofs]
+        return (
+            np.einsum("icfq,if->cfq", self.phi, ue),
+            np.einsum("icdfq,if->cdfq", self.dphi, ue),
+        )
+
+    def _vector(self, T: NDArray) -> NDArray:
+        fe = np.einsum("icfq,cfq->if", self.phi, T * self.dS)
+        return np.bincount(self.dofs.ravel(), fe.ravel(), minlength=self.n_u)
+
+    def _matrix(self, Ke: NDArray) -> sp.coo_matrix:
+        nb, _, nf = Ke.shape
+        rows = np.broadcast_to(self.dofs[:, None, :], (nb, nb, nf))
+        cols = np.broadcast_to(self.dofs[None, :, :], (nb, nb, nf))
+        return sp.coo_matrix((Ke.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_u, self.n_u))
+
+    def _pressure_terms(self, u: NDArray, axisym: bool) -> tuple[NDArray, NDArray]:
+        value, grad = self.interpolate(u)
+        cofN = _cof_n(np.eye(2)[:, :, None, None] + grad, self.N)
+        a = 2.0 * np.pi * (self.X[0] + value[0]) if axisym else np.ones_like(self.dS)
+        return cofN, a
+
+    def pressure_force(self, u: NDArray, pn: NDArray, axisym: bool) -> NDArray:
+        """External force [nN] of the follower pressure ``pn`` (nf, nq) [kPa] at ``u``."""
+        cofN, a = self._pressure_terms(u, axisym)
+        return self._vector(-pn * a * cofN)
+
+    def pressure(self, u: NDArray, pn: NDArray, axisym: bool) -> tuple[NDArray, sp.coo_matrix]:
+        """External force of the follower pressure ``pn`` (nf, nq) [kPa] and ``-d f / d u``."""
+        cofN, a = self._pressure_terms(u, axisym)
+        f = self._vector(-pn * a * cofN)
+        # T_j = da_j cof(F) N + a cof(Grad v_j) N  (nb, 2, nf, nq)
+        T = a * _cof_n(np.moveaxis(self.dphi, 0, 2), self.N)  # (2, nb, nf, nq)
+        T = np.moveaxis(T, 1, 0)
+        if axisym:
+            T = T + 2.0 * np.pi * self.phi[:, 0][:, None] * cofN[None]
+        Ke = np.einsum("icfq,jcfq->ijf", self.phi, T * (pn * self.dS))
+        return f, self._matrix(Ke)
+
+    def contact(self, ev, axisym: bool) -> tuple[NDArray, sp.coo_matrix]:
+        """Contact tractions ``ev`` (:class:`~oocyte_fe.fe.contact.ContactEval`) as an external
+        force vector and its stiffness ``-d f / d u``."""
+        A = 2.0 * np.pi * self.X[0] if axisym else np.ones_like(self.dS)
+        f = self._vector(ev.traction * A)
+        vn = np.einsum("icfq,cfq->ifq", self.phi, ev.normal)
+        vt = np.einsum("icfq,cfq->ifq", self.phi, ev.tangent)
+        w = A * self.dS
+        Ke = (
+            np.einsum("ifq,jfq->ijf", vn, vn * (ev.k_nn * w))
+            + np.einsum("ifq,jfq->ijf", vt, vt * (ev.k_tt * w))
+            + np.einsum("ifq,jfq->ijf", vt, vn * (ev.k_tn * w))
+        )
+        return f, self._matrix(Ke)

@@ -16,9 +16,9 @@ from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
-from skfem import Basis, FacetBasis, asm
+from skfem import Basis, FacetBasis
 
-from oocyte_fe.fe.loads import pressure_force
+from oocyte_fe.fe.vectorized import FacetOperators
 from oocyte_fe.neck.pipette import NeckedPipette
 
 
@@ -66,7 +66,5 @@ def axial_suction_force(
     """Net axial force [nN] of the suction ``-dp`` on the surface weighted by ``mask`` (its
     values at the quadrature points of ``fb``, as the solver applied it), ``sum_i f_Z,i``
     (axisymmetric, ring sums included); positive pulls the oocyte towards +Z."""
-    uq = fb.interpolate(u)
-    pn = -dp_kPa * mask
-    f = asm(pressure_force, fb, u=uq, pn=pn, axisym=1.0)
+    f = FacetOperators.of(fb).pressure_force(u, -dp_kPa * mask, axisym=True)
     return float(f[z_dofs].sum())
