@@ -52,6 +52,16 @@ def main() -> None:
             f"force vs 2600-step reference: max {100 * error:.1f} % of the peak"
         )
     setup = press_setup(n_steps=40)
+    link = NmsdParameters(
+        k1=85.7, k2=5.35e4, dl_c=0.8, d0=139.5, d1=2.74, node_mass=params.node_mass, damping="link"
+    )
+    r = setup.run(link, record_um=d)
+    t = best_of(lambda: setup.run(link, record_um=d))
+    steps = len(r.advance_um) - 1
+    print(
+        f"press 65 um, {steps} steps, link dampers (Table II constants): {1e3 * t:.1f} ms, "
+        f"{r.newton_iterations / steps:.1f} Newton its/step"
+    )
     base = NmsdParameters(dl_c=0.8, node_mass=node_mass_for(115.625, 231))
     tic = time.perf_counter()
     cal = calibrate(setup, data, "nmsd", base, n_starts=2, max_evaluations=60)
