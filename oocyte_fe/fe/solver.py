@@ -60,6 +60,9 @@ class NewtonSettings:
     # frictional pipette passage a plain Newton step with cutbacks got through where the
     # line search crept along at a linear rate
     line_search: int = 0
+    # start each step from the last step's increment scaled to dt (a linear extrapolation in
+    # time) instead of the last state; prescribed values are then already (nearly) in place
+    predictor: bool = True
 
 
 @dataclass(frozen=True)
@@ -162,6 +165,7 @@ class Problem:
         self.fixed_dofs = np.unique(np.concatenate(fixed)).astype(int)
         self.x = np.zeros(body.n_dofs)
         self.t = 0.0
+        self._increment: tuple[NDArray, float] | None = None  # last accepted (dx, dt)
         # force scale floor: a strain of 1e-6 over the body, E_max L^2 1e-6 [nN]; keeps the
         # relative residual meaningful when the forces vanish (rigid motion, unloaded steps)
         size = float(np.ptp(body.mesh.p, axis=1).max())
@@ -315,6 +319,8 @@ class Problem:
 
     def _newton(self, t: float, dt: float, settings: NewtonSettings) -> tuple[NDArray, list[float]]:
         x = self.x.copy()
+        if settings.predictor and self._increment is not None:
+            x += (dt / self._increment[1]) * self._increment[0]
         D = self.fixed_dofs
         free = np.setdiff1d(np.arange(self.body.n_dofs), D)
         n_u = self.body.n_u
@@ -408,6 +414,7 @@ class Problem:
         raise AssertionError("unreachable")
 
     def _accept(self, x: NDArray, t: float, dt: float) -> None:
+        self._increment = (x - self.x, dt)
         for k, region in enumerate(self.body.regions):
             if region.material.prony.g:
                 kin, pq = self.region_kinematics(x, k)
