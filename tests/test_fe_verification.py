@@ -275,14 +275,14 @@ def test_friction_tangent_matches_finite_differences(smooth: bool) -> None:
     u = np.zeros_like(X)
     u[1] = -np.array([0.01, 0.02, 0.003, 0.01])  # penetration
     u[0] = np.array([0.0002, -0.0001, 0.0001, 0.01])  # tangential moves
-    ev = evaluate(contact, None, X, u, state, 0.0)
+    ev = evaluate(contact, X, u, state, 0.0)
     assert np.all(ev.pressure > 0)
     h = 1e-8
     for comp, coeff in ((0, ev.k_tt), (1, ev.k_tn)):
         du = np.zeros_like(u)
         du[comp] = h
-        plus = evaluate(contact, None, X, u + du, state, 0.0).shear
-        minus = evaluate(contact, None, X, u - du, state, 0.0).shear
+        plus = evaluate(contact, X, u + du, state, 0.0).shear
+        minus = evaluate(contact, X, u - du, state, 0.0).shear
         # tangent tau = (-n_2, n_1) = (-1, 0) for n = (0, 1): du_x = -du_t, du_y = +du_n
         sign = -1.0 if comp == 0 else 1.0
         np.testing.assert_allclose(-sign * (plus - minus) / (2 * h), coeff, rtol=1e-5, atol=1e-6)
@@ -295,7 +295,7 @@ def test_smooth_friction_saturates_at_mu_lambda() -> None:
     u = np.zeros_like(X)
     u[1] = -0.01  # lambda = 1 kPa, mu lambda = 0.3 kPa
     u[0] = [[-0.009, -0.0003, -1.0]]  # tangential slip trial s = 0.009, 0.0003, 1 um
-    ev = evaluate(contact, None, X, u, ContactState(np.zeros_like(X), np.zeros((1, 3)), 0.0), 0.0)
+    ev = evaluate(contact, X, u, ContactState(np.zeros_like(X), np.zeros((1, 3)), 0.0), 0.0)
     q = -ev.shear[0]
     assert q[0] == pytest.approx(0.3 * np.tanh(100 * 0.009 / 0.3), rel=1e-12)  # z = 3
     assert q[0] > 0.995 * 0.3  # within 0.5 % of mu lambda beyond |z| = 3

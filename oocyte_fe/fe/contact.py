@@ -101,7 +101,7 @@ class ContactEval:
 
 
 def evaluate(
-    contact: Contact, fb: FacetBasis, X: NDArray, u_q: NDArray, state: ContactState, t: float
+    contact: Contact, X: NDArray, u_q: NDArray, state: ContactState, t: float
 ) -> ContactEval:
     """Gap, tractions and tangent coefficients at the quadrature points (``u_q`` (2, nf, nq))."""
     d = np.asarray(contact.motion(t), dtype=float)[:, None, None]

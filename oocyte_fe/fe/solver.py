@@ -174,16 +174,15 @@ class Problem:
         self._quad = [
             (np.asarray(r.ubasis.global_coordinates())[0], r.ubasis.dx) for r in body.regions
         ]
-        self._facet_ops = {
-            id(fb): FacetOperators.of(fb) for _, fb in [*self.pressures, *self.contacts]
-        }
+        self._pressure_ops = [FacetOperators.of(fb) for _, fb in self.pressures]
+        self._contact_ops = [FacetOperators.of(fb) for _, fb in self.contacts]
         self._ops = [
             RegionOperators.of(r.ubasis, r.pbasis, bool(body.axisym)) for r in body.regions
         ]
         self.histories = [
             ViscousHistory.zeros(len(r.material.prony.g), r.ubasis.dx.shape) for r in body.regions
         ]
-        self._masks = [self._mask(pl, fb, self.x) for pl, fb in self.pressures]
+        self._masks = [self._mask(k, self.x) for k in range(len(self.pressures))]
         self.applied_masks = list(self._masks)
         self.contact_states = []
         for c, fb in self.contacts:
@@ -201,21 +200,27 @@ class Problem:
 
     # --- assembly ----------------------------------------------------------------------------
 
-    def _mask(self, load: FollowerPressure, fb, x: NDArray) -> NDArray | None:
-        """``load.where`` at the boundary's quadrature points in the configuration ``x``."""
+    def _mask(self, k: int, x: NDArray) -> NDArray | None:
+        """``where`` of pressure load ``k`` at its quadrature points in the configuration ``x``."""
+        load, ops = self.pressures[k][0], self._pressure_ops[k]
         if load.where is None:
             return None
-        uq = np.asarray(fb.interpolate(self.body.displacement(x)))
-        return np.asarray(load.where(np.asarray(fb.global_coordinates()) + uq), dtype=float)
+        current = ops.X + ops.interpolate(self.body.displacement(x))[0]
+        return np.asarray(load.where(current), dtype=float)
+
+    def _contact_eval(self, k: int, x: NDArray, t: float) -> ct.ContactEval:
+        """Contact ``k`` at its quadrature points for the state ``x`` at time ``t``."""
+        ops = self._contact_ops[k]
+        u_q = ops.interpolate(self.body.displacement(x))[0]
+        return ct.evaluate(self.contacts[k][0], ops.X, u_q, self.contact_states[k], t)
 
     def pressure_mask(self, k: int, x: NDArray | None = None) -> NDArray | None:
         """Mask of pressure load ``k`` for the step in progress: held from the step start if
         ``lagged``, else evaluated at ``x`` (default: the current state). After a step,
         ``applied_masks[k]`` is the mask that step was solved with."""
-        load, fb = self.pressures[k]
-        if load.lagged:
+        if self.pressures[k][0].lagged:
             return self._masks[k]
-        return self._mask(load, fb, self.x if x is None else x)
+        return self._mask(k, self.x if x is None else x)
 
     def region_kinematics(self, x: NDArray, k: int) -> tuple[Kinematics, NDArray]:
         """Kinematics and pressure [kPa] at the quadrature points of region ``k`` for ``x``."""
@@ -226,7 +231,7 @@ class Problem:
         pq = np.einsum("keq,ke->eq", ops.p_values, p[ops.p_dofs])
         return Kinematics.from_grad5(gu5), pq
 
-    def assemble(self, x: NDArray, t: float, dt: float, evals: list | None = None):
+    def assemble(self, x: NDArray, t: float, dt: float):
         """Residual ``r`` and tangent ``K`` at ``x`` for the step ending at ``t``."""
         body = self.body
         a = body.axisym
@@ -260,22 +265,18 @@ class Problem:
                 cols.append(Kpp.col + o)
                 vals.append(Kpp.data)
         u = body.displacement(x)
-        for k, (_load, fb) in enumerate(self.pressures):
-            pn = np.full(fb.dx.shape, self._load_value(k, t))
+        for k, ops in enumerate(self._pressure_ops):
+            pn = np.full(ops.dS.shape, self._load_value(k, t))
             mask = self.pressure_mask(k, x)
             if mask is not None:
                 pn = pn * mask
-            fe, Kp = self._facet_ops[id(fb)].pressure(u, pn, bool(a))
+            fe, Kp = ops.pressure(u, pn, bool(a))
             f_ext += fe
             blocks_uu.append(Kp)
-        for (c, fb), state in zip(self.contacts, self.contact_states, strict=False):
-            ops = self._facet_ops[id(fb)]
-            ev = ct.evaluate(c, fb, ops.X, ops.interpolate(u)[0], state, t)
-            fc, Kc = ops.contact(ev, bool(a))
+        for k, ops in enumerate(self._contact_ops):
+            fc, Kc = ops.contact(self._contact_eval(k, x, t), bool(a))
             f_ext += fc
             blocks_uu.append(Kc)
-            if evals is not None:
-                evals.append(ev)
         r[: body.n_u] -= f_ext
         Kuu = sum(blocks_uu[1:], blocks_uu[0]).tocoo()
         rows.append(Kuu.row)
@@ -295,14 +296,12 @@ class Problem:
 
     def unit_load(self, k: int, x: NDArray) -> NDArray:
         """External force vector of pressure load ``k`` at 1 kPa (mask included) at ``x``."""
-        fb = self.pressures[k][1]
-        pn = np.ones(fb.dx.shape)
+        ops = self._pressure_ops[k]
+        pn = np.ones(ops.dS.shape)
         mask = self.pressure_mask(k, x)
         if mask is not None:
             pn = pn * mask
-        return self._facet_ops[id(fb)].pressure(
-            self.body.displacement(x), pn, bool(self.body.axisym)
-        )[0]
+        return ops.pressure_force(self.body.displacement(x), pn, bool(self.body.axisym))
 
     def reaction(self, r: NDArray) -> float:
         """Net reaction [nN] on the controlled boundary component for the residual ``r``."""
@@ -421,14 +420,13 @@ class Problem:
                 res = response(kin, pq, region.material, self.histories[k], dt)
                 self.histories[k] = update_history(self.histories[k], region.material, res.S0, dt)
         u = self.body.displacement(x)
-        for k, ((c, fb), state) in enumerate(zip(self.contacts, self.contact_states, strict=False)):
-            uq = np.asarray(fb.interpolate(u))
-            ev = ct.evaluate(c, fb, np.asarray(fb.global_coordinates()), uq, state, t)
-            self.contact_states[k] = ct.ContactState(uq, ev.slip, t)
+        for k, ops in enumerate(self._contact_ops):
+            ev = self._contact_eval(k, x, t)
+            self.contact_states[k] = ct.ContactState(ops.interpolate(u)[0], ev.slip, t)
         self.applied_masks = [self.pressure_mask(k, x) for k in range(len(self.pressures))]
         self.x, self.t = x, t
         self.control_value = self._control_value
-        self._masks = [self._mask(pl, fb, x) for pl, fb in self.pressures]
+        self._masks = [self._mask(k, x) for k in range(len(self.pressures))]
 
     # --- outputs -----------------------------------------------------------------------------
 
@@ -444,11 +442,9 @@ class Problem:
 
     def frame(self) -> Frame:
         """The current state as an output frame."""
-        u = self.body.displacement(self.x)
         forces, pressures = {}, {}
-        for (c, fb), state in zip(self.contacts, self.contact_states, strict=False):
-            X = np.asarray(fb.global_coordinates())
-            ev = ct.evaluate(c, fb, X, np.asarray(fb.interpolate(u)), state, self.t)
+        for k, (c, fb) in enumerate(self.contacts):
+            ev = self._contact_eval(k, self.x, self.t)
             forces[c.name] = -ct.resultant(ev, fb, self.body.axisym)
             pressures[c.name] = ev.pressure
         return Frame(self.t, self.x.copy(), self.volume(self.x), forces, pressures)

@@ -122,7 +122,7 @@ def _wall_split(problem: Problem, t: float) -> tuple[float, float, NDArray, NDAr
     u = problem.body.displacement(problem.x)
     X = np.asarray(fb.global_coordinates())
     uq = np.asarray(fb.interpolate(u))
-    ev = ct.evaluate(c, fb, X, uq, state, t)
+    ev = ct.evaluate(c, X, uq, state, t)
     measure = 2.0 * np.pi * X[0] * fb.dx
     normal = -float(np.sum(ev.pressure * ev.normal[1] * measure))
     friction = -float(np.sum(ev.shear * ev.tangent[1] * measure))
