@@ -264,6 +264,27 @@ def test_reaction_control_finds_the_pressure_that_carries_the_friction(lagged: b
     assert abs(values[0][0]) < 0.01 * mu * abs(values[0][2])
 
 
+def test_reaction_control_holds_a_load_that_does_not_reach_the_body() -> None:
+    """An empty mask: the pressure stays at 0 and the prescribed top carries the friction."""
+    body = Body(rectangle(1.0, 0.5, 8, 4), {"solid": Material(1.0, 0.3)}, "plane_strain")
+    contact = Contact("bottom", flat_plate(0.0, -5.0, 5.0), penalty=1e3, friction=0.3)
+    none = FollowerPressure("left", lambda t: 0.0, where=lambda x: np.zeros(x.shape[1:]))
+    prob = Problem(
+        body,
+        [
+            Prescribed("top", 1, lambda t: -0.01 * min(t, 1.0)),
+            Prescribed("top", 0, lambda t: 0.05 * max(t - 1.0, 0.0)),
+        ],
+        [none],
+        [contact],
+        control=ReactionControl("pressure", "top", 0),
+    )
+    frames = prob.solve([1.0, 2.0, 3.0]).frames
+    T, N = frames[-1].obstacle_forces["contact"]
+    assert prob.control_value == 0.0
+    assert abs(abs(T / N) - 0.3) < 0.01  # sliding, pushed by the top
+
+
 @pytest.mark.parametrize("smooth", [False, True])
 def test_friction_tangent_matches_finite_differences(smooth: bool) -> None:
     """k_tt = -dq/du_t and k_tn = -dq/du_n (n into the body) at stuck, sliding and near-limit
