@@ -32,7 +32,7 @@ def plot_history(result: PassageResult, path: Path, reference_kPa: float) -> Pat
         ("suction_force_nN", "suction"),
         ("wall_normal_nN", "wall: normal"),
         ("wall_friction_nN", "wall: friction"),
-        ("push_force_nN", "rear cap (lag)"),
+        ("push_force_nN", "rear cap push"),
     ]:
         ax[2].plot(w, result.series(key), label=label)
     ax[2].set(xlabel="centroid advance (um)", ylabel="axial force (nN)", title="force balance")
