@@ -18,6 +18,11 @@ Damping readings (``link_damping``):
   on its second (n the unit vector from the second node to the first), in parallel with the
   spring.
 
+Optional area term (:mod:`nmsd.area`, off when ``area_kappa`` is 0): each cell (3 or 4
+corners, -1 pads) adds ``p dA/dx`` with ``p = kappa (A/A0 - 1)`` to the residual and
+``kappa/A0 dA/dx (x) dA/dx + p d2A/dx2`` to the tangent. A cell's corners lie in two
+neighbouring grid rows and are pairwise linked, so the band of the links holds them.
+
 Held DOFs get an identity row and a zero residual (they do not move). Units: um, nN, s.
 """
 
@@ -59,6 +64,9 @@ def assemble(
     offsets,
     mouth,
     kappa,
+    cells,
+    rest_area,
+    area_kappa,
     held_dof,
     band,
     res,
@@ -181,6 +189,50 @@ def assemble(
             _add_block(ab, band, n_dof, b, b, t00, t01, t10, t11)
             _add_block(ab, band, n_dof, a, b, -t00, -t01, -t10, -t11)
             _add_block(ab, band, n_dof, b, a, -t00, -t01, -t10, -t11)
+    if area_kappa > 0.0:
+        gx = np.empty(4)
+        gy = np.empty(4)
+        idx = np.empty(4, dtype=np.int64)
+        for c in range(cells.shape[0]):
+            m = 4 if cells[c, 3] >= 0 else 3
+            area = 0.0
+            for k in range(m):
+                i = cells[c, k]
+                j = cells[c, (k + 1) % m]
+                h = cells[c, (k + m - 1) % m]
+                idx[k] = i
+                area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
+                gx[k] = 0.5 * (x[j, 1] - x[h, 1])
+                gy[k] = 0.5 * (x[h, 0] - x[j, 0])
+            a0 = rest_area[c]
+            p = area_kappa * (area / a0 - 1.0)
+            for k in range(m):
+                res[2 * idx[k]] += p * gx[k]
+                res[2 * idx[k] + 1] += p * gy[k]
+            if with_tangent:
+                w = area_kappa / a0
+                for k in range(m):
+                    for q in range(m):
+                        # d2A/(dx_k dy_q) = (d_q,k+1 - d_q,k-1)/2; d2A/(dy_k dx_q) its mirror
+                        hxy = 0.0
+                        hyx = 0.0
+                        if q == (k + 1) % m:
+                            hxy += 0.5
+                            hyx -= 0.5
+                        if q == (k + m - 1) % m:
+                            hxy -= 0.5
+                            hyx += 0.5
+                        _add_block(
+                            ab,
+                            band,
+                            n_dof,
+                            idx[k],
+                            idx[q],
+                            w * gx[k] * gx[q],
+                            w * gx[k] * gy[q] + p * hxy,
+                            w * gy[k] * gx[q] + p * hyx,
+                            w * gy[k] * gy[q],
+                        )
     worst = 0.0
     for k in range(n_dof):
         if held_dof[k]:

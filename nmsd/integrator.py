@@ -36,7 +36,9 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
+from nmsd.area import area_kappa
 from nmsd.assembly import assemble
+from nmsd.errors import NmsdInputError
 from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
@@ -81,7 +83,27 @@ class BackwardEulerStepper:
         n = lattice.n_nodes
         self.n_dof = 2 * n
         a, b = lattice.edges[:, 0], lattice.edges[:, 1]
-        self.band = int(2 * np.abs(a - b).max() + 1)
+        spread = int(np.abs(a - b).max())
+        if params.area_stiffness > 0:
+            if lattice.cells is None or len(lattice.cells) == 0:
+                raise NmsdInputError(
+                    params.source,
+                    "area_stiffness",
+                    "0 for a lattice without cells",
+                    got=params.area_stiffness,
+                )
+            for row in lattice.cells:
+                spread = max(spread, int(np.ptp(row[row >= 0])))
+            self._cells = np.ascontiguousarray(lattice.cells, dtype=np.int64)
+            self._cell_area = np.ascontiguousarray(lattice.cell_rest_area)
+            self._area_kappa = area_kappa(
+                params.area_stiffness, params.k1, float(lattice.rest_length.min())
+            )
+        else:
+            self._cells = np.zeros((0, 4), dtype=np.int64)
+            self._cell_area = np.zeros(0)
+            self._area_kappa = 0.0
+        self.band = int(2 * spread + 1)
         held_dof = np.zeros((n, 2), dtype=bool)
         held_dof[np.asarray(held, dtype=bool)] = True
         self.held_dof = held_dof.ravel()
@@ -146,6 +168,9 @@ class BackwardEulerStepper:
             self._offsets,
             self.pipette.mouth(advance),
             self.pipette.contact_stiffness,
+            self._cells,
+            self._cell_area,
+            self._area_kappa,
             self.held_dof,
             self.band,
             self._res,

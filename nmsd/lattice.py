@@ -37,12 +37,15 @@ class Lattice:
 
     ``nodes``: (n, 2) reference positions, um. ``edges``: (m, 2) node indices of each link.
     ``rest_length``: (m,) rest lengths, um. ``radius``: radius of the circle the lattice fills.
+    ``cells``: optional (c, 4) node indices of the area cells of :mod:`nmsd.area` (grid
+    squares counter-clockwise; a triangle has -1 in the last column), or None.
     """
 
     nodes: np.ndarray
     edges: np.ndarray
     radius: float
     source: str = "lattice"
+    cells: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         nodes = np.asarray(self.nodes, dtype=float)
@@ -72,6 +75,28 @@ class Lattice:
             raise NmsdInputError(self.source, "edges", "one connected lattice", got=n_parts)
         object.__setattr__(self, "nodes", nodes)
         object.__setattr__(self, "edges", edges)
+        if self.cells is not None:
+            object.__setattr__(self, "cells", self._checked_cells(np.asarray(self.cells)))
+
+    def _checked_cells(self, cells: np.ndarray) -> np.ndarray:
+        n = len(self.nodes)
+        expected = "a (c, 4) integer array of counter-clockwise cells (-1 pads a triangle)"
+        if cells.ndim != 2 or cells.shape[1] != 4 or not np.issubdtype(cells.dtype, np.integer):
+            raise NmsdInputError(self.source, "cells", expected)
+        cells = cells.astype(np.int64)
+        first = cells[:, :3]
+        if first.min(initial=0) < 0 or cells.max(initial=0) >= n or cells[:, 3].min(initial=0) < -1:
+            raise NmsdInputError(self.source, "cells", f"corner indices < {n}; -1 only last")
+        for row in cells:
+            k = row[row >= 0]
+            if len(set(k.tolist())) != len(k):
+                raise NmsdInputError(self.source, "cells", "distinct corners", got=row.tolist())
+            x, y = self.nodes[k, 0], self.nodes[k, 1]
+            if 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) <= 0:
+                raise NmsdInputError(
+                    self.source, "cells", "counter-clockwise corners (positive area)", row.tolist()
+                )
+        return cells
 
     @property
     def n_nodes(self) -> int:
@@ -93,6 +118,15 @@ class Lattice:
         return self.degree < self.degree.max()
 
     @cached_property
+    def cell_rest_area(self) -> np.ndarray:
+        """Rest area of each cell, um^2 (empty without cells)."""
+        if self.cells is None:
+            return np.zeros(0)
+        from nmsd.area import cell_areas
+
+        return cell_areas(self.nodes, self.cells)
+
+    @cached_property
     def triangulation(self) -> Delaunay:
         """Delaunay triangles of the reference nodes, for interpolating inside a cell."""
         return Delaunay(self.nodes)
@@ -105,7 +139,9 @@ def circular_lattice(
 
     Nodes at ``((i + shift) h, j h)`` with ``h = diameter / spacings_across`` and
     ``x^2 + y^2 <= (diameter / 2)^2``, numbered row by row (small matrix bandwidth).
-    ``shift`` is in units of ``h`` along the pipette axis.
+    ``shift`` is in units of ``h`` along the pipette axis. Cells (for the optional area
+    term, :mod:`nmsd.area`): every grid square with all four corners inside, and the
+    triangle of the three corners inside where one is missing (all their sides are links).
     """
     if diameter_um <= 0 or spacings_across < 2:
         raise NmsdInputError(
@@ -126,4 +162,12 @@ def circular_lattice(
         b = index[max(0, dj) : 2 * m + 1 + min(0, dj), di:]
         linked = (a >= 0) & (b >= 0)
         pairs.append(np.column_stack([a[linked], b[linked]]))
-    return Lattice(nodes, np.vstack(pairs), radius, source="circular_lattice")
+    cells = []
+    for r in range(2 * m):
+        for c in range(2 * m):
+            ring = [index[r, c], index[r, c + 1], index[r + 1, c + 1], index[r + 1, c]]
+            present = [k for k in ring if k >= 0]
+            if len(present) >= 3:
+                cells.append(present + [-1] * (4 - len(present)))
+    cells_array = np.array(cells, dtype=np.int64).reshape(-1, 4)
+    return Lattice(nodes, np.vstack(pairs), radius, "circular_lattice", cells_array)

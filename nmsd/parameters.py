@@ -30,6 +30,9 @@ class NmsdParameters:
     d1: displacement-velocity damping per node (or per link), nN s/um^2.
     node_mass: mass of each node, nN s^2/um (= 1e-3 kg); 0 makes the model first order.
     damping: "nodal" (eq 6 as printed) or "link" (Voigt dashpots along the links).
+    area_stiffness: optional cell area term (not in seed 000), dimensionless: the cell
+        energy 1/2 kappa A0 (A/A0 - 1)^2 with kappa = area_stiffness k1 / h (nN/um, h the
+        lattice spacing); 0 (default) is the paper's model. See :mod:`nmsd.area`.
     """
 
     k1: float = 100.0
@@ -39,6 +42,7 @@ class NmsdParameters:
     d1: float = 0.1
     node_mass: float = 3.5e-9
     damping: str = "nodal"
+    area_stiffness: float = 0.0
     source: str = "NmsdParameters"
 
     def __post_init__(self) -> None:
@@ -48,7 +52,7 @@ class NmsdParameters:
                 continue
             if not isinstance(value, int | float) or not math.isfinite(value):
                 raise NmsdInputError(self.source, f.name, "a finite number", got=value)
-        for name in ("k1", "k2", "d0", "d1"):
+        for name in ("k1", "k2", "d0", "d1", "area_stiffness"):
             if getattr(self, name) < 0:
                 raise NmsdInputError(self.source, name, ">= 0", got=getattr(self, name))
         if self.dl_c <= 0:

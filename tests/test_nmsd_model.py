@@ -5,6 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from nmsd.area import (
+    area_energy,
+    area_force,
+    area_stiffness_for_poisson,
+    cell_areas,
+    poisson_ratio,
+)
 from nmsd.calibration import calibrate, fit_metrics, params_for
 from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.damping import link_damping, nodal_damping
@@ -293,3 +300,131 @@ def test_calibration_frees_dl_c_and_gap_within_bounds():
     )  # fmt: skip
     assert 0.0 <= cal.gap_um <= 20.0 and 0.05 <= cal.params.dl_c <= 2.0
     assert cal.force_nN.shape == data.force_nN.shape
+
+
+def _area_setup(area_stiffness=4.0, damping="link"):
+    lat = circular_lattice(40.0, 5)
+    setup = press_setup(lat, n_steps=2)
+    params = NmsdParameters(
+        k1=30.0, k2=2000.0, dl_c=0.1, d0=2.0, d1=0.7, damping=damping, area_stiffness=area_stiffness
+    )
+    return lat, setup, params
+
+
+def test_lattice_cells_tile_the_grid_and_fit_the_link_band():
+    lat = circular_lattice()
+    assert lat.cells.shape == (216, 4) and np.sum(lat.cells[:, 3] < 0) == 18
+    h = 115.625 / 17
+    full = lat.cells[:, 3] >= 0
+    assert lat.cell_rest_area[full] == pytest.approx(h * h)
+    assert lat.cell_rest_area[~full] == pytest.approx(h * h / 2)
+    # every pair of corners of a cell is a link: the tangent band of the links holds them
+    links = {frozenset(e) for e in lat.edges.tolist()}
+    for row in lat.cells:
+        k = row[row >= 0].tolist()
+        assert all(frozenset((a, b)) in links for a in k for b in k if a != b)
+
+
+def test_area_force_is_the_energy_gradient_and_its_tangent_is_exact():
+    lat, _, _ = _area_setup()
+    rng = np.random.default_rng(5)
+    x = lat.nodes + rng.normal(scale=0.8, size=lat.nodes.shape)
+    kappa = 7.0
+    grad, tangent = area_force(x, lat.cells, lat.cell_rest_area, kappa)
+    assert np.abs(grad).max() > 1.0  # the random field does change the areas
+
+    def energy(y):
+        return area_energy(y, lat.cells, lat.cell_rest_area, kappa)
+
+    def force(y):
+        return area_force(y, lat.cells, lat.cell_rest_area, kappa)[0]
+
+    h = 1e-6
+    for k in range(0, x.size, 5):
+        xp, xm = x.copy(), x.copy()
+        xp.flat[k] += h
+        xm.flat[k] -= h
+        e_fd = (energy(xp) - energy(xm)) / (2 * h)
+        assert grad.flat[k] == pytest.approx(e_fd, rel=1e-6, abs=1e-8)
+        g_fd = (force(xp) - force(xm)).ravel() / (2 * h)
+        assert tangent[:, k] == pytest.approx(g_fd, rel=1e-6, abs=1e-6 * np.abs(g_fd).max())
+    assert tangent == pytest.approx(tangent.T)
+
+
+def test_area_term_is_zero_for_rigid_motion():
+    lat, _, _ = _area_setup()
+    c, s = np.cos(0.7), np.sin(0.7)
+    x = lat.nodes @ np.array([[c, -s], [s, c]]).T + np.array([12.0, -5.0])
+    grad, _ = area_force(x, lat.cells, lat.cell_rest_area, 50.0)
+    assert area_energy(x, lat.cells, lat.cell_rest_area, 50.0) == pytest.approx(0.0, abs=1e-18)
+    assert np.abs(grad).max() < 1e-9
+    # a uniform dilation is resisted: the rim is pushed back inwards (positive gradient outwards)
+    grad, _ = area_force(1.1 * lat.nodes, lat.cells, lat.cell_rest_area, 50.0)
+    outward = np.sum(grad * lat.nodes, axis=1)
+    assert outward.min() > -1e-9 and outward[lat.rim].sum() > 0
+    assert grad.sum(axis=0) == pytest.approx([0.0, 0.0], abs=1e-9)  # internal forces
+
+
+@pytest.mark.parametrize("damping", ["nodal", "link"])
+def test_compiled_area_term_matches_the_reference_and_its_tangent(damping):
+    lat, setup, params = _area_setup(damping=damping)
+    off = BackwardEulerStepper(
+        lat, params.with_values(area_stiffness=0.0), setup.pipette, setup.held
+    )
+    on = BackwardEulerStepper(lat, params, setup.pipette, setup.held)
+    assert on.band == off.band
+    rng = np.random.default_rng(8)
+    free = ~on.held_dof.reshape(-1, 2)
+    x = lat.nodes + free * rng.normal(scale=0.8, size=lat.nodes.shape)
+    x_new = x + free * rng.normal(scale=0.4, size=x.shape)
+    v = rng.normal(size=x.shape)
+    r_on, ab_on, _, _ = on.residual(x_new, x, v, 3.0, 0.05)
+    r_on, k_on = r_on.copy(), _band_to_dense(ab_on, on.band)
+    r_off, ab_off, _, _ = off.residual(x_new, x, v, 3.0, 0.05)
+    r_off, k_off = r_off.copy(), _band_to_dense(ab_off, off.band)
+    kappa = 4.0 * 30.0 / lat.rest_length.min()  # area_stiffness k1 / h
+    grad, tangent = area_force(x_new, lat.cells, lat.cell_rest_area, kappa)
+    grad = grad.ravel()
+    free_dof = ~on.held_dof
+    assert np.abs(grad[free_dof]).max() > 1.0
+    assert (r_on - r_off)[free_dof] == pytest.approx(grad[free_dof], rel=1e-9, abs=1e-8)
+    assert (r_on - r_off)[~free_dof] == pytest.approx(0.0)
+    ff = np.ix_(free_dof, free_dof)
+    assert (k_on - k_off)[ff] == pytest.approx(tangent[ff], rel=1e-9, abs=1e-8)
+
+
+def test_area_stiffness_sets_the_lattice_poisson_ratio_and_is_checked():
+    assert area_stiffness_for_poisson(1 / (2 + np.sqrt(2))) == pytest.approx(0.0, abs=1e-12)
+    assert poisson_ratio(0.0) == pytest.approx(0.2929, abs=1e-4)
+    for nu in (0.4, 0.45, 0.49):
+        assert poisson_ratio(area_stiffness_for_poisson(nu)) == pytest.approx(nu)
+    with pytest.raises(NmsdInputError, match="nu"):
+        area_stiffness_for_poisson(0.5)
+    with pytest.raises(NmsdInputError, match="area_stiffness"):
+        NmsdParameters(area_stiffness=-1.0)
+    with pytest.raises(NmsdInputError, match="area_stiffness"):
+        NmsdParameters(area_stiffness=float("nan"))
+    bare = Lattice(circular_lattice(40.0, 5).nodes, circular_lattice(40.0, 5).edges, 20.0)
+    setup = press_setup(bare, n_steps=2)
+    with pytest.raises(NmsdInputError, match="area_stiffness"):
+        BackwardEulerStepper(bare, NmsdParameters(area_stiffness=1.0), setup.pipette, setup.held)
+    lat = circular_lattice(40.0, 5)
+    with pytest.raises(NmsdInputError, match="cells"):
+        Lattice(lat.nodes, lat.edges, 20.0, cells=lat.cells[:, ::-1])  # clockwise
+
+
+def test_area_term_pushes_the_lattice_aside_under_the_pipette():
+    # the press of a compressible lattice against a nearly area-preserving one: with the area
+    # term the material beside the pipette axis moves further sideways (|y| grows)
+    setup = press_setup(n_steps=10, travel_um=20.0)
+    base = NmsdParameters(k1=20.0, k2=2000.0, d0=5.0, d1=0.1, damping="link")
+    plain = setup.run(base, record_um=[20.0]).snapshots[20.0]
+    kept = setup.run(base.with_values(area_stiffness=10.0), record_um=[20.0]).snapshots[20.0]
+    nodes = setup.lattice.nodes
+    near = (np.abs(nodes[:, 1]) > 12.0) & (np.abs(nodes[:, 1]) < 30.0) & (nodes[:, 0] > 20.0)
+    aside_plain = np.sum((plain - nodes)[near, 1] * np.sign(nodes[near, 1]))
+    aside_kept = np.sum((kept - nodes)[near, 1] * np.sign(nodes[near, 1]))
+    assert aside_kept > aside_plain
+    areas = cell_areas(kept, setup.lattice.cells) / setup.lattice.cell_rest_area
+    areas_plain = cell_areas(plain, setup.lattice.cells) / setup.lattice.cell_rest_area
+    assert np.abs(areas - 1).max() < np.abs(areas_plain - 1).max()
