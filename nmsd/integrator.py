@@ -224,7 +224,8 @@ def explicit_time_step_limit(stepper: BackwardEulerStepper) -> float:
     """Stability limit dt < 2/omega_max of an explicit (central-difference) scheme, s.
 
     ``omega_max^2`` is the largest eigenvalue of ``K / m`` for the rest lattice with the
-    small-strain link stiffness ``k1 / l0`` (held nodes removed). Backward Euler has no such
+    small-strain link stiffness ``k1 / l0`` (held nodes removed; the optional area term of
+    :mod:`nmsd.area` is left out, it would shorten the limit). Backward Euler has no such
     limit; this figure shows how far beyond it the implicit step goes.
     """
     x = stepper.lattice.nodes.copy()

@@ -4,10 +4,12 @@ measures, and the quick case end to end."""
 from __future__ import annotations
 
 import json
+import logging
 import tomllib
 from pathlib import Path
 
 import numpy as np
+import pydantic
 import pytest
 import skfem
 
@@ -18,6 +20,8 @@ from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.material import Material
+from oocyte_fe.kinds.fe_nmsd_crosscheck import CrosscheckInputs, _nmsd_setup
+from oocyte_fe.runner.registry import CaseContext
 from oocyte_fe.runner.run import plan, run_cases
 
 CASES = Path(__file__).parents[1] / "cases"
@@ -115,3 +119,14 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_pa
         "displacement_arrows.png",
         "fe_section_end.png",
     }
+
+
+def test_nmsd_area_stiffness_reaches_the_lattice_and_is_checked(tmp_path: Path) -> None:
+    files = {"creep_data": CASE / "creep_zp.csv", "table2_data": CASE / "creep_zp.csv"}
+    with pytest.raises(pydantic.ValidationError, match="nmsd_area_stiffness"):
+        CrosscheckInputs(**files, nmsd_area_stiffness=-1.0)
+    assert CrosscheckInputs(**files).nmsd_area_stiffness == 0.0  # default: the paper's model
+    inputs = CrosscheckInputs(**files, nmsd_area_stiffness=3.79, nmsd_n_steps=4)
+    ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
+    setup, base = _nmsd_setup(ctx)
+    assert base.area_stiffness == 3.79 and setup.lattice.cells is not None

@@ -9,6 +9,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from nmsd.area import poisson_ratio
 from nmsd.calibration import calibrate
 from nmsd.displacement_field import press_displacements
 from nmsd.errors import NmsdDivergence
@@ -66,6 +67,12 @@ class CrosscheckInputs(BaseModel):
     nmsd_dl_c: float = Field(0.8, gt=0)
     nmsd_damping: Literal["nodal", "link"] = Field(
         "nodal", description="NMSD eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
+    )
+    nmsd_area_stiffness: float = Field(
+        0.0,
+        ge=0,
+        description="NMSD cell area term kappa h / k1 (dimensionless, nmsd.area); 0: the paper's "
+        "model. nmsd.area.area_stiffness_for_poisson(nu) gives the value for a Poisson ratio",
     )
     nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
     nmsd_n_steps: int = Field(50, ge=1, description="NMSD steps over the travel")
@@ -133,7 +140,7 @@ def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
 
 def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
     inp = ctx.inputs
-    return build_press(
+    setup, base = build_press(
         ctx,
         spacings_across=inp.nmsd_spacings_across,
         contact_stiffness_nN_per_um=inp.nmsd_contact_stiffness_nN_per_um,
@@ -141,6 +148,7 @@ def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
         dl_c=inp.nmsd_dl_c,
         damping=inp.nmsd_damping,
     )
+    return setup, base.with_values(area_stiffness=inp.nmsd_area_stiffness)
 
 
 @case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)
@@ -317,10 +325,15 @@ def _materials_text(materials, inp: CrosscheckInputs) -> str:
 
 def _params_text(cal, metrics) -> str:
     p = cal.params
+    area = (
+        f"area term {p.area_stiffness:g} k1/h (small-strain plane-strain Poisson ratio "
+        f"{poisson_ratio(p.area_stiffness):.3f}); "
+    )
     return (
         f"k1 = {p.k1:.4g} nN, k2 = {p.k2:.4g} nN, dl_c = {p.dl_c:g}, d0 = {p.d0:.4g} nN s/um, "
-        f"d1 = {p.d1:.4g} nN s/um^2; RMSE {metrics.rmse_nN * UN:.3f} uN, R^2 {metrics.r2:.4f}, "
-        f"S {metrics.similarity:.5f}; {cal.evaluations} presses in {cal.seconds:.1f} s."
+        f"d1 = {p.d1:.4g} nN s/um^2; {area}RMSE {metrics.rmse_nN * UN:.3f} uN, "
+        f"R^2 {metrics.r2:.4f}, S {metrics.similarity:.5f}; {cal.evaluations} presses in "
+        f"{cal.seconds:.1f} s."
     )
 
 
