@@ -97,6 +97,23 @@ def test_rigid_translation_converges() -> None:
     assert result.steps[-1].iterations <= 2
 
 
+def test_predictor_that_would_invert_an_element_falls_back_to_the_last_state() -> None:
+    """A wild extrapolation (an increment 100x too large) costs no cutback: the step restarts
+    from the last converged state."""
+    body = Body(rectangle(1, 1, 4, 4), {"solid": Material(1.0, 0.3)}, "plane_strain")
+    prob = Problem(
+        body,
+        [Prescribed("left", 0), Prescribed("left", 1), Prescribed("right", 0, lambda t: -0.1 * t)],
+    )
+    prob.solve([1.0])
+    prob._increment = (100.0 * prob._increment[0], prob._increment[1])  # folds the mesh
+    result = prob.solve([2.0])
+    assert result.cutbacks == 0
+    u = body.vertex_displacement(result.frames[-1].x)
+    right = np.isclose(body.mesh.p[0], 1.0)
+    assert np.allclose(u[0, right], -0.2)
+
+
 def test_frictionless_plate_contact_force_balances_pressure() -> None:
     """A plate pressed by a uniform pressure: the contact force equals p times the area."""
     body = Body(rectangle(2.0, 1.0, 4, 2), {"solid": Material(1.0, 0.3)}, "plane_strain")

@@ -325,7 +325,8 @@ class Problem:
 
     def _newton(self, t: float, dt: float, settings: NewtonSettings) -> tuple[NDArray, list[float]]:
         x = self.x.copy()
-        if settings.predictor and self._increment is not None:
+        predicted = settings.predictor and self._increment is not None
+        if predicted:
             x += (dt / self._increment[1]) * self._increment[0]
         D = self.fixed_dofs
         free = np.setdiff1d(np.arange(self.body.n_dofs), D)
@@ -344,7 +345,13 @@ class Problem:
 
         history: list[float] = []
         self._control_value = self.control_value
-        r, K, res, ru, rp = evaluate(x)
+        try:
+            r, K, res, ru, rp = evaluate(x)
+        except _StepFailed:  # the extrapolation inverted an element: start from the last state
+            if not predicted:
+                raise
+            x = self.x.copy()
+            r, K, res, ru, rp = evaluate(x)
         for it in range(settings.max_iterations + 1):
             history.append(res)
             self.log.info(
