@@ -18,6 +18,9 @@ Damping readings (``link_damping``):
   on its second (n the unit vector from the second node to the first), in parallel with the
   spring.
 
+Optional ZP ring (:mod:`nmsd.zona`): ``link_factor[e]`` scales the spring force and its slope
+of link e (k1 and k2 together; 1 everywhere is the paper's lattice, bit for bit).
+
 Optional area term (:mod:`nmsd.area`, off when ``area_kappa`` is 0): each cell (3 or 4
 corners, -1 pads) adds ``p dA/dx`` with ``p = kappa (A/A0 - 1)`` to the residual and
 ``kappa/A0 dA/dx (x) dA/dx + p d2A/dx2`` to the tangent. A cell's corners lie in two
@@ -52,6 +55,7 @@ def assemble(
     nodes,
     edges,
     rest_length,
+    link_factor,
     k1,
     k2,
     dl_c,
@@ -154,6 +158,8 @@ def assemble(
         else:
             f = np.sign(strain) * (a_lin + b_lin * (abs(strain) - dl_c))
             df = b_lin
+        f *= link_factor[e]
+        df *= link_factor[e]
         g = f / length
         t = df / l0 - g
         t00 = t * nx * nx + g

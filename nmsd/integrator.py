@@ -43,6 +43,7 @@ from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
 from nmsd.spring import link_force
+from nmsd.zona import zona_link_factor
 
 
 @dataclass(frozen=True)
@@ -111,6 +112,7 @@ class BackwardEulerStepper:
         self._normals, self._offsets = pipette.faces()
         self._edges = np.ascontiguousarray(lattice.edges, dtype=np.int64)
         self._rest = np.ascontiguousarray(lattice.rest_length)
+        self.link_factor = np.ascontiguousarray(zona_link_factor(lattice, params))
         self._res = np.zeros(self.n_dof)
         self._ab = np.zeros((3 * self.band + 1, self.n_dof), order="F")
         self._contact = np.zeros((n, 2))
@@ -118,13 +120,18 @@ class BackwardEulerStepper:
         self.factorizations = 0
 
     def internal_force(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Link spring forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um."""
+        """Link spring forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um.
+
+        The numpy reference of the compiled springs: :func:`nmsd.spring.link_force` times the
+        ZP ring factor of each link (:mod:`nmsd.zona`).
+        """
         lat, p = self.lattice, self.params
         d = x[lat.edges[:, 0]] - x[lat.edges[:, 1]]
         length = np.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2)
         n = d / length[:, None]
         l0 = lat.rest_length
         f, df = link_force(length / l0 - 1.0, p.k1, p.k2, p.dl_c)
+        f, df = f * self.link_factor, df * self.link_factor
         force = np.zeros_like(x)
         np.add.at(force, lat.edges[:, 0], f[:, None] * n)
         np.add.at(force, lat.edges[:, 1], -f[:, None] * n)
@@ -156,6 +163,7 @@ class BackwardEulerStepper:
             self.lattice.nodes,
             self._edges,
             self._rest,
+            self.link_factor,
             p.k1,
             p.k2,
             p.dl_c,

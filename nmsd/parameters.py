@@ -33,6 +33,11 @@ class NmsdParameters:
     area_stiffness: optional cell area term (not in seed 000), dimensionless: the cell
         energy 1/2 kappa A0 (A/A0 - 1)^2 with kappa = area_stiffness k1 / h (nN/um, h the
         lattice spacing); 0 (default) is the paper's model. See :mod:`nmsd.area`.
+    zona_stiffness_ratio: optional ZP ring (not in the lattice of seed 000), dimensionless
+        > 0: k1 and k2 of the links whose midpoint lies beyond ``zona_inner_radius_um`` are
+        multiplied by it (E_zp / E_cyto); 1 (default) is the paper's uniform lattice.
+    zona_inner_radius_um: inner radius of the ZP ring, um (used when the ratio is not 1;
+        checked against the lattice in :func:`nmsd.zona.zona_link_factor`).
     """
 
     k1: float = 100.0
@@ -43,6 +48,8 @@ class NmsdParameters:
     node_mass: float = 3.5e-9
     damping: str = "nodal"
     area_stiffness: float = 0.0
+    zona_stiffness_ratio: float = 1.0
+    zona_inner_radius_um: float = 0.0
     source: str = "NmsdParameters"
 
     def __post_init__(self) -> None:
@@ -52,9 +59,13 @@ class NmsdParameters:
                 continue
             if not isinstance(value, int | float) or not math.isfinite(value):
                 raise NmsdInputError(self.source, f.name, "a finite number", got=value)
-        for name in ("k1", "k2", "d0", "d1", "area_stiffness"):
+        for name in ("k1", "k2", "d0", "d1", "area_stiffness", "zona_inner_radius_um"):
             if getattr(self, name) < 0:
                 raise NmsdInputError(self.source, name, ">= 0", got=getattr(self, name))
+        if self.zona_stiffness_ratio <= 0:
+            raise NmsdInputError(
+                self.source, "zona_stiffness_ratio", "a ratio > 0", got=self.zona_stiffness_ratio
+            )
         if self.dl_c <= 0:
             raise NmsdInputError(self.source, "dl_c", "a critical strain > 0", got=self.dl_c)
         if self.node_mass < 0:

@@ -428,3 +428,87 @@ def test_area_term_pushes_the_lattice_aside_under_the_pipette():
     areas = cell_areas(kept, setup.lattice.cells) / setup.lattice.cell_rest_area
     areas_plain = cell_areas(plain, setup.lattice.cells) / setup.lattice.cell_rest_area
     assert np.abs(areas - 1).max() < np.abs(areas_plain - 1).max()
+
+
+def _zona_setup(ratio=4.52, radius=14.0, damping="link"):
+    lat = circular_lattice(40.0, 5)
+    setup = press_setup(lat, n_steps=2)
+    params = NmsdParameters(
+        k1=30.0,
+        k2=2000.0,
+        dl_c=0.1,
+        d0=2.0,
+        d1=0.7,
+        damping=damping,
+        zona_stiffness_ratio=ratio,
+        zona_inner_radius_um=radius,
+    )
+    return lat, setup, params
+
+
+@pytest.mark.parametrize("damping", ["nodal", "link"])
+def test_zona_ring_scales_the_ring_links_in_compiled_and_reference_and_tangent_is_exact(damping):
+    lat, setup, params = _zona_setup(damping=damping)
+    ring = BackwardEulerStepper(lat, params, setup.pipette, setup.held)
+    plain = BackwardEulerStepper(
+        lat, params.with_values(zona_stiffness_ratio=1.0), setup.pipette, setup.held
+    )
+    mid = 0.5 * (lat.nodes[lat.edges[:, 0]] + lat.nodes[lat.edges[:, 1]])
+    outside = np.hypot(mid[:, 0], mid[:, 1]) > 14.0
+    assert 0 < outside.sum() < len(outside)
+    assert ring.link_factor == pytest.approx(np.where(outside, 4.52, 1.0))
+    assert np.all(plain.link_factor == 1.0)
+    rng = np.random.default_rng(11)
+    free = ~ring.held_dof.reshape(-1, 2)
+    x = lat.nodes + free * rng.normal(scale=0.8, size=lat.nodes.shape)
+    x_new = x + free * rng.normal(scale=0.4, size=x.shape)
+    v = rng.normal(size=x.shape)
+    # numpy reference: the spring law of each link, times 4.52 on the ring links only
+    d = x_new[lat.edges[:, 0]] - x_new[lat.edges[:, 1]]
+    length = np.hypot(d[:, 0], d[:, 1])
+    f, _ = link_force(length / lat.rest_length - 1.0, 30.0, 2000.0, 0.1)
+    extra = np.zeros_like(x_new)
+    np.add.at(extra, lat.edges[:, 0], (3.52 * f * outside)[:, None] * d / length[:, None])
+    np.add.at(extra, lat.edges[:, 1], -(3.52 * f * outside)[:, None] * d / length[:, None])
+    assert np.abs(extra).max() > 1.0
+    diff_ref = ring.internal_force(x_new)[0] - plain.internal_force(x_new)[0]
+    assert diff_ref == pytest.approx(extra, rel=1e-10, abs=1e-9)
+    r_ring, ab, _, _ = ring.residual(x_new, x, v, 3.0, 0.05)
+    r_ring, dense = r_ring.copy(), _band_to_dense(ab, ring.band)
+    r_plain = plain.residual(x_new, x, v, 3.0, 0.05)[0].copy()
+    free_dof = ~ring.held_dof
+    assert (r_ring - r_plain)[free_dof] == pytest.approx(
+        extra.ravel()[free_dof], rel=1e-10, abs=1e-8
+    )
+    h = 1e-6
+    for k in np.flatnonzero(free_dof)[::3]:
+        xp, xm = x_new.copy(), x_new.copy()
+        xp.flat[k] += h
+        xm.flat[k] -= h
+        rp = ring.residual(xp, x, v, 3.0, 0.05, with_tangent=False)[0].copy()
+        rm = ring.residual(xm, x, v, 3.0, 0.05, with_tangent=False)[0].copy()
+        fd = (rp - rm) / (2 * h)
+        assert dense[:, k] == pytest.approx(fd, rel=1e-5, abs=1e-5 * np.abs(fd).max())
+
+
+def test_zona_ratio_one_is_the_uniform_press_bit_for_bit_and_a_stiff_ring_pushes_back():
+    setup = press_setup(n_steps=8, travel_um=16.0)
+    base = NmsdParameters(k1=20.0, k2=2000.0, d0=5.0, d1=0.1, damping="link")
+    plain = setup.run(base, record_um=[16.0])
+    same = setup.run(base.with_values(zona_inner_radius_um=41.8), record_um=[16.0])
+    assert np.array_equal(plain.force_nN, same.force_nN)
+    assert np.array_equal(plain.positions, same.positions)
+    stiff = setup.run(base.with_values(zona_stiffness_ratio=4.52, zona_inner_radius_um=41.8))
+    assert stiff.force_nN[-1] > plain.force_nN[-1]
+
+
+def test_zona_ring_inputs_are_checked():
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(NmsdInputError, match="zona_stiffness_ratio"):
+            NmsdParameters(zona_stiffness_ratio=bad)
+    with pytest.raises(NmsdInputError, match="zona_inner_radius_um"):
+        NmsdParameters(zona_inner_radius_um=-1.0)
+    for radius in (0.0, 20.0, 25.0):  # the 40 um lattice has radius 20 um
+        lat, setup, params = _zona_setup(radius=radius)
+        with pytest.raises(NmsdInputError, match="zona_inner_radius_um"):
+            BackwardEulerStepper(lat, params, setup.pipette, setup.held)
