@@ -13,6 +13,7 @@ import pydantic
 import pytest
 import skfem
 
+from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
 from oocyte_fe.crosscheck.fe_press import FeSettings, held_mesh, point_probes
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
@@ -130,3 +131,23 @@ def test_nmsd_area_stiffness_reaches_the_lattice_and_is_checked(tmp_path: Path) 
     ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
     setup, base = _nmsd_setup(ctx)
     assert base.area_stiffness == 3.79 and setup.lattice.cells is not None
+
+
+def test_nmsd_zona_ring_reaches_the_lattice_at_the_cytoplasm_radius(tmp_path: Path) -> None:
+    files = {"creep_data": CASE / "creep_zp.csv", "table2_data": CASE / "creep_zp.csv"}
+    with pytest.raises(pydantic.ValidationError, match="nmsd_zona_stiffness_ratio"):
+        CrosscheckInputs(**files, nmsd_zona_stiffness_ratio=0.0)
+    assert CrosscheckInputs(**files).nmsd_zona_stiffness_ratio == 1.0  # the paper's lattice
+    inputs = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio=4.52, nmsd_n_steps=4)
+    ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
+    setup, base = _nmsd_setup(ctx)
+    assert base.zona_stiffness_ratio == 4.52
+    assert base.zona_inner_radius_um == pytest.approx(83.597 / 2)
+    factor = zona_link_factor(setup.lattice, base)
+    assert 0 < np.sum(factor == 4.52) < len(factor)
+    wide = CrosscheckInputs(
+        **files, nmsd_zona_stiffness_ratio=4.52, cytoplasm_diameter_um=200.0, nmsd_n_steps=4
+    )
+    ctx = CaseContext("x", CASE, tmp_path, wide, True, logging.getLogger("test"))
+    with pytest.raises(InputError, match="zona_inner_radius_um"):
+        _nmsd_setup(ctx)

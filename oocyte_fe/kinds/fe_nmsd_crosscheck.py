@@ -12,10 +12,11 @@ from pydantic import BaseModel, ConfigDict, Field
 from nmsd.area import poisson_ratio
 from nmsd.calibration import calibrate
 from nmsd.displacement_field import press_displacements
-from nmsd.errors import NmsdDivergence
+from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.parameters import NmsdParameters
 from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement, read_force_displacement
+from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import (
     displacement_agreement,
     force_agreement,
@@ -25,6 +26,7 @@ from oocyte_fe.crosscheck.fe_press import FeSettings, pipette_at, run_fe_press
 from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_overlay
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import afm_layer_materials
+from oocyte_fe.errors import InputError
 from oocyte_fe.io import write_history_csv
 from oocyte_fe.kinds.nmsd_cases import build_press
 from oocyte_fe.plotting import plot_section
@@ -73,6 +75,12 @@ class CrosscheckInputs(BaseModel):
         ge=0,
         description="NMSD cell area term kappa h / k1 (dimensionless, nmsd.area); 0: the paper's "
         "model. nmsd.area.area_stiffness_for_poisson(nu) gives the value for a Poisson ratio",
+    )
+    nmsd_zona_stiffness_ratio: float = Field(
+        1.0,
+        gt=0,
+        description="NMSD ZP ring: k1, k2 of the links beyond cytoplasm_diameter_um / 2 times "
+        "this (E_zp / E_cyto, nmsd.zona); 1: the paper's uniform lattice",
     )
     nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
     nmsd_n_steps: int = Field(50, ge=1, description="NMSD steps over the travel")
@@ -148,7 +156,18 @@ def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
         dl_c=inp.nmsd_dl_c,
         damping=inp.nmsd_damping,
     )
-    return setup, base.with_values(area_stiffness=inp.nmsd_area_stiffness)
+    params = base.with_values(
+        area_stiffness=inp.nmsd_area_stiffness,
+        zona_stiffness_ratio=inp.nmsd_zona_stiffness_ratio,
+        zona_inner_radius_um=0.5 * inp.cytoplasm_diameter_um,
+    )
+    try:
+        zona_link_factor(setup.lattice, params)
+    except NmsdInputError as exc:
+        raise InputError(
+            ctx.case_dir / "case.toml", "inputs (cytoplasm_diameter_um)", str(exc)
+        ) from None
+    return setup, params
 
 
 @case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)
@@ -327,7 +346,8 @@ def _params_text(cal, metrics) -> str:
     p = cal.params
     area = (
         f"area term {p.area_stiffness:g} k1/h (small-strain plane-strain Poisson ratio "
-        f"{poisson_ratio(p.area_stiffness):.3f}); "
+        f"{poisson_ratio(p.area_stiffness):.3f}); ZP ring k1, k2 x {p.zona_stiffness_ratio:g}"
+        f" beyond r = {p.zona_inner_radius_um:.2f} um; "
     )
     return (
         f"k1 = {p.k1:.4g} nN, k2 = {p.k2:.4g} nN, dl_c = {p.dl_c:g}, d0 = {p.d0:.4g} nN s/um, "
