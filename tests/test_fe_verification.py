@@ -228,26 +228,32 @@ def test_friction_stick_and_slip(smooth: bool) -> None:
     assert abs(ratios[-1] / mu - 1) < 0.01 and slips[-1] > 0.5
 
 
-@pytest.mark.parametrize("lagged", [False, True])
-def test_reaction_control_finds_the_pressure_that_carries_the_friction(lagged: bool) -> None:
-    """A block pressed onto a plate (mu = 0.3) and slid by its top; the pressure on its left face
-    is the unknown that leaves the top no net horizontal force: sliding, p h = mu N."""
-    mu = 0.3
+def _block_slid_on_plate(side: FollowerPressure, mu: float) -> tuple[Body, Problem]:
+    """A block pressed onto a plate by its top, then slid by it; ``side`` on its left face is the
+    load of a ReactionControl that leaves the top no net horizontal force."""
     body = Body(rectangle(1.0, 0.5, 8, 4), {"solid": Material(1.0, 0.3)}, "plane_strain")
     contact = Contact("bottom", flat_plate(0.0, -5.0, 5.0), penalty=1e3, friction=mu)
-    push = FollowerPressure(
-        "left", lambda t: 0.0, where=lambda x: np.ones(x.shape[1:]), name="push", lagged=lagged
-    )
     prob = Problem(
         body,
         [
             Prescribed("top", 1, lambda t: -0.01 * min(t, 1.0)),
             Prescribed("top", 0, lambda t: 0.05 * max(t - 1.0, 0.0)),
         ],
-        [push],
+        [side],
         [contact],
-        control=ReactionControl("push", "top", 0),
+        control=ReactionControl(side.name, "top", 0),
     )
+    return body, prob
+
+
+@pytest.mark.parametrize("lagged", [False, True])
+def test_reaction_control_finds_the_pressure_that_carries_the_friction(lagged: bool) -> None:
+    """Sliding, the unknown side pressure carries the friction: p h = mu N."""
+    mu = 0.3
+    push = FollowerPressure(
+        "left", lambda t: 0.0, where=lambda x: np.ones(x.shape[1:]), name="push", lagged=lagged
+    )
+    body, prob = _block_slid_on_plate(push, mu)
     left = np.unique(body.mesh.facets[:, body.mesh.boundaries["left"]])
     values = []
 
@@ -266,19 +272,8 @@ def test_reaction_control_finds_the_pressure_that_carries_the_friction(lagged: b
 
 def test_reaction_control_holds_a_load_that_does_not_reach_the_body() -> None:
     """An empty mask: the pressure stays at 0 and the prescribed top carries the friction."""
-    body = Body(rectangle(1.0, 0.5, 8, 4), {"solid": Material(1.0, 0.3)}, "plane_strain")
-    contact = Contact("bottom", flat_plate(0.0, -5.0, 5.0), penalty=1e3, friction=0.3)
     none = FollowerPressure("left", lambda t: 0.0, where=lambda x: np.zeros(x.shape[1:]))
-    prob = Problem(
-        body,
-        [
-            Prescribed("top", 1, lambda t: -0.01 * min(t, 1.0)),
-            Prescribed("top", 0, lambda t: 0.05 * max(t - 1.0, 0.0)),
-        ],
-        [none],
-        [contact],
-        control=ReactionControl("pressure", "top", 0),
-    )
+    _, prob = _block_slid_on_plate(none, 0.3)
     frames = prob.solve([1.0, 2.0, 3.0]).frames
     T, N = frames[-1].obstacle_forces["contact"]
     assert prob.control_value == 0.0
