@@ -19,6 +19,7 @@ from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import Lattice, circular_lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
+from nmsd.symmetry import Mirror, mirror_of
 
 MAX_HALVINGS = 6
 
@@ -48,7 +49,9 @@ class PressResult:
 class PressSetup:
     """Everything but the constants: lattice, pipette (touching at zero advance), held nodes.
 
-    Build it with :func:`press_setup`; ``run(params)`` simulates one press.
+    ``mirror``: follow the mirror-symmetric branch (:mod:`nmsd.symmetry`); None lets the
+    lattice buckle sideways from round-off. Build it with :func:`press_setup`;
+    ``run(params)`` simulates one press.
     """
 
     lattice: Lattice
@@ -57,6 +60,7 @@ class PressSetup:
     speed_um_s: float = 30.0
     travel_um: float = 65.0
     n_steps: int = 65
+    mirror: Mirror | None = None
 
     def run(self, params: NmsdParameters, record_um: Sequence[float] = (), **kw) -> PressResult:
         """Simulate the press with ``params``; ``kw`` overrides speed, travel or n_steps."""
@@ -67,7 +71,13 @@ class PressSetup:
             **kw,
         }
         return simulate_press(
-            self.lattice, params, self.pipette, self.held, record_um=record_um, **options
+            self.lattice,
+            params,
+            self.pipette,
+            self.held,
+            record_um=record_um,
+            mirror=self.mirror,
+            **options,
         )
 
     def with_gap(self, gap_um: float) -> PressSetup:
@@ -89,23 +99,25 @@ def press_setup(
     travel_um: float = 65.0,
     n_steps: int = 65,
     gap_um: float = 0.0,
+    symmetric: bool = True,
 ) -> PressSetup:
     """The press of Table II: pipette on the x axis from 3 o'clock, far side held.
 
     The mouth starts ``gap_um`` before touching the outermost node on its axis (a travel
     with no lattice contact, e.g. across the zona pellucida, which the lattice omits).
+    ``symmetric``: follow the mirror-symmetric branch (:mod:`nmsd.symmetry`; the lattice,
+    pipette and holder must be symmetric about the pipette axis).
     """
     if gap_um < 0:
         raise NmsdInputError("press_setup", "gap_um", ">= 0 (a pipette starting outside)", gap_um)
     lattice = circular_lattice() if lattice is None else lattice
     far = (2.0 * lattice.radius, 0.0)
-    touching = touching_start(
-        lattice, Pipette(width_um, tip_angle_deg, far, (-1.0, 0.0), contact_stiffness)
-    )
-    start = (touching.start[0] + gap_um, touching.start[1])
-    pipette = Pipette(width_um, tip_angle_deg, start, (-1.0, 0.0), contact_stiffness)
+    probe = Pipette(width_um, tip_angle_deg, far, (-1.0, 0.0), contact_stiffness)
+    touching = touching_start(lattice, probe)
+    pipette = replace(touching, start=(touching.start[0] + gap_um, touching.start[1]))
     held = held_far_side(lattice, pipette, hold_half_width_um)
-    return PressSetup(lattice, pipette, held, speed_um_s, travel_um, n_steps)
+    mirror = mirror_of(lattice, pipette, held) if symmetric else None
+    return PressSetup(lattice, pipette, held, speed_um_s, travel_um, n_steps, mirror)
 
 
 def held_far_side(lattice: Lattice, pipette: Pipette, hold_half_width_um: float) -> np.ndarray:
@@ -131,15 +143,7 @@ def touching_start(lattice: Lattice, pipette: Pipette) -> Pipette:
     if not in_strip.any():
         raise NmsdInputError(pipette.source, "start", "a pipette axis that meets the lattice")
     shift = float(np.min(rel[in_strip] @ a))
-    start = tuple(np.asarray(pipette.start) + shift * a)
-    return Pipette(
-        pipette.width_um,
-        pipette.tip_angle_deg,
-        start,
-        pipette.direction,
-        pipette.contact_stiffness,
-        pipette.source,
-    )
+    return replace(pipette, start=tuple(np.asarray(pipette.start) + shift * a))
 
 
 def simulate_press(
@@ -152,11 +156,13 @@ def simulate_press(
     n_steps: int = 65,
     record_um: Sequence[float] = (),
     initial_positions: np.ndarray | None = None,
+    mirror: Mirror | None = None,
 ) -> PressResult:
     """Drive the pipette ``travel_um`` at ``speed_um_s`` in ``n_steps`` backward-Euler steps.
 
     The step ends include every advance in ``record_um``; a step whose Newton iterations fail
-    is halved up to 6 times before :class:`NmsdDivergence` is raised.
+    is halved up to 6 times before :class:`NmsdDivergence` is raised. With ``mirror`` every
+    converged step is projected onto the symmetric motions (:mod:`nmsd.symmetry`).
     """
     if speed_um_s <= 0 or travel_um <= 0 or n_steps < 1:
         raise NmsdInputError("simulate_press", "speed/travel/n_steps", "positive values")
@@ -173,7 +179,7 @@ def simulate_press(
     snapshots = {0.0: x.copy()} if 0.0 in record_um else {}
     iterations = 0
     for k in range(1, len(grid)):
-        x, v, f_contact, its = _advance(stepper, x, v, grid[k - 1], grid[k], speed_um_s, k)
+        x, v, f_contact, its = _advance(stepper, x, v, grid[k - 1], grid[k], speed_um_s, k, mirror)
         iterations += its
         force[k] = float(f_contact.sum(axis=0) @ np.asarray(pipette.direction))
         if grid[k] in record:
@@ -189,17 +195,21 @@ def _advance(
     s1: float,
     speed: float,
     step: int,
+    mirror: Mirror | None = None,
     depth: int = 0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """One step from advance s0 to s1, split in halves when Newton fails."""
     dt = (s1 - s0) / speed
     try:
         res = stepper.step(x, v, s1, dt)
-        return res.positions, res.velocities, res.contact_force, res.iterations
+        x, v = (res.positions, res.velocities)
+        if mirror is not None:
+            x, v = mirror.project(x, v)
+        return x, v, res.contact_force, res.iterations
     except NewtonFailure as exc:
         if depth >= MAX_HALVINGS:
             raise NmsdDivergence(step, s1 / speed, str(exc), dt / 2) from None
     mid = 0.5 * (s0 + s1)
-    x, v, _, n1 = _advance(stepper, x, v, s0, mid, speed, step, depth + 1)
-    x, v, f, n2 = _advance(stepper, x, v, mid, s1, speed, step, depth + 1)
+    x, v, _, n1 = _advance(stepper, x, v, s0, mid, speed, step, mirror, depth + 1)
+    x, v, f, n2 = _advance(stepper, x, v, mid, s1, speed, step, mirror, depth + 1)
     return x, v, f, n1 + n2

@@ -12,7 +12,7 @@ pipette's half-width are held.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -84,7 +84,7 @@ def predict_spindle_offset(
     probe = Pipette(width_um, tip_angle_deg, tuple(puncture), tuple(direction), contact_stiffness)
     back = clear_back_off(lattice, probe)
     start = puncture - back * np.asarray(probe.direction)
-    pipette = Pipette(width_um, tip_angle_deg, tuple(start), probe.direction, contact_stiffness)
+    pipette = replace(probe, start=tuple(start))
     held = held_far_side(lattice, pipette, hold_half_width_um)
     travel = back + distance
     n_steps = max(1, int(np.ceil(travel / step_um)))

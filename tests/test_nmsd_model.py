@@ -263,9 +263,9 @@ def test_link_damping_reading_is_selectable_and_checked():
 
 
 def test_press_force_converges_in_the_time_step():
-    # backward Euler is first order and the contact path is step-sensitive: 40 steps are not
-    # converged (~10 % off, docs/nmsd.md); 800 against 1600 steps over 40 um (the time steps
-    # of 1300 and 2600 steps over 65 um) agree within 1 %
+    # backward Euler is first order and contact events are sharp: on the symmetric branch 40
+    # steps are 1.5-3 % off (docs/nmsd.md); 800 against 1600 steps over 40 um (the time
+    # steps of 1300 and 2600 steps over 65 um) agree within 1 %
     setup = press_setup(travel_um=40.0)
     params = NmsdParameters(k1=3.0, k2=8000.0, dl_c=0.8, d0=14.6, d1=0.55)
     advances = [10.0, 20.0, 30.0, 40.0]
