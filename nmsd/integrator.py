@@ -43,6 +43,7 @@ from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
 from nmsd.spring import link_force
+from nmsd.symmetry import Mirror, fold, reduction_of
 from nmsd.zona import zona_link_factor
 
 
@@ -73,6 +74,7 @@ class BackwardEulerStepper:
         max_iterations: int = 30,
         refresh_rate: float = 0.2,
         chord_um: float = 1e-2,
+        mirror: Mirror | None = None,
     ) -> None:
         self.lattice = lattice
         self.params = params
@@ -118,6 +120,13 @@ class BackwardEulerStepper:
         self._contact = np.zeros((n, 2))
         self._lu: tuple[np.ndarray, np.ndarray] | None = None
         self.factorizations = 0
+        # symmetric branch: Newton on the half lattice (nmsd.symmetry)
+        self.reduction = (
+            None if mirror is None else reduction_of(mirror, self._edges, held, self._cells)
+        )
+        if self.reduction is not None:
+            self._res_h = np.zeros(self.reduction.n_dof)
+            self._ab_h = np.zeros((3 * self.reduction.band + 1, self.reduction.n_dof), order="F")
 
     def internal_force(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Link spring forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um.
@@ -188,8 +197,41 @@ class BackwardEulerStepper:
         )
         return self._res, self._ab, self._contact, worst
 
+    def _system(
+        self,
+        x_new: np.ndarray,
+        x: np.ndarray,
+        v: np.ndarray,
+        advance: float,
+        dt: float,
+        refresh: bool,
+    ) -> np.ndarray:
+        """Residual of the system Newton solves (full, or kept rows of the half lattice); with
+        ``refresh`` its band tangent is filled too (``_ab`` or ``_ab_h``)."""
+        res, ab = self.residual(x_new, x, v, advance, dt, with_tangent=refresh)[:2]
+        red = self.reduction
+        if red is None:
+            return res
+        fold(
+            ab,
+            self.band,
+            res,
+            red.node_map,
+            red.kept_row,
+            red.mirrored,
+            red.fixed,
+            self._ab_h,
+            red.band,
+            self._res_h,
+            refresh,
+        )
+        return self._res_h
+
     def _factor(self) -> None:
-        lu, piv, info = dgbtrf(self._ab, self.band, self.band, overwrite_ab=1)
+        ab, band = (
+            (self._ab, self.band) if self.reduction is None else (self._ab_h, self.reduction.band)
+        )
+        lu, piv, info = dgbtrf(ab, band, band, overwrite_ab=1)
         if info != 0:
             self._lu = None
             raise NewtonFailure("singular tangent")
@@ -200,22 +242,26 @@ class BackwardEulerStepper:
         """Advance one step of length dt (s) to the pipette advance ``advance`` (um)."""
         x_new = x + dt * v
         x_new[self._held_nodes] = x[self._held_nodes]
+        band = self.band if self.reduction is None else self.reduction.band
         refresh = True  # a fresh tangent at the predictor (a stale one strays in contact)
         fresh = False
         previous = np.inf
         for iteration in range(1, self.max_iterations + 1):
-            res = self.residual(x_new, x, v, advance, dt, with_tangent=refresh)[0]
+            res = self._system(x_new, x, v, advance, dt, refresh)
             if refresh:
                 self._factor()
                 fresh, refresh = True, False
             lu, piv = self._lu
-            dx, info = dgbtrs(lu, self.band, self.band, -res, piv)
+            dx, info = dgbtrs(lu, band, band, -res, piv)
             if info != 0 or not np.all(np.isfinite(dx)):
                 if fresh:
                     raise NewtonFailure("non-finite Newton update")
                 refresh = True
                 continue
-            x_new += dx.reshape(-1, 2)
+            if self.reduction is None:
+                x_new += dx.reshape(-1, 2)
+            else:
+                self.reduction.expand(x_new, dx)
             size = float(np.max(np.abs(dx)))
             if size < self.xtol:
                 f_contact = self.residual(x_new, x, v, advance, dt, with_tangent=False)[2]

@@ -160,9 +160,10 @@ def simulate_press(
 ) -> PressResult:
     """Drive the pipette ``travel_um`` at ``speed_um_s`` in ``n_steps`` backward-Euler steps.
 
-    The step ends include every advance in ``record_um``; a step whose Newton iterations fail
-    is halved up to 6 times before :class:`NmsdDivergence` is raised. With ``mirror`` every
-    converged step is projected onto the symmetric motions (:mod:`nmsd.symmetry`).
+    The step ends include every advance in ``record_um``; a step whose Newton iterations
+    fail is halved up to 6 times before :class:`NmsdDivergence` is raised.
+    With ``mirror`` the press follows the symmetric branch, solved on the half lattice
+    (:mod:`nmsd.symmetry`).
     """
     if speed_um_s <= 0 or travel_um <= 0 or n_steps < 1:
         raise NmsdInputError("simulate_press", "speed/travel/n_steps", "positive values")
@@ -173,13 +174,13 @@ def simulate_press(
         )
     record = sorted({float(r) for r in record_um if 0 < r <= travel_um})
     grid = np.union1d(np.linspace(0.0, travel_um, n_steps + 1), record)
-    stepper = BackwardEulerStepper(lattice, params, pipette, held)
+    stepper = BackwardEulerStepper(lattice, params, pipette, held, mirror=mirror)
     v = np.zeros_like(x)
     force = np.zeros(len(grid))
     snapshots = {0.0: x.copy()} if 0.0 in record_um else {}
     iterations = 0
     for k in range(1, len(grid)):
-        x, v, f_contact, its = _advance(stepper, x, v, grid[k - 1], grid[k], speed_um_s, k, mirror)
+        x, v, f_contact, its = _advance(stepper, x, v, grid[k - 1], grid[k], speed_um_s, k)
         iterations += its
         force[k] = float(f_contact.sum(axis=0) @ np.asarray(pipette.direction))
         if grid[k] in record:
@@ -195,21 +196,17 @@ def _advance(
     s1: float,
     speed: float,
     step: int,
-    mirror: Mirror | None = None,
     depth: int = 0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """One step from advance s0 to s1, split in halves when Newton fails."""
     dt = (s1 - s0) / speed
     try:
         res = stepper.step(x, v, s1, dt)
-        x, v = (res.positions, res.velocities)
-        if mirror is not None:
-            x, v = mirror.project(x, v)
-        return x, v, res.contact_force, res.iterations
+        return res.positions, res.velocities, res.contact_force, res.iterations
     except NewtonFailure as exc:
         if depth >= MAX_HALVINGS:
             raise NmsdDivergence(step, s1 / speed, str(exc), dt / 2) from None
     mid = 0.5 * (s0 + s1)
-    x, v, _, n1 = _advance(stepper, x, v, s0, mid, speed, step, mirror, depth + 1)
-    x, v, f, n2 = _advance(stepper, x, v, mid, s1, speed, step, mirror, depth + 1)
+    x, v, _, n1 = _advance(stepper, x, v, s0, mid, speed, step, depth + 1)
+    x, v, f, n2 = _advance(stepper, x, v, mid, s1, speed, step, depth + 1)
     return x, v, f, n1 + n2

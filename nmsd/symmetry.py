@@ -7,13 +7,15 @@ compressed between the pipette and the holder buckles sideways off it: an antisy
 mode grows from round-off (1e-13 um to 4 um within 10 um of advance, docs/nmsd.md,
 "Sideways buckling"), so which way and when it buckles is set by round-off and by the time
 step, and the press force then varies by ~10 %. Following the symmetric branch makes the
-press deterministic: after every converged step the state is projected onto the symmetric
-motions,
+press deterministic.
 
-    x <- (x + S x[mirror]) / 2,    v <- (v + S v[mirror]) / 2,
-
-``mirror[i]`` the node at the reflection of node i. For a state that is symmetric up to
-round-off this moves nothing but the round-off.
+Half-lattice solve. On the symmetric branch the unknowns are the nodes on one side of the
+axis (and on it): with ``P`` the map from those to all nodes (``x_k = S x_pairs[k]`` for the
+mirrored nodes, S the reflection), Newton solves ``(K P)_kept dx_h = -R_kept`` on the kept
+rows only (R is mirror-equivariant, so the other rows are their reflections). The axis nodes
+move along the axis (their across-axis DOF is fixed). :func:`fold` turns the full band
+tangent into the kept system; its bandwidth is the full one and it has about half the rows,
+so a band LU costs about half. :class:`Reduction` holds the maps.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from nmsd.errors import NmsdInputError
 from nmsd.lattice import Lattice
@@ -40,11 +43,6 @@ class Mirror:
         a = self.direction
         along = vectors @ a
         return 2.0 * along[:, None] * a - vectors
-
-    def project(self, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Positions and velocities (n, 2) projected onto the symmetric motions."""
-        xs = self.point + self.reflect(x[self.pairs] - self.point)
-        return 0.5 * (x + xs), 0.5 * (v + self.reflect(v[self.pairs]))
 
 
 def mirror_of(lattice: Lattice, pipette: Pipette, held: np.ndarray, tol_um: float = 1e-6) -> Mirror:
@@ -68,3 +66,108 @@ def mirror_of(lattice: Lattice, pipette: Pipette, held: np.ndarray, tol_um: floa
             "set symmetric = false",
         )
     return Mirror(point, a, pairs)
+
+
+@dataclass(frozen=True)
+class Reduction:
+    """Maps of the half-lattice system of a press along the x axis (see module docstring).
+
+    ``node_map[k]``: reduced index of node k's representative (itself if kept, else its
+    mirror image); ``kept_row[k]``: reduced index of node k if kept, else -1; ``mirrored[k]``:
+    node k is the image of a kept node; ``fixed``: reduced DOFs held (holder, and the
+    across-axis DOF of axis nodes); ``band``: half bandwidth (DOFs) of the kept system.
+    """
+
+    mirror: Mirror
+    node_map: np.ndarray
+    kept_row: np.ndarray
+    mirrored: np.ndarray
+    fixed: np.ndarray
+    band: int
+
+    @property
+    def n_dof(self) -> int:
+        """Number of DOFs of the kept system."""
+        return len(self.fixed)
+
+    def expand(self, x: np.ndarray, dx: np.ndarray) -> None:
+        """Add the kept update ``dx`` (2 n_kept,) to ``x`` (n, 2) in place and mirror it."""
+        _expand(x, dx, self.kept_row, self.mirror.pairs, float(self.mirror.point[1]))
+
+
+@njit(cache=True)
+def _expand(x, dx, kept_row, pairs, y_axis):
+    """x[kept] += dx; every other node is the image of its pair across y = y_axis."""
+    for k in range(x.shape[0]):
+        r = kept_row[k]
+        if r >= 0:
+            x[k, 0] += dx[2 * r]
+            x[k, 1] += dx[2 * r + 1]
+    for k in range(x.shape[0]):
+        if kept_row[k] < 0:
+            x[k, 0] = x[pairs[k], 0]
+            x[k, 1] = 2.0 * y_axis - x[pairs[k], 1]
+
+
+def reduction_of(
+    mirror: Mirror, edges: np.ndarray, held: np.ndarray, cells: np.ndarray | None = None
+) -> Reduction:
+    """The half-lattice system of ``mirror`` (pipette axis along x): kept nodes are those on
+    the axis and, of each mirror pair, the one with the smaller index. ``cells`` (optional,
+    -1 padded) widen the band like links do."""
+    if abs(mirror.direction[1]) > 1e-12:
+        raise NmsdInputError(
+            "symmetric press", "direction", "a pipette axis along x for the half-lattice solve"
+        )
+    n = len(mirror.pairs)
+    index = np.arange(n)
+    kept = mirror.pairs >= index
+    kept_row = np.full(n, -1, dtype=np.int64)
+    kept_row[kept] = np.arange(int(kept.sum()))
+    mirrored = ~kept
+    node_map = np.where(kept, kept_row, kept_row[mirror.pairs])
+    fixed = np.zeros((int(kept.sum()), 2), dtype=bool)
+    fixed[kept_row[kept & np.asarray(held, dtype=bool)]] = True
+    fixed[kept_row[kept & (mirror.pairs == index)], 1] = True  # on the axis: along it only
+    spread = int(np.abs(node_map[edges[:, 0]] - node_map[edges[:, 1]]).max())
+    for row in [] if cells is None else cells:
+        spread = max(spread, int(np.ptp(node_map[row[row >= 0]])))
+    return Reduction(mirror, node_map, kept_row, mirrored, fixed.ravel(), int(2 * spread + 1))
+
+
+@njit(cache=True)
+def fold(ab, band, res, node_map, kept_row, mirrored, fixed, ab_h, band_h, res_h, with_tangent):
+    """Kept-row residual ``res_h`` and, if ``with_tangent``, the tangent ``(K P)_kept`` in
+    band storage ``ab_h`` (LAPACK gbtrf layout) from the full ones (reflection y -> -y)."""
+    n_dof = res.shape[0]
+    for k in range(n_dof // 2):
+        r = kept_row[k]
+        if r >= 0:
+            res_h[2 * r] = res[2 * k]
+            res_h[2 * r + 1] = res[2 * k + 1]
+    n_h = res_h.shape[0]
+    for q in range(n_h):
+        if fixed[q]:
+            res_h[q] = 0.0
+    if not with_tangent:
+        return
+    ab_h[:, :] = 0.0
+    for i in range(n_dof):
+        r = kept_row[i // 2]
+        if r < 0:
+            continue  # a mirrored row: the reflection of a kept one
+        row = 2 * r + i % 2
+        for j in range(max(0, i - band), min(n_dof, i + band + 1)):
+            value = ab[2 * band + i - j, j]
+            if value != 0.0:
+                k = j // 2
+                c = j % 2
+                col = 2 * node_map[k] + c
+                if mirrored[k] and c == 1:
+                    value = -value
+                ab_h[2 * band_h + row - col, col] += value
+    for q in range(n_h):
+        if fixed[q]:
+            for j in range(max(0, q - band_h), min(n_h, q + band_h + 1)):
+                ab_h[2 * band_h + q - j, j] = 0.0
+            ab_h[2 * band_h, q] = 1.0

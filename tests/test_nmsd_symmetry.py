@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from nmsd.errors import NmsdInputError
+from nmsd.integrator import BackwardEulerStepper
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
 from nmsd.symmetry import mirror_of
@@ -40,21 +41,67 @@ def _asymmetry(setup, positions: np.ndarray) -> float:
     return float(np.abs(image - positions).max())
 
 
-def test_mirror_pairs_the_lattice_and_projection_keeps_symmetric_states():
+def _band_to_dense(ab: np.ndarray, band: int) -> np.ndarray:
+    n = ab.shape[1]
+    dense = np.zeros((n, n))
+    for j in range(n):
+        for i in range(max(0, j - band), min(n, j + band + 1)):
+            dense[i, j] = ab[2 * band + i - j, j]
+    return dense
+
+
+def test_mirror_pairs_the_lattice_and_the_half_lattice_tangent_is_exact():
     setup = press_setup()
     mirror = setup.mirror
     assert mirror is not None
     pairs = mirror.pairs
     assert np.array_equal(pairs[pairs], np.arange(len(pairs)))  # an involution
-    x = setup.lattice.nodes
-    assert np.allclose(x[pairs], x * [1.0, -1.0], atol=1e-9)  # axis y = 0
-    rng = np.random.default_rng(1)
-    u = rng.normal(size=x.shape)
-    xs, vs = mirror.project(x + u, u)
-    assert _asymmetry(setup, xs) < 1e-12
-    # projecting twice changes nothing; a symmetric state is left as it is
-    assert np.allclose(mirror.project(xs, vs)[0], xs, atol=1e-12)
-    assert np.allclose(mirror.project(x, 0 * x)[0], x, atol=1e-12)
+    x0 = setup.lattice.nodes
+    assert np.allclose(x0[pairs], x0 * [1.0, -1.0], atol=1e-9)  # axis y = 0
+    params = NmsdParameters(k1=30.0, k2=2000.0, dl_c=0.1, d0=2.0, d1=0.7)
+    stepper = BackwardEulerStepper(setup.lattice, params, setup.pipette, setup.held, mirror=mirror)
+    red = stepper.reduction
+    assert red.n_dof < 0.56 * stepper.n_dof and red.band <= stepper.band
+    # a symmetric state: a random kept displacement, mirrored; a few nodes in contact
+    rng = np.random.default_rng(3)
+    x = x0.copy()
+    red.expand(x, np.where(red.fixed, 0.0, rng.normal(scale=0.5, size=red.n_dof)))
+    assert _asymmetry(setup, x) < 1e-12
+    x_new = x.copy()
+    red.expand(x_new, np.where(red.fixed, 0.0, rng.normal(scale=0.3, size=red.n_dof)))
+    v = (x_new - x) / 0.05
+    advance, dt = 3.0, 0.05
+    res = stepper._system(x_new, x, v, advance, dt, True).copy()
+    dense = _band_to_dense(stepper._ab_h, red.band)
+    assert (stepper._contact != 0).any()
+    # kept rows of the full residual; the mirrored rows are their reflections
+    full = stepper.residual(x_new, x, v, advance, dt, with_tangent=False)[0].reshape(-1, 2)
+    kept = red.kept_row >= 0
+    expected = full[kept].ravel()
+    expected[red.fixed] = 0.0
+    assert res == pytest.approx(expected, rel=1e-12, abs=1e-9)
+    image = full[pairs] * [1.0, -1.0]
+    assert np.allclose(image, full, atol=1e-8 * np.abs(full).max())
+    # the folded tangent against central differences of the kept residual
+    h = 1e-6
+    for q in np.flatnonzero(~red.fixed)[::5]:
+        dq = np.zeros(red.n_dof)
+        dq[q] = h
+        xp, xm = x_new.copy(), x_new.copy()
+        red.expand(xp, dq)
+        red.expand(xm, -dq)
+        rp = stepper._system(xp, x, v, advance, dt, False).copy()
+        rm = stepper._system(xm, x, v, advance, dt, False).copy()
+        fd = (rp - rm) / (2 * h)
+        assert dense[:, q] == pytest.approx(fd, rel=1e-5, abs=1e-5 * np.abs(fd).max())
+
+
+def test_half_lattice_press_equals_the_full_press_before_it_buckles():
+    record = [5.0, 10.0, 15.0]
+    half = press_setup(n_steps=30, travel_um=15.0).run(SOFT, record_um=record)
+    full = press_setup(n_steps=30, travel_um=15.0, symmetric=False).run(SOFT, record_um=record)
+    assert np.abs(half.positions - full.positions).max() < 1e-7
+    assert half.force_at(record) == pytest.approx(full.force_at(record), rel=1e-8)
 
 
 def test_free_press_buckles_sideways_and_the_symmetric_branch_converges_in_dt():
