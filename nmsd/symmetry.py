@@ -13,9 +13,9 @@ Half-lattice solve. On the symmetric branch the unknowns are the nodes on one si
 axis (and on it): with ``P`` the map from those to all nodes (``x_k = S x_pairs[k]`` for the
 mirrored nodes, S the reflection), Newton solves ``(K P)_kept dx_h = -R_kept`` on the kept
 rows only (R is mirror-equivariant, so the other rows are their reflections). The axis nodes
-move along the axis (their across-axis DOF is fixed). :func:`fold` turns the full band
-tangent into the kept system; its bandwidth is the full one and it has about half the rows,
-so a band LU costs about half. :class:`Reduction` holds the maps.
+move along the axis (their across-axis DOF is fixed). :class:`Reduction` holds the maps;
+:func:`nmsd.assembly.assemble` fills the kept system's band tangent directly (its bandwidth
+is the full one and it has about half the rows, so a band LU costs about half).
 """
 
 from __future__ import annotations
@@ -86,6 +86,11 @@ class Reduction:
     band: int
 
     @property
+    def system(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(row_of, col_of, flip_y)`` of :func:`nmsd.assembly.assemble`."""
+        return self.kept_row, self.node_map, self.mirrored
+
+    @property
     def n_dof(self) -> int:
         """Number of DOFs of the kept system."""
         return len(self.fixed)
@@ -133,41 +138,3 @@ def reduction_of(
     for row in [] if cells is None else cells:
         spread = max(spread, int(np.ptp(node_map[row[row >= 0]])))
     return Reduction(mirror, node_map, kept_row, mirrored, fixed.ravel(), int(2 * spread + 1))
-
-
-@njit(cache=True)
-def fold(ab, band, res, node_map, kept_row, mirrored, fixed, ab_h, band_h, res_h, with_tangent):
-    """Kept-row residual ``res_h`` and, if ``with_tangent``, the tangent ``(K P)_kept`` in
-    band storage ``ab_h`` (LAPACK gbtrf layout) from the full ones (reflection y -> -y)."""
-    n_dof = res.shape[0]
-    for k in range(n_dof // 2):
-        r = kept_row[k]
-        if r >= 0:
-            res_h[2 * r] = res[2 * k]
-            res_h[2 * r + 1] = res[2 * k + 1]
-    n_h = res_h.shape[0]
-    for q in range(n_h):
-        if fixed[q]:
-            res_h[q] = 0.0
-    if not with_tangent:
-        return
-    ab_h[:, :] = 0.0
-    for i in range(n_dof):
-        r = kept_row[i // 2]
-        if r < 0:
-            continue  # a mirrored row: the reflection of a kept one
-        row = 2 * r + i % 2
-        for j in range(max(0, i - band), min(n_dof, i + band + 1)):
-            value = ab[2 * band + i - j, j]
-            if value != 0.0:
-                k = j // 2
-                c = j % 2
-                col = 2 * node_map[k] + c
-                if mirrored[k] and c == 1:
-                    value = -value
-                ab_h[2 * band_h + row - col, col] += value
-    for q in range(n_h):
-        if fixed[q]:
-            for j in range(max(0, q - band_h), min(n_h, q + band_h + 1)):
-                ab_h[2 * band_h + q - j, j] = 0.0
-            ab_h[2 * band_h, q] = 1.0

@@ -72,7 +72,7 @@ def test_mirror_pairs_the_lattice_and_the_half_lattice_tangent_is_exact():
     v = (x_new - x) / 0.05
     advance, dt = 3.0, 0.05
     res = stepper._system(x_new, x, v, advance, dt, True).copy()
-    dense = _band_to_dense(stepper._ab_h, red.band)
+    dense = _band_to_dense(stepper._ab, red.band)
     assert (stepper._contact != 0).any()
     # kept rows of the full residual; the mirrored rows are their reflections
     full = stepper.residual(x_new, x, v, advance, dt, with_tangent=False)[0].reshape(-1, 2)
