@@ -26,12 +26,7 @@ corners, -1 pads) adds ``p dA/dx`` with ``p = kappa (A/A0 - 1)`` to the residual
 ``kappa/A0 dA/dx (x) dA/dx + p d2A/dx2`` to the tangent. A cell's corners lie in two
 neighbouring grid rows and are pairwise linked, so the band of the links holds them.
 
-The tangent is filled straight into the system Newton solves: the full lattice, or the
-half lattice of the symmetric press (:mod:`nmsd.symmetry`: kept rows only, a mirrored node's
-columns added to its image's with the reflection's sign), through the maps ``system =
-(row_of, col_of, flip_y)``. ``res`` is always the full residual; ``res_sys`` the system's.
-Held DOFs (and ``fixed`` system DOFs) get an identity row and a zero residual (they do not
-move). Units: um, nN, s.
+Held DOFs get an identity row and a zero residual (they do not move). Units: um, nN, s.
 """
 
 from __future__ import annotations
@@ -40,23 +35,11 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, inline="always")
-def _add_block(ab, band, system, i, j, b00, b01, b10, b11):
-    """Add the 2x2 block (node i rows, node j columns) into the system's band storage.
-
-    ``system = (row_of, col_of, flip_y)``: system row block of node i (-1: not a system row),
-    system column block of node j, and whether node j is a mirror image (its y column
-    enters with the sign of the reflection y -> -y, :mod:`nmsd.symmetry`). The full system
-    has the identity maps.
-    """
-    row_of, col_of, flip_y = system
-    if row_of[i] < 0:
-        return
-    if flip_y[j]:
-        b01 = -b01
-        b11 = -b11
-    r = 2 * row_of[i]
-    c = 2 * col_of[j]
+@njit(cache=True)
+def _add_block(ab, band, n_dof, i, j, b00, b01, b10, b11):
+    """Add the 2x2 block (node i rows, node j columns) into band storage."""
+    r = 2 * i
+    c = 2 * j
     base = 2 * band
     ab[base + r - c, c] += b00
     ab[base + r - c - 1, c + 1] += b01
@@ -89,30 +72,25 @@ def assemble(
     rest_area,
     area_kappa,
     held_dof,
-    row_of,
-    col_of,
-    flip_y,
-    fixed,
     band,
     res,
-    res_sys,
     ab,
     contact,
     with_tangent,
 ):
-    """Fill ``res`` (2n,), ``res_sys``, ``contact`` (n, 2) and, if ``with_tangent``, ``ab``
-    (the system's band tangent) in place.
+    """Fill ``res`` (2n,), ``contact`` (n, 2) and, if ``with_tangent``, ``ab`` in place.
 
-    Returns the largest absolute system residual over the free DOFs (nN).
+    Returns the largest absolute residual over the free DOFs (nN).
     """
     n = nodes.shape[0]
     n_dof = 2 * n
-    system = (row_of, col_of, flip_y)
     inv_dt = 1.0 / dt
     res[:] = 0.0
     contact[:, :] = 0.0
     if with_tangent:
-        ab[:, :] = 0.0
+        for j in range(ab.shape[1]):  # column by column: ab is Fortran-ordered (a slice
+            for k in range(ab.shape[0]):  # assignment is ~20x slower here)
+                ab[k, j] = 0.0
     diag0 = mass * inv_dt * inv_dt
     for i in range(n):
         vx = (x[i, 0] - x_old[i, 0]) * inv_dt
@@ -163,7 +141,7 @@ def assemble(
         res[2 * i] += rx
         res[2 * i + 1] += ry
         if with_tangent:
-            _add_block(ab, band, system, i, i, b00, b01, b10, b11)
+            _add_block(ab, band, n_dof, i, i, b00, b01, b10, b11)
     a_lin = k1 * dl_c + k2 * dl_c**3
     b_lin = k1 + 3.0 * k2 * dl_c**2
     for e in range(edges.shape[0]):
@@ -215,10 +193,10 @@ def assemble(
         res[2 * b] -= ftot * nx
         res[2 * b + 1] -= ftot * ny
         if with_tangent:
-            _add_block(ab, band, system, a, a, t00, t01, t10, t11)
-            _add_block(ab, band, system, b, b, t00, t01, t10, t11)
-            _add_block(ab, band, system, a, b, -t00, -t01, -t10, -t11)
-            _add_block(ab, band, system, b, a, -t00, -t01, -t10, -t11)
+            _add_block(ab, band, n_dof, a, a, t00, t01, t10, t11)
+            _add_block(ab, band, n_dof, b, b, t00, t01, t10, t11)
+            _add_block(ab, band, n_dof, a, b, -t00, -t01, -t10, -t11)
+            _add_block(ab, band, n_dof, b, a, -t00, -t01, -t10, -t11)
     if area_kappa > 0.0:
         gx = np.empty(4)
         gy = np.empty(4)
@@ -255,7 +233,7 @@ def assemble(
                         _add_block(
                             ab,
                             band,
-                            system,
+                            n_dof,
                             idx[k],
                             idx[q],
                             w * gx[k] * gx[q],
@@ -263,22 +241,14 @@ def assemble(
                             w * gy[k] * gx[q] + p * hyx,
                             w * gy[k] * gy[q],
                         )
+    worst = 0.0
     for k in range(n_dof):
         if held_dof[k]:
             res[k] = 0.0
-    for i in range(n):
-        if row_of[i] >= 0:
-            res_sys[2 * row_of[i]] = res[2 * i]
-            res_sys[2 * row_of[i] + 1] = res[2 * i + 1]
-    worst = 0.0
-    n_sys = res_sys.shape[0]
-    for q in range(n_sys):
-        if fixed[q]:
-            res_sys[q] = 0.0
             if with_tangent:
-                for j in range(max(0, q - band), min(n_sys, q + band + 1)):
-                    ab[2 * band + q - j, j] = 0.0
-                ab[2 * band, q] = 1.0
-        elif abs(res_sys[q]) > worst:
-            worst = abs(res_sys[q])
+                for j in range(max(0, k - band), min(n_dof, k + band + 1)):
+                    ab[2 * band + k - j, j] = 0.0
+                ab[2 * band, k] = 1.0
+        elif abs(res[k]) > worst:
+            worst = abs(res[k])
     return worst

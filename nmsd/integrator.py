@@ -43,7 +43,7 @@ from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
 from nmsd.spring import link_force
-from nmsd.symmetry import Mirror, reduction_of
+from nmsd.symmetry import Mirror, fold, fold_map, reduction_of
 from nmsd.zona import zona_link_factor
 
 
@@ -116,24 +116,21 @@ class BackwardEulerStepper:
         self._rest = np.ascontiguousarray(lattice.rest_length)
         self.link_factor = np.ascontiguousarray(zona_link_factor(lattice, params))
         self._res = np.zeros(self.n_dof)
+        self._ab = np.zeros((3 * self.band + 1, self.n_dof), order="F")
         self._contact = np.zeros((n, 2))
         self._lu: tuple[np.ndarray, np.ndarray] | None = None
         self.factorizations = 0
-        # the system Newton solves: the full lattice, or the half lattice of the symmetric
-        # branch (nmsd.symmetry)
+        # symmetric branch: Newton on the half lattice (nmsd.symmetry)
         self.reduction = (
-            None if mirror is None else reduction_of(mirror, self._edges, held, self._cells)
+            None
+            if mirror is None
+            else reduction_of(mirror, lattice.nodes, self._edges, held, self._cells)
         )
-        if self.reduction is None:
-            every = np.arange(n, dtype=np.int64)
-            self._system_maps = (every, every, np.zeros(n, dtype=bool))
-            self._fixed, self.system_band = self.held_dof, self.band
-        else:
-            self._system_maps = self.reduction.system
-            self._fixed, self.system_band = self.reduction.fixed, self.reduction.band
-        n_sys = len(self._fixed)
-        self._res_sys = np.zeros(n_sys)
-        self._ab = np.zeros((3 * self.system_band + 1, n_sys), order="F")
+        if self.reduction is not None:
+            cells = self._cells if self._area_kappa > 0 else None
+            self._scatter = fold_map(self.reduction, n, self._edges, self.band, cells)
+            self._res_h = np.zeros(self.reduction.n_dof)
+            self._ab_h = np.zeros((3 * self.reduction.band + 1, self.reduction.n_dof), order="F")
 
     def internal_force(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Link spring forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um.
@@ -167,9 +164,7 @@ class BackwardEulerStepper:
         dt: float,
         with_tangent: bool = True,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-        """Residual (2n,) nN, band-stored tangent of the system Newton solves (the full
-        lattice, or the half lattice of a symmetric press), contact forces (n, 2) nN, and the
-        largest system residual (nN).
+        """Residual (2n,) nN, band-stored tangent, contact forces (n, 2) nN, max |R| (nN).
 
         The returned arrays are the stepper's work buffers (overwritten by the next call).
         """
@@ -198,11 +193,8 @@ class BackwardEulerStepper:
             self._cell_area,
             self._area_kappa,
             self.held_dof,
-            *self._system_maps,
-            self._fixed,
-            self.system_band,
+            self.band,
             self._res,
-            self._res_sys,
             self._ab,
             self._contact,
             with_tangent,
@@ -218,14 +210,30 @@ class BackwardEulerStepper:
         dt: float,
         refresh: bool,
     ) -> np.ndarray:
-        """Residual of the system Newton solves (full, or kept rows of the half lattice);
-        with ``refresh`` its band tangent is filled too."""
-        self.residual(x_new, x, v, advance, dt, with_tangent=refresh)
-        return self._res_sys
+        """Residual of the system Newton solves (full, or kept rows of the half lattice); with
+        ``refresh`` its band tangent is filled too (``_ab`` or ``_ab_h``)."""
+        res, ab = self.residual(x_new, x, v, advance, dt, with_tangent=refresh)[:2]
+        red = self.reduction
+        if red is None:
+            return res
+        fold(
+            ab,
+            res,
+            red.kept_row,
+            red.fixed,
+            *self._scatter,
+            self._ab_h,
+            red.band,
+            self._res_h,
+            refresh,
+        )
+        return self._res_h
 
     def _factor(self) -> None:
-        band = self.system_band
-        lu, piv, info = dgbtrf(self._ab, band, band, overwrite_ab=1)
+        ab, band = (
+            (self._ab, self.band) if self.reduction is None else (self._ab_h, self.reduction.band)
+        )
+        lu, piv, info = dgbtrf(ab, band, band, overwrite_ab=1)
         if info != 0:
             self._lu = None
             raise NewtonFailure("singular tangent")
@@ -236,7 +244,7 @@ class BackwardEulerStepper:
         """Advance one step of length dt (s) to the pipette advance ``advance`` (um)."""
         x_new = x + dt * v
         x_new[self._held_nodes] = x[self._held_nodes]
-        band = self.system_band
+        band = self.band if self.reduction is None else self.reduction.band
         refresh = True  # a fresh tangent at the predictor (a stale one strays in contact)
         fresh = False
         previous = np.inf
