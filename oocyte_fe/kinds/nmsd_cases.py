@@ -44,6 +44,11 @@ class PressInputs(BaseModel):
     speed_um_s: float = Field(30.0, gt=0)
     travel_um: float = Field(65.0, gt=0)
     n_steps: int = Field(40, ge=1, description="backward-Euler steps over the travel")
+    symmetric: bool = Field(
+        True,
+        description="press on the mirror-symmetric branch (the free lattice buckles sideways "
+        "from round-off; docs/nmsd.md); false: the free press",
+    )
     calibrate_extra: list[Literal["dl_c", "gap_um"]] = Field(
         default_factory=list, description="also calibrate dl_c and/or the contact gap (bounded)"
     )
@@ -80,6 +85,7 @@ def build_press(
     dl_c: float,
     gap_um: float = 0.0,
     damping: str = "nodal",
+    symmetric: bool = True,
 ) -> tuple[PressSetup, NmsdParameters]:
     """The Table I lattice, pipette and hold from a case's inputs, and the base parameters.
 
@@ -99,6 +105,7 @@ def build_press(
             inp.travel_um,
             n_steps,
             gap_um,
+            symmetric,
         )
         base = NmsdParameters(
             dl_c=dl_c,
@@ -124,6 +131,7 @@ def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, objec
         dl_c=inp.dl_c,
         gap_um=inp.gap_um,
         damping=inp.damping,
+        symmetric=inp.symmetric,
     )
     return setup, base, data
 
