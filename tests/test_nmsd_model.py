@@ -24,6 +24,7 @@ from nmsd.pipette import Pipette
 from nmsd.press import press_setup, simulate_press
 from nmsd.spring import link_force
 from nmsd.tableII import read_force_displacement
+from tests.band_storage import band_to_dense
 
 TABLE = "cases/nmsd_calibration_tableII/nmsd_force_displacement_tableII.csv"
 
@@ -182,15 +183,6 @@ def test_blow_up_names_step_and_time_step():
         setup.run(params)
 
 
-def _band_to_dense(ab: np.ndarray, band: int) -> np.ndarray:
-    n = ab.shape[1]
-    dense = np.zeros((n, n))
-    for j in range(n):
-        for i in range(max(0, j - band), min(n, j + band + 1)):
-            dense[i, j] = ab[2 * band + i - j, j]
-    return dense
-
-
 @pytest.mark.parametrize("damping", ["nodal", "link"])
 def test_compiled_residual_matches_the_numpy_laws_and_its_tangent_is_exact(damping):
     lat = circular_lattice(40.0, 5)
@@ -204,7 +196,7 @@ def test_compiled_residual_matches_the_numpy_laws_and_its_tangent_is_exact(dampi
     v = rng.normal(size=x.shape)
     dt, advance = 0.05, 3.0
     res, ab, contact, _ = stepper.residual(x_new, x, v, advance, dt)
-    res, dense = res.copy(), _band_to_dense(ab, stepper.band)
+    res, dense = res.copy(), band_to_dense(ab, stepper.band)
     # the same residual from the numpy reference laws (springs with a 0.1 critical strain, so
     # some links are on the linear branch; two nodes in contact)
     v_new = (x_new - x) / dt
@@ -379,9 +371,9 @@ def test_compiled_area_term_matches_the_reference_and_its_tangent(damping):
     x_new = x + free * rng.normal(scale=0.4, size=x.shape)
     v = rng.normal(size=x.shape)
     r_on, ab_on, _, _ = on.residual(x_new, x, v, 3.0, 0.05)
-    r_on, k_on = r_on.copy(), _band_to_dense(ab_on, on.band)
+    r_on, k_on = r_on.copy(), band_to_dense(ab_on, on.band)
     r_off, ab_off, _, _ = off.residual(x_new, x, v, 3.0, 0.05)
-    r_off, k_off = r_off.copy(), _band_to_dense(ab_off, off.band)
+    r_off, k_off = r_off.copy(), band_to_dense(ab_off, off.band)
     kappa = 4.0 * 30.0 / lat.rest_length.min()  # area_stiffness k1 / h
     grad, tangent = area_force(x_new, lat.cells, lat.cell_rest_area, kappa)
     grad = grad.ravel()
@@ -474,7 +466,7 @@ def test_zona_ring_scales_the_ring_links_in_compiled_and_reference_and_tangent_i
     diff_ref = ring.internal_force(x_new)[0] - plain.internal_force(x_new)[0]
     assert diff_ref == pytest.approx(extra, rel=1e-10, abs=1e-9)
     r_ring, ab, _, _ = ring.residual(x_new, x, v, 3.0, 0.05)
-    r_ring, dense = r_ring.copy(), _band_to_dense(ab, ring.band)
+    r_ring, dense = r_ring.copy(), band_to_dense(ab, ring.band)
     r_plain = plain.residual(x_new, x, v, 3.0, 0.05)[0].copy()
     free_dof = ~ring.held_dof
     assert (r_ring - r_plain)[free_dof] == pytest.approx(

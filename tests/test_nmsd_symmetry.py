@@ -12,6 +12,7 @@ from nmsd.integrator import BackwardEulerStepper
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
 from nmsd.symmetry import mirror_of
+from tests.band_storage import band_to_dense
 
 # a soft constant set that buckles (docs/nmsd.md, "Sideways buckling")
 SOFT = NmsdParameters(
@@ -41,15 +42,6 @@ def _asymmetry(setup, positions: np.ndarray) -> float:
     return float(np.abs(image - positions).max())
 
 
-def _band_to_dense(ab: np.ndarray, band: int) -> np.ndarray:
-    n = ab.shape[1]
-    dense = np.zeros((n, n))
-    for j in range(n):
-        for i in range(max(0, j - band), min(n, j + band + 1)):
-            dense[i, j] = ab[2 * band + i - j, j]
-    return dense
-
-
 @pytest.mark.parametrize(("damping", "area"), [("nodal", 0.0), ("link", 3.0)])
 def test_mirror_pairs_the_lattice_and_the_half_lattice_tangent_is_exact(damping, area):
     setup = press_setup()
@@ -76,7 +68,7 @@ def test_mirror_pairs_the_lattice_and_the_half_lattice_tangent_is_exact(damping,
     v = (x_new - x) / 0.05
     advance, dt = 3.0, 0.05
     res = stepper._system(x_new, x, v, advance, dt, True).copy()
-    dense = _band_to_dense(stepper._ab_h, red.band)
+    dense = band_to_dense(stepper._ab_h, red.band)
     assert (stepper._contact != 0).any()
     # kept rows of the full residual; the mirrored rows are their reflections
     full = stepper.residual(x_new, x, v, advance, dt, with_tangent=False)[0].reshape(-1, 2)
