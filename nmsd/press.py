@@ -19,6 +19,7 @@ from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import Lattice, circular_lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
+from nmsd.sensitivity import NAMES, PressSensitivity
 from nmsd.symmetry import Mirror, mirror_of
 
 MAX_HALVINGS = 6
@@ -30,7 +31,9 @@ class PressResult:
 
     ``advance_um``, ``time_s``, ``force_nN`` (force on the cell along the pipette motion) at
     every step; ``snapshots`` maps each requested advance (um) to node positions (n, 2) um;
-    ``newton_iterations``: total Newton iterations.
+    ``newton_iterations``: total Newton iterations. With sensitivities requested,
+    ``force_sensitivity`` (steps + 1, 6) holds df/dp (nN per unit of p) at every step for the
+    constants ``sensitivity_names`` (:data:`nmsd.sensitivity.NAMES`), else it is None.
     """
 
     advance_um: np.ndarray
@@ -39,10 +42,24 @@ class PressResult:
     positions: np.ndarray
     snapshots: dict[float, np.ndarray] = field(default_factory=dict)
     newton_iterations: int = 0
+    force_sensitivity: np.ndarray | None = None
+    sensitivity_names: tuple[str, ...] = ()
 
     def force_at(self, advances_um: Sequence[float]) -> np.ndarray:
         """Force (nN) at the given advances (linear between steps)."""
         return np.interp(advances_um, self.advance_um, self.force_nN)
+
+    def sensitivity_at(self, advances_um: Sequence[float]) -> np.ndarray:
+        """df/dp (len(advances), 6) at the given advances (linear between steps)."""
+        if self.force_sensitivity is None:
+            raise NmsdInputError("PressResult", "sensitivities", "a press run with them")
+        return np.stack(
+            [
+                np.interp(advances_um, self.advance_um, column)
+                for column in self.force_sensitivity.T
+            ],
+            axis=1,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,7 +80,9 @@ class PressSetup:
     mirror: Mirror | None = None
 
     def run(self, params: NmsdParameters, record_um: Sequence[float] = (), **kw) -> PressResult:
-        """Simulate the press with ``params``; ``kw`` overrides speed, travel or n_steps."""
+        """Simulate the press with ``params``; ``kw`` overrides speed, travel or n_steps, and
+        ``sensitivities=True`` adds the exact df/dp of the force (:mod:`nmsd.sensitivity`).
+        """
         options = {
             "speed_um_s": self.speed_um_s,
             "travel_um": self.travel_um,
@@ -157,13 +176,16 @@ def simulate_press(
     record_um: Sequence[float] = (),
     initial_positions: np.ndarray | None = None,
     mirror: Mirror | None = None,
+    sensitivities: bool = False,
 ) -> PressResult:
     """Drive the pipette ``travel_um`` at ``speed_um_s`` in ``n_steps`` backward-Euler steps.
 
     The step ends include every advance in ``record_um``; a step whose Newton iterations
     fail is halved up to 6 times before :class:`NmsdDivergence` is raised.
     With ``mirror`` the press follows the symmetric branch, solved on the half lattice
-    (:mod:`nmsd.symmetry`).
+    (:mod:`nmsd.symmetry`). ``sensitivities``: also carry the forward sensitivities through
+    every (sub)step and return df/dp (:class:`nmsd.sensitivity.PressSensitivity`; starts
+    from rest, S_0 = 0).
     """
     if speed_um_s <= 0 or travel_um <= 0 or n_steps < 1:
         raise NmsdInputError("simulate_press", "speed/travel/n_steps", "positive values")
@@ -175,17 +197,24 @@ def simulate_press(
     record = sorted({float(r) for r in record_um if 0 < r <= travel_um})
     grid = np.union1d(np.linspace(0.0, travel_um, n_steps + 1), record)
     stepper = BackwardEulerStepper(lattice, params, pipette, held, mirror=mirror)
+    tracker = PressSensitivity(stepper) if sensitivities else None
+    dforce = np.zeros((len(grid), len(NAMES))) if sensitivities else None
     v = np.zeros_like(x)
     force = np.zeros(len(grid))
     snapshots = {0.0: x.copy()} if 0.0 in record_um else {}
     iterations = 0
     for k in range(1, len(grid)):
-        x, v, f_contact, its = _advance(stepper, x, v, grid[k - 1], grid[k], speed_um_s, k)
+        x, v, f_contact, its, df = _advance(
+            stepper, x, v, grid[k - 1], grid[k], speed_um_s, k, tracker=tracker
+        )
         iterations += its
         force[k] = float(f_contact.sum(axis=0) @ np.asarray(pipette.direction))
+        if dforce is not None:
+            dforce[k] = df
         if grid[k] in record:
             snapshots[float(grid[k])] = x.copy()
-    return PressResult(grid, grid / speed_um_s, force, x, snapshots, iterations)
+    names = NAMES if sensitivities else ()
+    return PressResult(grid, grid / speed_um_s, force, x, snapshots, iterations, dforce, names)
 
 
 def _advance(
@@ -197,16 +226,22 @@ def _advance(
     speed: float,
     step: int,
     depth: int = 0,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """One step from advance s0 to s1, split in halves when Newton fails."""
+    tracker: PressSensitivity | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, np.ndarray | None]:
+    """One step from advance s0 to s1, split in halves when Newton fails.
+
+    With a ``tracker`` the sensitivities follow every converged substep; the last element
+    returned is df/dp at s1 (None without a tracker).
+    """
     dt = (s1 - s0) / speed
     try:
         res = stepper.step(x, v, s1, dt)
-        return res.positions, res.velocities, res.contact_force, res.iterations
+        df = None if tracker is None else tracker.update(x, v, res.positions, s1, dt)
+        return res.positions, res.velocities, res.contact_force, res.iterations, df
     except NewtonFailure as exc:
         if depth >= MAX_HALVINGS:
             raise NmsdDivergence(step, s1 / speed, str(exc), dt / 2) from None
     mid = 0.5 * (s0 + s1)
-    x, v, _, n1 = _advance(stepper, x, v, s0, mid, speed, step, depth + 1)
-    x, v, f, n2 = _advance(stepper, x, v, mid, s1, speed, step, depth + 1)
-    return x, v, f, n1 + n2
+    x, v, _, n1, _ = _advance(stepper, x, v, s0, mid, speed, step, depth + 1, tracker)
+    x, v, f, n2, df = _advance(stepper, x, v, mid, s1, speed, step, depth + 1, tracker)
+    return x, v, f, n1 + n2, df
