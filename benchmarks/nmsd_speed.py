@@ -4,7 +4,9 @@ Goals (issue 6): one press < 20 ms, full calibration < 2 s. Baseline in the same
 the same press with twice the steps (ratio shows the cost per step is flat). Accuracy: the
 forces at the Table II displacements against a 2600-step reference (backward Euler is first
 order and the contact path is step-sensitive, so coarse presses are not converged in dt).
-Run: ``python benchmarks/nmsd_speed.py``.
+Calibration: the exact (forward-sensitivity) Jacobian against the finite-difference one in
+the same process, with the former tolerance 1e-8 ("before") and the new default 1e-3; best
+of two runs each (the machine is shared). Run: ``python benchmarks/nmsd_speed.py``.
 """
 
 from __future__ import annotations
@@ -62,14 +64,33 @@ def main() -> None:
         f"press 65 um, {steps} steps, link dampers (Table II constants): {1e3 * t:.1f} ms, "
         f"{r.newton_iterations / steps:.1f} Newton its/step"
     )
-    base = NmsdParameters(dl_c=0.8, node_mass=node_mass_for(115.625, 231))
-    tic = time.perf_counter()
-    cal = calibrate(setup, data, "nmsd", base, n_starts=2, max_evaluations=60)
-    t = time.perf_counter() - tic
+    t_plain = best_of(lambda: setup.run(params, record_um=d), 7)
+    t_sens = best_of(lambda: setup.run(params, record_um=d, sensitivities=True), 7)
     print(
-        f"calibration (nmsd, 2 starts): {t:.2f} s (goal 2 s), {cal.evaluations} presses, "
-        f"RMSE {cal.metrics.rmse_nN / 1e3:.3f} uN"
+        f"press with forward sensitivities (6 constants): {1e3 * t_sens:.1f} ms, "
+        f"{t_sens / t_plain:.2f} x the press without ({1e3 * t_plain:.1f} ms)"
     )
+    for damping in ("nodal", "link"):
+        base = NmsdParameters(dl_c=0.8, node_mass=node_mass_for(115.625, 231), damping=damping)
+        times = {}
+        for label, jacobian, tolerance in (
+            ("before: finite differences, tol 1e-8", "2-point", 1e-8),
+            ("finite differences, tol 1e-3", "2-point", 1e-3),
+            ("exact Jacobian, tol 1e-3 (default)", "exact", 1e-3),
+        ):
+            for _ in range(2):
+                tic = time.perf_counter()
+                cal = calibrate(
+                    setup, data, "nmsd", base, n_starts=2, max_evaluations=60,
+                    jacobian=jacobian, tolerance=tolerance,
+                )  # fmt: skip
+                t = min(times.get(label, np.inf), time.perf_counter() - tic)
+                times[label] = t
+            print(
+                f"calibration ({damping}, 2 starts x 60), {label}: {t:.2f} s (goal 2 s; "
+                f"{t / next(iter(times.values())):.2f} x before), {cal.evaluations} presses, "
+                f"RMSE {cal.metrics.rmse_nN / 1e3:.3f} uN"
+            )
 
 
 if __name__ == "__main__":

@@ -228,13 +228,18 @@ class PressSensitivity:
             self._area_per_k1 = 0.0
         self.factorizations = 0
 
-    def contact_tangents(self, x: np.ndarray, advance: float) -> np.ndarray:
-        """Contact tangents ``C_i = kappa n n^T`` (n, 2, 2) nN/um; zero for nodes outside."""
-        pipette = self.stepper.pipette
-        gap, normal = pipette.gap(x, advance)
-        inside = (gap < 0.0)[:, None, None]
-        c = pipette.contact_stiffness * normal[:, :, None] * normal[:, None, :]
-        return np.where(inside, c, 0.0)
+    def contact_tangents(self, contact: np.ndarray) -> np.ndarray:
+        """Contact tangents ``C_i = kappa n n^T`` (n, 2, 2) nN/um from the contact forces.
+
+        A node in contact carries ``F_i = -kappa g n`` with ``g < 0``, so ``n = F_i/|F_i|``
+        (the face normal of the sharp wedge, as :meth:`nmsd.pipette.Pipette.gap` gives it);
+        nodes without force get zero blocks.
+        """
+        size = np.sqrt(contact[:, 0] ** 2 + contact[:, 1] ** 2)
+        touching = size > 0.0
+        n = np.zeros_like(contact)
+        n[touching] = contact[touching] / size[touching, None]
+        return self.stepper.pipette.contact_stiffness * n[:, :, None] * n[:, None, :]
 
     def update(
         self, x_old: np.ndarray, v_old: np.ndarray, x: np.ndarray, advance: float, dt: float
@@ -245,7 +250,7 @@ class PressSensitivity:
         """
         st = self.stepper
         p = st.params
-        ab = st.residual(x, x_old, v_old, advance, dt, with_tangent=True)[1]
+        _, ab, contact, _ = st.residual(x, x_old, v_old, advance, dt, with_tangent=True)
         lu, piv, info = dgbtrf(ab, st.band, st.band)
         if info != 0:
             raise NmsdInputError("sensitivities", "tangent", "a non-singular tangent", got=info)
@@ -282,7 +287,7 @@ class PressSensitivity:
             st.held_dof,
             self._history,
         )
-        tangents = self.contact_tangents(x, advance)
+        tangents = self.contact_tangents(contact)
         a = self._direction
         rhs = -self._history
         rhs[:, :5] -= self._columns

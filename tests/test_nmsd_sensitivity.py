@@ -147,3 +147,5 @@ def test_exact_jacobian_calibration_needs_one_press_per_evaluation():
     assert exact.metrics.rmse_nN < 2 * forward.metrics.rmse_nN
     with pytest.raises(NmsdInputError, match="jacobian"):
         calibrate(setup, data, "nmsd", base, 1, jacobian="3-point")
+    with pytest.raises(NmsdInputError, match="tolerance"):
+        calibrate(setup, data, "nmsd", base, 1, tolerance=0.0)
