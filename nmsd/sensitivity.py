@@ -37,7 +37,7 @@ Newton of the stepper may end on an older LU). Held DOFs have S = 0. The terms:
 
 Step halvings: every substep is a backward-Euler step of its own dt, and the sensitivities
 are carried through it in the same way. Cost per step: one extra assembly with tangent, one
-band LU and one ``dgbtrs`` with six right-hand sides (a press costs about 1.3 presses).
+band LU and one ``dgbtrs`` with six right-hand sides (a press costs about 1.4 presses).
 """
 
 from __future__ import annotations
