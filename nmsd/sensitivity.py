@@ -42,6 +42,9 @@ band LU and one ``dgbtrs`` with six right-hand sides (a press costs about 1.4 pr
 
 from __future__ import annotations
 
+import copy
+from dataclasses import replace
+
 import numpy as np
 from numba import njit
 from scipy.linalg.lapack import dgbtrf, dgbtrs
@@ -197,24 +200,42 @@ def history_term(
             out[k, :] = 0.0
 
 
+def _diagonal_blocks(ab: np.ndarray, band: int) -> np.ndarray:
+    """The 2x2 diagonal blocks (n, 2, 2) of a tangent in LAPACK band storage."""
+    d = 2 * band
+    blocks = np.empty((ab.shape[1] // 2, 2, 2))
+    blocks[:, 0, 0] = ab[d, 0::2]
+    blocks[:, 0, 1] = ab[d - 1, 1::2]
+    blocks[:, 1, 0] = ab[d + 1, 0::2]
+    blocks[:, 1, 1] = ab[d, 1::2]
+    return blocks
+
+
 class PressSensitivity:
     """Carries ``S = dx/dp`` and ``V = dv/dp`` (2n, 6) through the steps of one press.
 
     Columns follow :data:`NAMES`. After each converged step call :meth:`update`; it returns
     the sensitivities (6,) of that step's force along the pipette motion, nN per unit of p.
+    ``contact_from_tangent``: take the contact tangents from the assembled tangent (any
+    contact law; one more assembly a step) instead of ``kappa n n^T`` (sharp wedge); None
+    chooses the former for a pipette with rounded corners (``corner_radius_um > 0``).
     """
 
-    def __init__(self, stepper) -> None:
+    def __init__(self, stepper, contact_from_tangent: bool | None = None) -> None:
         params = stepper.params
         pipette = stepper.pipette
-        if getattr(pipette, "corner_radius_um", 0.0) > 0:
-            raise NmsdInputError(
-                "sensitivities", "corner_radius_um", "0 (the sensitivities take a sharp wedge)"
-            )
         if getattr(params, "area_viscosity", 0.0) > 0:
             raise NmsdInputError(
-                "sensitivities", "area_viscosity", "0 (not in the sensitivity equations)"
+                "sensitivities",
+                "area_viscosity",
+                "0 (not in the sensitivity equations; calibrate with jacobian='2-point')",
             )
+        if contact_from_tangent is None:  # a curved contact surface needs the general form
+            contact_from_tangent = getattr(pipette, "corner_radius_um", 0.0) > 0
+        self._shadow = None
+        if contact_from_tangent:
+            self._shadow = copy.copy(stepper)
+            self._shadow.pipette = replace(pipette, contact_stiffness=2 * pipette.contact_stiffness)
         self.stepper = stepper
         n_dof = stepper.n_dof
         self.s = np.zeros((n_dof, len(NAMES)))
@@ -241,6 +262,26 @@ class PressSensitivity:
         n[touching] = contact[touching] / size[touching, None]
         return self.stepper.pipette.contact_stiffness * n[:, :, None] * n[:, None, :]
 
+    def contact_tangents_from_tangent(
+        self,
+        ab: np.ndarray,
+        x: np.ndarray,
+        x_old: np.ndarray,
+        v_old: np.ndarray,
+        advance: float,
+        dt: float,
+    ) -> np.ndarray:
+        """Contact tangents (n, 2, 2) nN/um for any contact law linear in kappa.
+
+        The contact force of node i depends on ``x_i`` alone and is proportional to kappa,
+        so its tangent is the node's diagonal block of ``K(2 kappa) - K(kappa)`` (``ab`` the
+        band tangent at kappa; one more assembly). Exact also for curved contact surfaces,
+        whose tangent ``kappa (n n^T + g dn/dx)`` the force alone does not give.
+        """
+        first = _diagonal_blocks(ab, self.stepper.band)
+        doubled = self._shadow.residual(x, x_old, v_old, advance, dt, with_tangent=True)[1]
+        return _diagonal_blocks(doubled, self.stepper.band) - first
+
     def update(
         self, x_old: np.ndarray, v_old: np.ndarray, x: np.ndarray, advance: float, dt: float
     ) -> np.ndarray:
@@ -251,7 +292,7 @@ class PressSensitivity:
         st = self.stepper
         p = st.params
         _, ab, contact, _ = st.residual(x, x_old, v_old, advance, dt, with_tangent=True)
-        lu, piv, info = dgbtrf(ab, st.band, st.band)
+        lu, piv, info = dgbtrf(ab, st.band, st.band)  # a copy: ab is kept
         if info != 0:
             raise NmsdInputError("sensitivities", "tangent", "a non-singular tangent", got=info)
         self.factorizations += 1
@@ -287,7 +328,10 @@ class PressSensitivity:
             st.held_dof,
             self._history,
         )
-        tangents = self.contact_tangents(contact)
+        if self._shadow is None:
+            tangents = self.contact_tangents(contact)
+        else:
+            tangents = self.contact_tangents_from_tangent(ab, x, x_old, v_old, advance, dt)
         a = self._direction
         rhs = -self._history
         rhs[:, :5] -= self._columns
