@@ -50,6 +50,7 @@ from numba import njit
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
 from nmsd.errors import NmsdInputError
+from nmsd.symmetry import fold
 
 NAMES = ("k1", "k2", "d0", "d1", "dl_c", "gap_um")
 """Constants whose force sensitivities a press returns, in this column order."""
@@ -248,6 +249,14 @@ class PressSensitivity:
         else:
             self._area_per_k1 = 0.0
         self.factorizations = 0
+        red = stepper.reduction
+        if red is not None:  # symmetric branch: the half-lattice system of nmsd.symmetry
+            self._ab_h = np.zeros((3 * red.band + 1, red.n_dof), order="F")
+            self._res_h = np.zeros(red.n_dof)
+            self._res_full = np.zeros(n_dof)
+            self._kept_nodes = np.flatnonzero(red.kept_row >= 0)
+            self._kept_rows = red.kept_row[self._kept_nodes]
+            self._mirrored_nodes = np.flatnonzero(red.kept_row < 0)
 
     def contact_tangents(self, contact: np.ndarray) -> np.ndarray:
         """Contact tangents ``C_i = kappa n n^T`` (n, 2, 2) nN/um from the contact forces.
@@ -282,6 +291,56 @@ class PressSensitivity:
         doubled = self._shadow.residual(x, x_old, v_old, advance, dt, with_tangent=True)[1]
         return _diagonal_blocks(doubled, self.stepper.band) - first
 
+    def _factor(self, ab: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+        """Band LU of the tangent ``ab`` (kept intact), or of its half-lattice fold
+        ``(K P)_kept`` on the symmetric branch; returns LU, pivots, half bandwidth."""
+        st = self.stepper
+        red = st.reduction
+        if red is None:
+            lu, piv, info = dgbtrf(ab, st.band, st.band)  # a copy: ab is kept
+            band = st.band
+        else:
+            fold(
+                ab,
+                self._res_full,
+                red.kept_row,
+                red.fixed,
+                *st._scatter,
+                self._ab_h,
+                red.band,
+                self._res_h,
+                True,
+            )
+            lu, piv, info = dgbtrf(self._ab_h, red.band, red.band, overwrite_ab=1)
+            band = red.band
+        if info != 0:
+            raise NmsdInputError("sensitivities", "tangent", "a non-singular tangent", got=info)
+        self.factorizations += 1
+        return lu, piv, band
+
+    def _solve(self, lu: np.ndarray, piv: np.ndarray, band: int, rhs: np.ndarray) -> np.ndarray:
+        """S (2n, P) from ``K S = rhs``; on the symmetric branch the kept rows are solved with
+        ``(K P)_kept`` and S is mirrored (``S_k = reflect(S_pair)``, fixed DOFs 0)."""
+        red = self.stepper.reduction
+        if red is None:
+            s, info = dgbtrs(lu, band, band, rhs, piv)
+        else:
+            n_p = rhs.shape[1]
+            rhs_h = np.zeros((red.n_dof // 2, 2, n_p))
+            rhs_h[self._kept_rows] = rhs.reshape(-1, 2, n_p)[self._kept_nodes]
+            rhs_h = rhs_h.reshape(red.n_dof, n_p)
+            rhs_h[red.fixed] = 0.0
+            s_h, info = dgbtrs(lu, band, band, rhs_h, piv)
+            s = np.empty((len(red.kept_row), 2, n_p))
+            s[self._kept_nodes] = s_h.reshape(-1, 2, n_p)[self._kept_rows]
+            pairs = red.mirror.pairs[self._mirrored_nodes]
+            s[self._mirrored_nodes, 0] = s[pairs, 0]
+            s[self._mirrored_nodes, 1] = -s[pairs, 1]
+            s = s.reshape(-1, n_p)
+        if info != 0:
+            raise NmsdInputError("sensitivities", "tangent", "a solvable band system", got=info)
+        return s
+
     def update(
         self, x_old: np.ndarray, v_old: np.ndarray, x: np.ndarray, advance: float, dt: float
     ) -> np.ndarray:
@@ -292,10 +351,7 @@ class PressSensitivity:
         st = self.stepper
         p = st.params
         _, ab, contact, _ = st.residual(x, x_old, v_old, advance, dt, with_tangent=True)
-        lu, piv, info = dgbtrf(ab, st.band, st.band)  # a copy: ab is kept
-        if info != 0:
-            raise NmsdInputError("sensitivities", "tangent", "a non-singular tangent", got=info)
-        self.factorizations += 1
+        lu, piv, band = self._factor(ab)
         parameter_columns(
             x,
             x_old,
@@ -338,9 +394,7 @@ class PressSensitivity:
         gap_column = (tangents @ a).ravel()  # dR_i/dg = C_i a
         gap_column[st.held_dof] = 0.0
         rhs[:, 5] -= gap_column
-        s_new, info = dgbtrs(lu, st.band, st.band, rhs, piv)
-        if info != 0:
-            raise NmsdInputError("sensitivities", "tangent", "a solvable band system", got=info)
+        s_new = self._solve(lu, piv, band, rhs)
         self.v = (s_new - self.s) / dt
         self.s = s_new
         # df/dp = -a . sum_i C_i (S_i + [gap] a) = -sum_i w_i . (S_i + [gap] a), w_i = C_i a

@@ -22,9 +22,11 @@ RECORD = [2.0, 4.0, 6.0, 8.0, 10.0]
 GAP = 0.37  # not a multiple of the 0.25 um step: no node meets the mouth exactly at a step end
 
 
-def _small_press(n_steps: int = 40):
+def _small_press(n_steps: int = 40, symmetric: bool = True):
     """A 10 um press of a 40 um lattice with fine steps: smooth in the constants."""
-    return press_setup(circular_lattice(40.0, 5), n_steps=n_steps, travel_um=10.0).with_gap(GAP)
+    lattice = circular_lattice(40.0, 5)
+    setup = press_setup(lattice, n_steps=n_steps, travel_um=10.0, symmetric=symmetric)
+    return setup.with_gap(GAP)
 
 
 def _params(damping: str, **kw) -> NmsdParameters:
@@ -49,16 +51,19 @@ def _central_difference(setup, params, name, rel=1e-5, step_um=1e-4):
 
 
 @pytest.mark.parametrize(
-    "damping, extra",
+    "damping, extra, symmetric",
     [
-        ("nodal", {}),
-        ("link", {}),
-        ("link", {"area_stiffness": 2.0}),
-        ("nodal", {"zona_stiffness_ratio": 3.0, "zona_inner_radius_um": 12.0}),
+        ("nodal", {}, True),
+        ("link", {}, True),
+        ("link", {"area_stiffness": 2.0}, True),
+        ("nodal", {"zona_stiffness_ratio": 3.0, "zona_inner_radius_um": 12.0}, True),
+        ("nodal", {}, False),  # full lattice (no half-lattice solve)
+        ("link", {}, False),
     ],
 )
-def test_press_sensitivities_match_central_differences(damping, extra):
-    setup = _small_press()
+def test_press_sensitivities_match_central_differences(damping, extra, symmetric):
+    setup = _small_press(symmetric=symmetric)
+    assert (setup.mirror is None) != symmetric
     params = _params(damping, **extra)
     press = setup.run(params, record_um=RECORD, sensitivities=True)
     exact = press.sensitivity_at(RECORD)
