@@ -36,14 +36,15 @@ Newton of the stepper may end on an older LU). Held DOFs have S = 0. The terms:
       df_n/dp = -a . sum_i C_i (S_i + [p = gap] a).
 
 Step halvings: every substep is a backward-Euler step of its own dt, and the sensitivities
-are carried through it in the same way. Cost per step: one extra assembly with tangent, one
-band LU and one ``dgbtrs`` with six right-hand sides (a press costs about 1.4 presses).
+are carried through it in the same way. Symmetric branch (:mod:`nmsd.symmetry`): the
+constants keep the mirror symmetry, so S is symmetric too and is solved like the step, on
+the half lattice: ``(K P)_kept S_h = rhs_kept``, ``S = P S_h``.
+
+Cost per step: one extra assembly with tangent, one band LU and one ``dgbtrs`` with six
+right-hand sides (a press costs about 1.4 presses).
 """
 
 from __future__ import annotations
-
-import copy
-from dataclasses import replace
 
 import numpy as np
 from numba import njit
@@ -201,28 +202,14 @@ def history_term(
             out[k, :] = 0.0
 
 
-def _diagonal_blocks(ab: np.ndarray, band: int) -> np.ndarray:
-    """The 2x2 diagonal blocks (n, 2, 2) of a tangent in LAPACK band storage."""
-    d = 2 * band
-    blocks = np.empty((ab.shape[1] // 2, 2, 2))
-    blocks[:, 0, 0] = ab[d, 0::2]
-    blocks[:, 0, 1] = ab[d - 1, 1::2]
-    blocks[:, 1, 0] = ab[d + 1, 0::2]
-    blocks[:, 1, 1] = ab[d, 1::2]
-    return blocks
-
-
 class PressSensitivity:
     """Carries ``S = dx/dp`` and ``V = dv/dp`` (2n, 6) through the steps of one press.
 
     Columns follow :data:`NAMES`. After each converged step call :meth:`update`; it returns
     the sensitivities (6,) of that step's force along the pipette motion, nN per unit of p.
-    ``contact_from_tangent``: take the contact tangents from the assembled tangent (any
-    contact law; one more assembly a step) instead of ``kappa n n^T`` (sharp wedge); None
-    chooses the former for a pipette with rounded corners (``corner_radius_um > 0``).
     """
 
-    def __init__(self, stepper, contact_from_tangent: bool | None = None) -> None:
+    def __init__(self, stepper) -> None:
         params = stepper.params
         pipette = stepper.pipette
         if getattr(params, "area_viscosity", 0.0) > 0:
@@ -231,12 +218,6 @@ class PressSensitivity:
                 "area_viscosity",
                 "0 (not in the sensitivity equations; calibrate with jacobian='2-point')",
             )
-        if contact_from_tangent is None:  # a curved contact surface needs the general form
-            contact_from_tangent = getattr(pipette, "corner_radius_um", 0.0) > 0
-        self._shadow = None
-        if contact_from_tangent:
-            self._shadow = copy.copy(stepper)
-            self._shadow.pipette = replace(pipette, contact_stiffness=2 * pipette.contact_stiffness)
         self.stepper = stepper
         n_dof = stepper.n_dof
         self.s = np.zeros((n_dof, len(NAMES)))
@@ -270,26 +251,6 @@ class PressSensitivity:
         n = np.zeros_like(contact)
         n[touching] = contact[touching] / size[touching, None]
         return self.stepper.pipette.contact_stiffness * n[:, :, None] * n[:, None, :]
-
-    def contact_tangents_from_tangent(
-        self,
-        ab: np.ndarray,
-        x: np.ndarray,
-        x_old: np.ndarray,
-        v_old: np.ndarray,
-        advance: float,
-        dt: float,
-    ) -> np.ndarray:
-        """Contact tangents (n, 2, 2) nN/um for any contact law linear in kappa.
-
-        The contact force of node i depends on ``x_i`` alone and is proportional to kappa,
-        so its tangent is the node's diagonal block of ``K(2 kappa) - K(kappa)`` (``ab`` the
-        band tangent at kappa; one more assembly). Exact also for curved contact surfaces,
-        whose tangent ``kappa (n n^T + g dn/dx)`` the force alone does not give.
-        """
-        first = _diagonal_blocks(ab, self.stepper.band)
-        doubled = self._shadow.residual(x, x_old, v_old, advance, dt, with_tangent=True)[1]
-        return _diagonal_blocks(doubled, self.stepper.band) - first
 
     def _factor(self, ab: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
         """Band LU of the tangent ``ab`` (kept intact), or of its half-lattice fold
@@ -384,10 +345,7 @@ class PressSensitivity:
             st.held_dof,
             self._history,
         )
-        if self._shadow is None:
-            tangents = self.contact_tangents(contact)
-        else:
-            tangents = self.contact_tangents_from_tangent(ab, x, x_old, v_old, advance, dt)
+        tangents = self.contact_tangents(contact)
         a = self._direction
         rhs = -self._history
         rhs[:, :5] -= self._columns

@@ -2,19 +2,15 @@
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import pytest
 
-import nmsd.press
 from nmsd.calibration import calibrate, model_forces_and_jacobian
 from nmsd.errors import NmsdInputError
 from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
-from nmsd.sensitivity import PressSensitivity
 from nmsd.tableII import ForceDisplacement, read_force_displacement
 
 TABLE = "cases/nmsd_calibration_tableII/nmsd_force_displacement_tableII.csv"
@@ -158,15 +154,3 @@ def test_exact_jacobian_calibration_needs_one_press_per_evaluation():
         calibrate(setup, data, "nmsd", base, 1, jacobian="3-point")
     with pytest.raises(NmsdInputError, match="tolerance"):
         calibrate(setup, data, "nmsd", base, 1, tolerance=0.0)
-
-
-def test_contact_tangents_from_the_assembled_tangent_equal_kappa_n_n(monkeypatch):
-    # the general form (any contact law linear in kappa, e.g. rounded corners) reproduces the
-    # sharp wedge's kappa n n^T through a whole press
-    setup, params = _small_press(), _params("link")
-    sharp = setup.run(params, record_um=RECORD, sensitivities=True).sensitivity_at(RECORD)
-    general = functools.partial(PressSensitivity, contact_from_tangent=True)
-    monkeypatch.setattr(nmsd.press, "PressSensitivity", general)
-    press = setup.run(params, record_um=RECORD, sensitivities=True)
-    np.testing.assert_allclose(press.sensitivity_at(RECORD), sharp, rtol=1e-9, atol=1e-12)
-    assert np.abs(sharp[:, 5]).min() > 1.0  # the gap column, which needs C_i, is not trivial
