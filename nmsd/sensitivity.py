@@ -41,7 +41,7 @@ constants keep the mirror symmetry, so S is symmetric too and is solved like the
 the half lattice: ``(K P)_kept S_h = rhs_kept``, ``S = P S_h``.
 
 Cost per step: one extra assembly with tangent, one band LU and one ``dgbtrs`` with six
-right-hand sides (a press costs about 1.4 presses).
+right-hand sides (a press costs about 1.5 presses).
 """
 
 from __future__ import annotations
