@@ -212,12 +212,6 @@ class PressSensitivity:
     def __init__(self, stepper) -> None:
         params = stepper.params
         pipette = stepper.pipette
-        if getattr(params, "area_viscosity", 0.0) > 0:
-            raise NmsdInputError(
-                "sensitivities",
-                "area_viscosity",
-                "0 (not in the sensitivity equations; calibrate with jacobian='2-point')",
-            )
         self.stepper = stepper
         n_dof = stepper.n_dof
         self.s = np.zeros((n_dof, len(NAMES)))
