@@ -51,12 +51,12 @@ from nmsd.tableII import ForceDisplacement
 
 MODELS = ("linear_msd", "msd_d0", "nmsd")
 K2_OVER_K1_MIN = 50.0
+S_START_MAX = 1.0e4  # largest k1/k2 of the starts when eq 8's k2 >= 50 k1 is lifted
 
 # search box of each free variable (log10 bounds of the starts, hard lower/upper bounds)
 _START_BOX = {
     "k1": (1.0, 4.0),
     "k2": (2.0, 6.0),
-    "s": (-5.0, np.log10(1.0 / K2_OVER_K1_MIN)),
     "d0": (-1.0, 2.5),
     "d1": (-3.0, 1.0),
     "dl_c": (-1.0, 0.3),
@@ -65,7 +65,6 @@ _START_BOX = {
 _BOUNDS = {
     "k1": (0.0, np.inf),
     "k2": (0.0, np.inf),
-    "s": (0.0, 1.0 / K2_OVER_K1_MIN),
     "d0": (0.0, np.inf),
     "d1": (0.0, np.inf),
     "dl_c": (0.05, 2.0),
@@ -169,6 +168,7 @@ def calibrate(
     extra: tuple[str, ...] = (),
     jacobian: str = "exact",
     tolerance: float = 1e-3,
+    k2_over_k1_min: float = K2_OVER_K1_MIN,
 ) -> CalibrationResult:
     """Minimise eq 7 under eq 8 for ``model`` from ``n_starts`` starts.
 
@@ -179,6 +179,8 @@ def calibrate(
     ``tolerance``: ``ftol`` and ``xtol`` of ``least_squares`` (a start ends when a step
     changes the cost or the scaled variables by less than this fraction; 1e-3 reaches the
     RMSE of 1e-8 within 0.05 uN at half the presses; docs/nmsd.md, "Exact Jacobian").
+    ``k2_over_k1_min``: the last constraint of eq 8, ``k2 >= k2_over_k1_min k1`` (50 in the
+    paper; 0 lifts it: ``s = k1/k2`` is then bounded below only, its starts span 1e-5-1e4).
     """
     if jacobian not in JACOBIANS:
         raise NmsdInputError("calibrate", "jacobian", f"one of {JACOBIANS}", got=jacobian)
@@ -191,6 +193,8 @@ def calibrate(
         raise NmsdInputError("calibrate", "n_starts", ">= 1", got=n_starts)
     if not 0 < tolerance < 1:
         raise NmsdInputError("calibrate", "tolerance", "in (0, 1)", got=tolerance)
+    if not k2_over_k1_min >= 0:
+        raise NmsdInputError("calibrate", "k2_over_k1_min", ">= 0 (eq 8: 50)", k2_over_k1_min)
     base = NmsdParameters() if base is None else base
     names = _FREE[model] + extra
 
@@ -201,9 +205,12 @@ def calibrate(
         return setup, params
 
     extra_p = tuple(e for e in extra if e != "gap_um")
-    lower = np.array([_BOUNDS[n][0] for n in names])
-    upper = np.array([_BOUNDS[n][1] for n in names])
-    box = np.array([_START_BOX[n] for n in names])
+    s_max = 1.0 / k2_over_k1_min if k2_over_k1_min > 0 else np.inf
+    bounds = {**_BOUNDS, "s": (0.0, s_max)}
+    start_box = {**_START_BOX, "s": (-5.0, np.log10(min(s_max, S_START_MAX)))}
+    lower = np.array([bounds[n][0] for n in names])
+    upper = np.array([bounds[n][1] for n in names])
+    box = np.array([start_box[n] for n in names])
     starts = 10.0 ** qmc.scale(qmc.LatinHypercube(len(names), seed=seed).random(n_starts), *box.T)
     measured = data.force_nN
     penalty = 10.0 * (np.abs(measured) + np.abs(measured).max())

@@ -23,7 +23,7 @@ from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
 from nmsd.press import press_setup, simulate_press
 from nmsd.spring import link_force
-from nmsd.tableII import read_force_displacement
+from nmsd.tableII import ForceDisplacement, read_force_displacement
 from tests.band_storage import band_to_dense
 
 TABLE = "cases/nmsd_calibration_tableII/nmsd_force_displacement_tableII.csv"
@@ -504,3 +504,19 @@ def test_zona_ring_inputs_are_checked():
         lat, setup, params = _zona_setup(radius=radius)
         with pytest.raises(NmsdInputError, match="zona_inner_radius_um"):
             BackwardEulerStepper(lat, params, setup.pipette, setup.held)
+
+
+def test_eq8_stiffening_constraint_binds_and_can_be_lifted():
+    # a curve made by nearly linear links (k2 = 2 k1) that eq 8 (k2 >= 50 k1) cannot reach
+    setup = press_setup(circular_lattice(40.0, 5), n_steps=10, travel_um=10.0)
+    truth = NmsdParameters(k1=200.0, k2=400.0, dl_c=0.8, d0=5.0, d1=0.0)
+    advances = np.array([2.0, 4.0, 6.0, 8.0, 10.0])
+    curve = ForceDisplacement(advances, setup.run(truth, record_um=advances).force_at(advances))
+    base = NmsdParameters(dl_c=0.8)
+    held = calibrate(setup, curve, "msd_d0", base, 2, max_evaluations=30)
+    lifted = calibrate(setup, curve, "msd_d0", base, 2, max_evaluations=30, k2_over_k1_min=0.0)
+    assert held.params.k2 >= 50.0 * held.params.k1 * (1 - 1e-9)
+    assert lifted.metrics.rmse_nN < 0.1 * held.metrics.rmse_nN
+    assert lifted.params.k2 < 50.0 * lifted.params.k1
+    with pytest.raises(NmsdInputError, match="k2_over_k1_min"):
+        calibrate(setup, curve, k2_over_k1_min=-1.0)

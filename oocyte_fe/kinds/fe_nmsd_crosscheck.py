@@ -83,6 +83,12 @@ class CrosscheckInputs(BaseModel):
         "this (E_zp / E_cyto, nmsd.zona); 1: the paper's uniform lattice",
     )
     nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
+    nmsd_k2_over_k1_min: float = Field(
+        50.0,
+        ge=0,
+        description="calibration constraint k2 >= this x k1 (eq 8: 50; 0 lifts it, e.g. against "
+        "a neo-Hookean FE reference, which does not stiffen like k2 >= 50 k1 cubic links)",
+    )
     nmsd_n_steps: int = Field(50, ge=1, description="NMSD steps over the travel")
     n_starts: int = Field(2, ge=1)
     max_evaluations: int = Field(60, ge=4)
@@ -195,7 +201,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
     setup, base = _nmsd_setup(ctx)
     fe_curve = ForceDisplacement(fe.advance_um, fe_nN, source="FE press")
     cal = calibrate(
-        setup, fe_curve, "nmsd", base, inp.n_starts, max_evaluations=inp.max_evaluations
+        setup,
+        fe_curve,
+        "nmsd",
+        base,
+        inp.n_starts,
+        max_evaluations=inp.max_evaluations,
+        k2_over_k1_min=inp.nmsd_k2_over_k1_min,
     )
     vs_fe = force_agreement(cal.force_nN, fe_nN)
     depart_um, depart_nN = largest_departure(fe.advance_um, cal.force_nN, fe_nN)
