@@ -38,6 +38,7 @@ match up to scale; the paper stops its calibration at 0.999).
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -86,7 +87,11 @@ class FitMetrics:
 
 @dataclass(frozen=True)
 class CalibrationResult:
-    """Best constants, their fit, the model forces at the table points (nN) and the cost."""
+    """Best constants, their fit, the model forces at the table points (nN) and the cost.
+
+    ``metrics`` and ``force_nN`` are for the main curve; ``also_force_nN`` the model forces at
+    the points of each further curve fitted with it (``calibrate(also=...)``).
+    """
 
     model: str
     params: NmsdParameters
@@ -97,6 +102,7 @@ class CalibrationResult:
     success: bool
     message: str
     gap_um: float | None = None
+    also_force_nN: tuple[np.ndarray, ...] = ()
 
 
 def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
@@ -169,6 +175,7 @@ def calibrate(
     jacobian: str = "exact",
     tolerance: float = 1e-3,
     k2_over_k1_min: float = K2_OVER_K1_MIN,
+    also: Sequence[tuple[PressSetup, ForceDisplacement]] = (),
 ) -> CalibrationResult:
     """Minimise eq 7 under eq 8 for ``model`` from ``n_starts`` starts.
 
@@ -181,6 +188,9 @@ def calibrate(
     RMSE of 1e-8 within 0.05 uN at half the presses; docs/nmsd.md, "Exact Jacobian").
     ``k2_over_k1_min``: the last constraint of eq 8, ``k2 >= k2_over_k1_min k1`` (50 in the
     paper; 0 lifts it: ``s = k1/k2`` is then bounded below only, its starts span 1e-5-1e4).
+    ``also``: further presses and their curves (e.g. the same press at another speed) fitted
+    together with the main one: eq 7 summed over all curves, one press per curve and
+    evaluation (``evaluations`` counts presses).
     """
     if jacobian not in JACOBIANS:
         raise NmsdInputError("calibrate", "jacobian", f"one of {JACOBIANS}", got=jacobian)
@@ -198,11 +208,13 @@ def calibrate(
     base = NmsdParameters() if base is None else base
     names = _FREE[model] + extra
 
-    def press_for(values: np.ndarray) -> tuple[PressSetup, NmsdParameters]:
+    curves = [(setup, data), *also]
+
+    def press_for(values: np.ndarray, press: PressSetup) -> tuple[PressSetup, NmsdParameters]:
         params = params_for(model, values[: len(names) - ("gap_um" in extra)], base, extra_p)
         if "gap_um" in extra:
-            return setup.with_gap(float(values[-1])), params
-        return setup, params
+            return press.with_gap(float(values[-1])), params
+        return press, params
 
     extra_p = tuple(e for e in extra if e != "gap_um")
     s_max = 1.0 / k2_over_k1_min if k2_over_k1_min > 0 else np.inf
@@ -212,18 +224,23 @@ def calibrate(
     upper = np.array([bounds[n][1] for n in names])
     box = np.array([start_box[n] for n in names])
     starts = 10.0 ** qmc.scale(qmc.LatinHypercube(len(names), seed=seed).random(n_starts), *box.T)
-    measured = data.force_nN
+    measured = np.concatenate([curve.force_nN for _, curve in curves])
     penalty = 10.0 * (np.abs(measured) + np.abs(measured).max())
     count = 0
     cache: dict[bytes, np.ndarray] = {}
 
     def residual(values: np.ndarray) -> np.ndarray:
         nonlocal count
-        count += 1
+        count += len(curves)
         try:
             if jacobian == "2-point":
-                return model_forces(*press_for(values), data) - measured
-            forces, jac = model_forces_and_jacobian(*press_for(values), data, model, extra)
+                forces = [model_forces(*press_for(values, p), c) for p, c in curves]
+                return np.concatenate(forces) - measured
+            parts = [
+                model_forces_and_jacobian(*press_for(values, p), c, model, extra) for p, c in curves
+            ]
+            forces = np.concatenate([f for f, _ in parts])
+            jac = np.vstack([j for _, j in parts])
         except NmsdDivergence:
             forces, jac = measured + penalty, np.zeros((len(measured), len(names)))
         cache.clear()  # least_squares asks for the Jacobian at the point it just evaluated
@@ -251,16 +268,17 @@ def calibrate(
         )
         if best is None or fit.cost < best.cost:
             best = fit
-    best_setup, params = press_for(best.x)
-    forces = model_forces(best_setup, params, data)
+    params = press_for(best.x, setup)[1]
+    forces = [model_forces(press_for(best.x, p)[0], params, c) for p, c in curves]
     return CalibrationResult(
         model,
         params,
-        fit_metrics(forces, measured),
-        forces,
-        count + 1,
+        fit_metrics(forces[0], data.force_nN),
+        forces[0],
+        count + len(curves),
         time.perf_counter() - tic,
         bool(best.success),
         str(best.message),
         float(best.x[-1]) if "gap_um" in extra else None,
+        tuple(forces[1:]),
     )

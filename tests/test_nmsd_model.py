@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -520,3 +522,22 @@ def test_eq8_stiffening_constraint_binds_and_can_be_lifted():
     assert lifted.params.k2 < 50.0 * lifted.params.k1
     with pytest.raises(NmsdInputError, match="k2_over_k1_min"):
         calibrate(setup, curve, k2_over_k1_min=-1.0)
+
+
+def test_joint_calibration_fits_two_speeds_together():
+    # the same small press at 30 and 3 um/s from known constants; eq 7 summed over both
+    fast = press_setup(circular_lattice(40.0, 5), n_steps=10, travel_um=10.0)
+    slow = replace(fast, speed_um_s=3.0)
+    truth = NmsdParameters(k1=20.0, k2=2000.0, dl_c=0.8, d0=20.0, d1=0.5, damping="link")
+    advances = np.array([2.0, 4.0, 6.0, 8.0, 10.0])
+    curves = [
+        ForceDisplacement(advances, s.run(truth, record_um=advances).force_at(advances))
+        for s in (fast, slow)
+    ]
+    assert curves[0].force_nN[-1] > 1.2 * curves[1].force_nN[-1]  # the dashpots matter
+    base = NmsdParameters(dl_c=0.8, damping="link")
+    cal = calibrate(fast, curves[0], "nmsd", base, 2, max_evaluations=40, also=[(slow, curves[1])])
+    assert len(cal.also_force_nN) == 1 and cal.also_force_nN[0].shape == advances.shape
+    # 2 % on both curves: a fit to the 30 um/s curve alone misses the 3 um/s one by 5 %
+    for model, curve in zip((cal.force_nN, cal.also_force_nN[0]), curves, strict=True):
+        assert np.abs(model - curve.force_nN).max() < 0.02 * curve.force_nN.max()

@@ -111,14 +111,13 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_pa
     # (the case's reading) the NMSD spindle travel is within 25 % of the FE's (8 % measured)
     assert 0.5 * 62.5 < m["spindle_fe_end_um"] < 62.5
     assert abs(m["spindle_nmsd_end_um"] - m["spindle_fe_end_um"]) < 0.25 * m["spindle_fe_end_um"]
-    # issue 9 goal (max(2 um, 10 %)) held as stated: missed; and the constants fitted at
-    # 30 um/s do not follow the FE at 3 um/s (rate check R^2 0.82 measured, bar 0.9): the case
-    # FAILs on these two alone
+    # fitted at 30 and 3 um/s together: the 3 um/s curve is followed too (0.968 measured)
+    assert checks["rate_check_force_r2"]["passed"], m["rate_check_force_r2"]
+    # issue 9 goal (max(2 um, 10 %)) held as stated: missed (2.8 x), so the case FAILs on it
+    # alone
     assert not checks["spindle_goal_ratio_max"]["passed"]
-    assert 0.5 < m["rate_check_force_r2"] < 0.9
     assert result.status == "FAIL"
-    failed = [n for n, c in checks.items() if not c["passed"]]
-    assert failed == ["spindle_goal_ratio_max", "rate_check_force_r2"]
+    assert [n for n, c in checks.items() if not c["passed"]] == ["spindle_goal_ratio_max"]
     assert {p.name for p in (tmp_path / "nmsd_vs_fe").glob("*.png")} >= {
         "force_curves.png",
         "displacement_arrows.png",

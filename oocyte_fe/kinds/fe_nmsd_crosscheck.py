@@ -105,6 +105,11 @@ class CrosscheckInputs(BaseModel):
         description="rate check: press both models again at this speed, the NMSD with the "
         "constants calibrated at speed_um_s (not refitted); 0: off",
     )
+    calibrate_both_speeds: bool = Field(
+        False,
+        description="fit the NMSD to the FE force at speed_um_s and check_speed_um_s together "
+        "(eq 7 summed); the rate check then reports a fitted curve, not a prediction",
+    )
 
 
 METRICS = {
@@ -185,43 +190,53 @@ def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
     return setup, params
 
 
-def _rate_check(
+def _fe_check_press(
     ctx: CaseContext,
     scenario: PressScenario,
     materials: LayerMaterials,
     settings: FeSettings,
+    points: np.ndarray,
+) -> tuple[ForceDisplacement, np.ndarray] | None:
+    """The FE press at ``check_speed_um_s``: its force curve (nN) and point displacements
+    (k, p, 2) um, or None when the rate check is off."""
+    inp = ctx.inputs
+    if inp.check_speed_um_s == 0:
+        return None
+    ctx.step(f"FE press at the check speed, {inp.check_speed_um_s:g} um/s")
+    slow = replace(scenario, speed_um_s=inp.check_speed_um_s)
+    fe = run_fe_press(slow, materials, settings, inp.travel_um, points, ctx.log)
+    curve = ForceDisplacement(fe.advance_um, fe.force_nN_per_um * inp.thickness_um, source="FE")
+    return curve, fe.point_displacement_um
+
+
+def _rate_check(
+    ctx: CaseContext,
+    check: tuple[ForceDisplacement, np.ndarray] | None,
     setup: PressSetup,
     params: NmsdParameters,
     points: np.ndarray,
 ) -> tuple[float, float]:
-    """Both models pressed at ``check_speed_um_s``, the NMSD constants not refitted: force
-    R^2 against the FE and the largest spindle error / goal (NaN, NaN when off).
+    """The NMSD pressed at ``check_speed_um_s`` with ``params`` against the FE there: force
+    R^2 and the largest spindle error / goal (NaN, NaN when off or diverged).
 
-    The force-only calibration at one speed does not fix how the NMSD splits its resistance
+    A force-only calibration at one speed does not fix how the NMSD splits its resistance
     between springs and dashpots; a second speed does (docs/cases/nmsd_vs_fe.md).
     """
     inp = ctx.inputs
-    if inp.check_speed_um_s == 0:
+    if check is None:
         return float("nan"), float("nan")
-    speed = inp.check_speed_um_s
-    ctx.step(f"rate check: both models at {speed:g} um/s")
-    fe = run_fe_press(
-        replace(scenario, speed_um_s=speed), materials, settings, inp.travel_um, points, ctx.log
-    )
-    fe_nN = fe.force_nN_per_um * inp.thickness_um
-    slow = replace(setup, speed_um_s=speed)
+    curve, u_fe = check
+    slow = replace(setup, speed_um_s=inp.check_speed_um_s)
+    advances = curve.displacement_um[1:]
     try:
-        nmsd_nN = slow.run(params, record_um=fe.advance_um).force_at(fe.advance_um)
-        advances = fe.advance_um[1:]
+        nmsd_nN = slow.run(params, record_um=curve.displacement_um).force_at(curve.displacement_um)
         field = press_displacements(slow, params, advances, points[:1])
     except NmsdDivergence as exc:
-        ctx.log.warning("rate check: the NMSD press diverged at %g um/s: %s", speed, exc)
+        ctx.log.warning("rate check: the NMSD press diverged at the check speed: %s", exc)
         return float("nan"), float("nan")
     u_nm = np.array([field.at_points[float(a)] for a in advances])
-    agree = displacement_agreement(
-        advances, fe.point_displacement_um[1:, :1], u_nm, 0, inp.goal_abs_um, inp.goal_rel
-    )
-    return force_agreement(nmsd_nN, fe_nN).r2, float(agree.spindle_ratio.max())
+    agree = displacement_agreement(advances, u_fe[1:, :1], u_nm, 0, inp.goal_abs_um, inp.goal_rel)
+    return force_agreement(nmsd_nN, curve.force_nN).r2, float(agree.spindle_ratio.max())
 
 
 @case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)
@@ -248,6 +263,10 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("NMSD calibrated to the FE force curve")
     setup, base = _nmsd_setup(ctx)
     fe_curve = ForceDisplacement(fe.advance_um, fe_nN, source="FE press")
+    check = _fe_check_press(ctx, scenario, materials, settings, points)
+    also = []
+    if check is not None and inp.calibrate_both_speeds:
+        also = [(replace(setup, speed_um_s=inp.check_speed_um_s), check[0])]
     cal = calibrate(
         setup,
         fe_curve,
@@ -256,6 +275,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         inp.n_starts,
         max_evaluations=inp.max_evaluations,
         k2_over_k1_min=inp.nmsd_k2_over_k1_min,
+        also=also,
     )
     vs_fe = force_agreement(cal.force_nN, fe_nN)
     depart_um, depart_nN = largest_departure(fe.advance_um, cal.force_nN, fe_nN)
@@ -267,7 +287,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     u_fe = fe.point_displacement_um[1:]
     agree = displacement_agreement(advances, u_fe, u_nm, 0, inp.goal_abs_um, inp.goal_rel)
     scale, slow_error = _drag_scaled_error(setup, cal.params, advances, points[0], u_fe[:, 0], inp)
-    check = _rate_check(ctx, scenario, materials, settings, setup, cal.params, points)
+    rate = _rate_check(ctx, check, setup, cal.params, points)
 
     ctx.step("figures and tables")
     arrows = [a for a in inp.arrow_advances_um if np.any(np.isclose(advances, a))]
@@ -352,8 +372,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "fe_cutbacks": float(fe.cutbacks),
         "fe_seconds": fe.seconds,
         "calibration_seconds": cal.seconds,
-        "rate_check_force_r2": check[0],
-        "rate_check_spindle_goal_ratio_max": check[1],
+        "rate_check_force_r2": rate[0],
+        "rate_check_spindle_goal_ratio_max": rate[1],
     }
     return CaseOutcome(
         metrics=metrics,
