@@ -47,6 +47,16 @@ def _add_block(ab, band, n_dof, i, j, b00, b01, b10, b11):
     ab[base + r - c, c + 1] += b11
 
 
+@njit(cache=True, inline="always")
+def link_geometry(x, a, b, l0):
+    """Link a-b at positions x: ``dx, dy`` (um, a minus b), length l (um), unit vector
+    ``n = (dx, dy)/l`` and strain ``l/l0 - 1``."""
+    dx = x[a, 0] - x[b, 0]
+    dy = x[a, 1] - x[b, 1]
+    length = np.sqrt(dx * dx + dy * dy)
+    return dx, dy, length, dx / length, dy / length, length / l0 - 1.0
+
+
 @njit(cache=True)
 def assemble(
     x,
@@ -148,12 +158,7 @@ def assemble(
         a = edges[e, 0]
         b = edges[e, 1]
         l0 = rest_length[e]
-        dx = x[a, 0] - x[b, 0]
-        dy = x[a, 1] - x[b, 1]
-        length = np.sqrt(dx * dx + dy * dy)
-        nx = dx / length
-        ny = dy / length
-        strain = length / l0 - 1.0
+        dx, dy, length, nx, ny, strain = link_geometry(x, a, b, l0)
         if abs(strain) <= dl_c:
             f = k1 * strain + k2 * strain**3
             df = k1 + 3.0 * k2 * strain**2

@@ -50,6 +50,7 @@ import numpy as np
 from numba import njit
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
+from nmsd.assembly import link_geometry
 from nmsd.errors import NmsdInputError
 from nmsd.symmetry import fold
 
@@ -98,12 +99,7 @@ def parameter_columns(
         a = edges[e, 0]
         b = edges[e, 1]
         l0 = rest_length[e]
-        dx = x[a, 0] - x[b, 0]
-        dy = x[a, 1] - x[b, 1]
-        length = np.sqrt(dx * dx + dy * dy)
-        nx = dx / length
-        ny = dy / length
-        strain = length / l0 - 1.0
+        dx, dy, length, nx, ny, strain = link_geometry(x, a, b, l0)
         z = link_factor[e]
         g1 = z * strain
         if abs(strain) <= dl_c:
@@ -182,11 +178,7 @@ def history_term(
         for e in range(edges.shape[0]):
             a = edges[e, 0]
             b = edges[e, 1]
-            dx = x[a, 0] - x[b, 0]
-            dy = x[a, 1] - x[b, 1]
-            length = np.sqrt(dx * dx + dy * dy)
-            nx = dx / length
-            ny = dy / length
+            _, _, length, nx, ny, _ = link_geometry(x, a, b, rest_length[e])
             c = (d0 + d1 * abs(length - rest_length[e])) * inv_dt
             for q in range(n_p):
                 proj = c * (
