@@ -57,6 +57,24 @@ def link_geometry(x, a, b, l0):
     return dx, dy, length, dx / length, dy / length, length / l0 - 1.0
 
 
+@njit(cache=True, inline="always")
+def cell_area(x, cells, c, idx, gx, gy):
+    """Shoelace area (um^2) of cell c (3 or 4 corners, -1 padded) and its gradient: fills
+    ``idx[k]`` with the corner nodes and ``gx[k], gy[k]`` with dA/dx, dA/dy of corner k;
+    returns (number of corners, area)."""
+    m = 4 if cells[c, 3] >= 0 else 3
+    area = 0.0
+    for k in range(m):
+        i = cells[c, k]
+        j = cells[c, (k + 1) % m]
+        h = cells[c, (k + m - 1) % m]
+        idx[k] = i
+        area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
+        gx[k] = 0.5 * (x[j, 1] - x[h, 1])
+        gy[k] = 0.5 * (x[h, 0] - x[j, 0])
+    return m, area
+
+
 @njit(cache=True)
 def assemble(
     x,
@@ -207,16 +225,7 @@ def assemble(
         gy = np.empty(4)
         idx = np.empty(4, dtype=np.int64)
         for c in range(cells.shape[0]):
-            m = 4 if cells[c, 3] >= 0 else 3
-            area = 0.0
-            for k in range(m):
-                i = cells[c, k]
-                j = cells[c, (k + 1) % m]
-                h = cells[c, (k + m - 1) % m]
-                idx[k] = i
-                area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
-                gx[k] = 0.5 * (x[j, 1] - x[h, 1])
-                gy[k] = 0.5 * (x[h, 0] - x[j, 0])
+            m, area = cell_area(x, cells, c, idx, gx, gy)
             a0 = rest_area[c]
             p = area_kappa * (area / a0 - 1.0)
             for k in range(m):

@@ -50,7 +50,7 @@ import numpy as np
 from numba import njit
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
-from nmsd.assembly import link_geometry
+from nmsd.assembly import cell_area, link_geometry
 from nmsd.errors import NmsdInputError
 from nmsd.symmetry import fold
 
@@ -131,20 +131,15 @@ def parameter_columns(
             out[2 * b, 3] -= stretch * rate * nx
             out[2 * b + 1, 3] -= stretch * rate * ny
     if area_per_k1 > 0.0:
+        gx = np.empty(4)
+        gy = np.empty(4)
+        idx = np.empty(4, dtype=np.int64)
         for c in range(cells.shape[0]):
-            m = 4 if cells[c, 3] >= 0 else 3
-            area = 0.0
-            for k in range(m):
-                i = cells[c, k]
-                j = cells[c, (k + 1) % m]
-                area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
+            m, area = cell_area(x, cells, c, idx, gx, gy)
             p = area_per_k1 * (area / rest_area[c] - 1.0)
             for k in range(m):
-                i = cells[c, k]
-                j = cells[c, (k + 1) % m]
-                h = cells[c, (k + m - 1) % m]
-                out[2 * i, 0] += p * 0.5 * (x[j, 1] - x[h, 1])
-                out[2 * i + 1, 0] += p * 0.5 * (x[h, 0] - x[j, 0])
+                out[2 * idx[k], 0] += p * gx[k]
+                out[2 * idx[k] + 1, 0] += p * gy[k]
     for k in range(2 * n):
         if held_dof[k]:
             out[k, :] = 0.0
