@@ -229,13 +229,13 @@ def _rate_check(
     slow = replace(setup, speed_um_s=inp.check_speed_um_s)
     advances = curve.displacement_um[1:]
     try:
-        nmsd_nN = slow.run(params, record_um=curve.displacement_um).force_at(curve.displacement_um)
         field = press_displacements(slow, params, advances, points[:1])
     except NmsdDivergence as exc:
         ctx.log.warning("rate check: the NMSD press diverged at the check speed: %s", exc)
         return float("nan"), float("nan")
     u_nm = np.array([field.at_points[float(a)] for a in advances])
     agree = displacement_agreement(advances, u_fe[1:, :1], u_nm, 0, inp.goal_abs_um, inp.goal_rel)
+    nmsd_nN = field.press.force_at(curve.displacement_um)
     return force_agreement(nmsd_nN, curve.force_nN).r2, float(agree.spindle_ratio.max())
 
 
