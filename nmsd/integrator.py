@@ -131,6 +131,9 @@ class BackwardEulerStepper:
             self._scatter = fold_map(self.reduction, n, self._edges, self.band, cells)
             self._res_h = np.zeros(self.reduction.n_dof)
             self._ab_h = np.zeros((3 * self.reduction.band + 1, self.reduction.n_dof), order="F")
+        # the band system Newton factors: the full tangent, or its half-lattice fold
+        self.system_band = self.band if self.reduction is None else self.reduction.band
+        self._system_ab = self._ab if self.reduction is None else self._ab_h
 
     def internal_force(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Link spring forces on the nodes (n, 2) nN and the 2x2 link tangents (m, 2, 2) nN/um.
@@ -230,10 +233,8 @@ class BackwardEulerStepper:
         return self._res_h
 
     def _factor(self) -> None:
-        ab, band = (
-            (self._ab, self.band) if self.reduction is None else (self._ab_h, self.reduction.band)
-        )
-        lu, piv, info = dgbtrf(ab, band, band, overwrite_ab=1)
+        band = self.system_band
+        lu, piv, info = dgbtrf(self._system_ab, band, band, overwrite_ab=1)
         if info != 0:
             self._lu = None
             raise NewtonFailure("singular tangent")
@@ -244,7 +245,7 @@ class BackwardEulerStepper:
         """Advance one step of length dt (s) to the pipette advance ``advance`` (um)."""
         x_new = x + dt * v
         x_new[self._held_nodes] = x[self._held_nodes]
-        band = self.band if self.reduction is None else self.reduction.band
+        band = self.system_band
         refresh = True  # a fresh tangent at the predictor (a stale one strays in contact)
         fresh = False
         previous = np.inf
