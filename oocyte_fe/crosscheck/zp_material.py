@@ -27,6 +27,19 @@ class LayerMaterials:
     cytoplasm: Material
     zona_record: MaterialFile
 
+    def stiffness_ratio(self, relaxed: bool) -> float:
+        """``E_zp / E_cyto`` [-]: instantaneous (``E0`` of each layer) or relaxed
+        (``E0 g_inf``, ``g_inf = 1 - sum g_i``, the modulus left after every Prony term has
+        relaxed).
+
+        The relaxed ratio is the one a Kelvin-Voigt lattice link reads: its spring carries the
+        equilibrium stress and its dashpot the rate-dependent excess.
+        """
+        zona, cyto = self.zona, self.cytoplasm
+        if relaxed:
+            return zona.E_kPa * zona.prony.g_inf / (cyto.E_kPa * cyto.prony.g_inf)
+        return zona.E_kPa / cyto.E_kPa
+
 
 def afm_layer_materials(
     creep_csv: str | Path,

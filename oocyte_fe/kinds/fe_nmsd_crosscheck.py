@@ -5,7 +5,7 @@ NMSD lattice calibrated to the FE force curve; forces and internal displacements
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -35,6 +35,7 @@ from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
 
 UN = 1e-3  # nN -> uN
+ZonaRatioReading = Literal["afm_relaxed", "afm_instantaneous"]
 
 
 class CrosscheckInputs(BaseModel):
@@ -77,11 +78,11 @@ class CrosscheckInputs(BaseModel):
         description="NMSD cell area term kappa h / k1 (dimensionless, nmsd.area); 0: the paper's "
         "model. nmsd.area.area_stiffness_for_poisson(nu) gives the value for a Poisson ratio",
     )
-    nmsd_zona_stiffness_ratio: float = Field(
+    nmsd_zona_stiffness_ratio: Annotated[float, Field(gt=0)] | ZonaRatioReading = Field(
         1.0,
-        gt=0,
         description="NMSD ZP ring: k1, k2 of the links beyond cytoplasm_diameter_um / 2 times "
-        "this (E_zp / E_cyto, nmsd.zona); 1: the paper's uniform lattice",
+        "this (E_zp / E_cyto, nmsd.zona); 1: the paper's uniform lattice; 'afm_relaxed' / "
+        "'afm_instantaneous': the ratio of the FE layers' relaxed / instantaneous moduli",
     )
     nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
     nmsd_k2_over_k1_min: float = Field(
@@ -166,7 +167,15 @@ def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
     return scenario, settings
 
 
-def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
+def _zona_ratio(inp: CrosscheckInputs, materials: LayerMaterials) -> float:
+    """The NMSD ring's spring factor: the input number, or the FE layers' modulus ratio."""
+    ratio = inp.nmsd_zona_stiffness_ratio
+    if isinstance(ratio, str):
+        return materials.stiffness_ratio(relaxed=ratio == "afm_relaxed")
+    return ratio
+
+
+def _nmsd_setup(ctx: CaseContext, zona_ratio: float) -> tuple[PressSetup, NmsdParameters]:
     inp = ctx.inputs
     setup, base = build_press(
         ctx,
@@ -178,7 +187,7 @@ def _nmsd_setup(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters]:
     )
     params = base.with_values(
         area_stiffness=inp.nmsd_area_stiffness,
-        zona_stiffness_ratio=inp.nmsd_zona_stiffness_ratio,
+        zona_stiffness_ratio=zona_ratio,
         zona_inner_radius_um=0.5 * inp.cytoplasm_diameter_um,
     )
     try:
@@ -261,7 +270,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     vs_table = force_agreement(fe_at_tab, table.force_nN[within])
 
     ctx.step("NMSD calibrated to the FE force curve")
-    setup, base = _nmsd_setup(ctx)
+    setup, base = _nmsd_setup(ctx, _zona_ratio(inp, materials))
     fe_curve = ForceDisplacement(fe.advance_um, fe_nN, source="FE press")
     check = _fe_check_press(ctx, scenario, materials, settings, points)
     also = []
@@ -422,6 +431,9 @@ def _materials_text(materials, inp: CrosscheckInputs) -> str:
         f"ZP: E0 = {z.E_kPa:.4g} kPa, nu = {z.nu:g}, Prony {terms} (from `{inp.creep_data.name}`"
         f": {materials.zona_record.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
         f"nu = {materials.cytoplasm.nu:g}, elastic."
+        f" E_zp / E_cyto: {materials.stiffness_ratio(relaxed=False):.4g} instantaneous, "
+        f"{materials.stiffness_ratio(relaxed=True):.4g} relaxed (NMSD ring input: "
+        f"`{inp.nmsd_zona_stiffness_ratio}`)."
     )
 
 
@@ -429,7 +441,7 @@ def _params_text(cal, metrics) -> str:
     p = cal.params
     area = (
         f"area term {p.area_stiffness:g} k1/h (small-strain plane-strain Poisson ratio "
-        f"{poisson_ratio(p.area_stiffness):.3f}); ZP ring k1, k2 x {p.zona_stiffness_ratio:g}"
+        f"{poisson_ratio(p.area_stiffness):.3f}); ZP ring k1, k2 x {p.zona_stiffness_ratio:.4g}"
         f" beyond r = {p.zona_inner_radius_um:.2f} um; "
     )
     return (
