@@ -22,6 +22,11 @@ import numpy as np
 
 from nmsd.errors import NmsdInputError
 
+TABLE_I_WIDTH_UM = 20.628  # d_inj, seed 000 Table I
+TABLE_I_TIP_ANGLE_DEG = 25.238  # theta_inj, seed 000 Table I
+CONTACT_STIFFNESS_NN_PER_UM = 2.0e4  # penalty kappa of the default press
+HOLD_HALF_WIDTH_UM = 25.0  # half-width of the held far-side rim (holding pipette mouth)
+
 
 @dataclass(frozen=True)
 class Pipette:
@@ -31,11 +36,11 @@ class Pipette:
     ``contact_stiffness``: penalty kappa, nN/um.
     """
 
-    width_um: float = 20.628
-    tip_angle_deg: float = 25.238
+    width_um: float = TABLE_I_WIDTH_UM
+    tip_angle_deg: float = TABLE_I_TIP_ANGLE_DEG
     start: tuple[float, float] = (60.0, 0.0)
     direction: tuple[float, float] = (-1.0, 0.0)
-    contact_stiffness: float = 2.0e4
+    contact_stiffness: float = CONTACT_STIFFNESS_NN_PER_UM
     source: str = "Pipette"
 
     def __post_init__(self) -> None:

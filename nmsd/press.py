@@ -18,7 +18,13 @@ from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import Lattice, circular_lattice
 from nmsd.parameters import NmsdParameters
-from nmsd.pipette import Pipette
+from nmsd.pipette import (
+    CONTACT_STIFFNESS_NN_PER_UM,
+    HOLD_HALF_WIDTH_UM,
+    TABLE_I_TIP_ANGLE_DEG,
+    TABLE_I_WIDTH_UM,
+    Pipette,
+)
 from nmsd.sensitivity import NAMES, PressSensitivity
 from nmsd.symmetry import Mirror, mirror_of
 
@@ -110,10 +116,10 @@ class PressSetup:
 
 def press_setup(
     lattice: Lattice | None = None,
-    width_um: float = 20.628,
-    tip_angle_deg: float = 25.238,
-    hold_half_width_um: float = 25.0,
-    contact_stiffness: float = 2.0e4,
+    width_um: float = TABLE_I_WIDTH_UM,
+    tip_angle_deg: float = TABLE_I_TIP_ANGLE_DEG,
+    hold_half_width_um: float = HOLD_HALF_WIDTH_UM,
+    contact_stiffness: float = CONTACT_STIFFNESS_NN_PER_UM,
     speed_um_s: float = 30.0,
     travel_um: float = 65.0,
     n_steps: int = 65,

@@ -19,7 +19,13 @@ import numpy as np
 from nmsd.lattice import Lattice
 from nmsd.material_point import locate
 from nmsd.parameters import NmsdParameters
-from nmsd.pipette import Pipette
+from nmsd.pipette import (
+    CONTACT_STIFFNESS_NN_PER_UM,
+    HOLD_HALF_WIDTH_UM,
+    TABLE_I_TIP_ANGLE_DEG,
+    TABLE_I_WIDTH_UM,
+    Pipette,
+)
 from nmsd.press import PressResult, held_far_side, simulate_press
 
 
@@ -68,10 +74,10 @@ def predict_spindle_offset(
     lattice: Lattice,
     params: NmsdParameters,
     spindle_initial_um: tuple[float, float] = (15.8718, 18.1392),
-    width_um: float = 20.628,
-    tip_angle_deg: float = 25.238,
-    hold_half_width_um: float = 25.0,
-    contact_stiffness: float = 2.0e4,
+    width_um: float = TABLE_I_WIDTH_UM,
+    tip_angle_deg: float = TABLE_I_TIP_ANGLE_DEG,
+    hold_half_width_um: float = HOLD_HALF_WIDTH_UM,
+    contact_stiffness: float = CONTACT_STIFFNESS_NN_PER_UM,
     speed_um_s: float = 30.0,
     step_um: float = 0.5,
 ) -> SpindleOffset:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nmsd.pipette import HOLD_HALF_WIDTH_UM, TABLE_I_TIP_ANGLE_DEG, TABLE_I_WIDTH_UM
 from oocyte_fe.errors import InputError
 
 
@@ -36,10 +37,10 @@ class PressScenario:
 
     cell_diameter_um: float = 115.625
     cytoplasm_diameter_um: float = 83.597
-    pipette_width_um: float = 20.628
-    tip_angle_deg: float = 25.238
+    pipette_width_um: float = TABLE_I_WIDTH_UM
+    tip_angle_deg: float = TABLE_I_TIP_ANGLE_DEG
     speed_um_s: float = 30.0
-    hold_half_width_um: float = 25.0
+    hold_half_width_um: float = HOLD_HALF_WIDTH_UM
     spindle_paper_um: tuple[float, float] = (15.8718, 18.1392)
     source: str = "PressScenario"
 

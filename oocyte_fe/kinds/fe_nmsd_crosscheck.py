@@ -15,6 +15,12 @@ from nmsd.calibration import calibrate
 from nmsd.displacement_field import press_displacements
 from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.parameters import NmsdParameters
+from nmsd.pipette import (
+    CONTACT_STIFFNESS_NN_PER_UM,
+    HOLD_HALF_WIDTH_UM,
+    TABLE_I_TIP_ANGLE_DEG,
+    TABLE_I_WIDTH_UM,
+)
 from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement, read_force_displacement
 from nmsd.zona import zona_link_factor
@@ -46,10 +52,10 @@ class CrosscheckInputs(BaseModel):
     table2_data: DataFile = Field(description="Table II CSV: displacement_um, force_*_uN")
     cell_diameter_um: float = Field(115.625, gt=0, description="Table I R_c, outer diameter")
     cytoplasm_diameter_um: float = Field(83.597, gt=0, description="Table I R_zp, inside the ZP")
-    pipette_width_um: float = Field(20.628, gt=0)
-    tip_angle_deg: float = Field(25.238, ge=0, lt=180)
+    pipette_width_um: float = Field(TABLE_I_WIDTH_UM, gt=0)
+    tip_angle_deg: float = Field(TABLE_I_TIP_ANGLE_DEG, ge=0, lt=180)
     speed_um_s: float = Field(30.0, gt=0)
-    hold_half_width_um: float = Field(25.0, gt=0)
+    hold_half_width_um: float = Field(HOLD_HALF_WIDTH_UM, gt=0)
     spindle_paper_um: tuple[float, float] = (15.8718, 18.1392)
     travel_um: float = Field(62.5, gt=0, description="pipette travel, um")
     nu: float = Field(0.5, gt=-1, le=0.5)
@@ -84,7 +90,7 @@ class CrosscheckInputs(BaseModel):
         "this (E_zp / E_cyto, nmsd.zona); 1: the paper's uniform lattice; 'afm_relaxed' / "
         "'afm_instantaneous': the ratio of the FE layers' relaxed / instantaneous moduli",
     )
-    nmsd_contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
+    nmsd_contact_stiffness_nN_per_um: float = Field(CONTACT_STIFFNESS_NN_PER_UM, gt=0)
     nmsd_k2_over_k1_min: float = Field(
         50.0,
         ge=0,

@@ -14,6 +14,12 @@ from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.errors import NmsdInputError
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
+from nmsd.pipette import (
+    CONTACT_STIFFNESS_NN_PER_UM,
+    HOLD_HALF_WIDTH_UM,
+    TABLE_I_TIP_ANGLE_DEG,
+    TABLE_I_WIDTH_UM,
+)
 from nmsd.plotting import plot_force_curves, plot_snapshots, plot_spindle
 from nmsd.press import PressSetup, press_setup
 from nmsd.spindle import predict_spindle_offset
@@ -32,10 +38,14 @@ class PressInputs(BaseModel):
     data: DataFile = Field(description="Table II CSV: displacement_um, force_experiment_uN, ...")
     cell_diameter_um: float = Field(115.625, gt=0, description="oocyte diameter (Table I R_c)")
     spacings_across: int = Field(17, ge=2, description="grid spacings across the diameter")
-    pipette_width_um: float = Field(20.628, gt=0, description="Table I d_inj")
-    tip_angle_deg: float = Field(25.238, ge=0, lt=180, description="Table I theta_inj")
-    hold_half_width_um: float = Field(25.0, gt=0, description="holding pipette mouth half-width")
-    contact_stiffness_nN_per_um: float = Field(2.0e4, gt=0)
+    pipette_width_um: float = Field(TABLE_I_WIDTH_UM, gt=0, description="Table I d_inj")
+    tip_angle_deg: float = Field(
+        TABLE_I_TIP_ANGLE_DEG, ge=0, lt=180, description="Table I theta_inj"
+    )
+    hold_half_width_um: float = Field(
+        HOLD_HALF_WIDTH_UM, gt=0, description="holding pipette mouth half-width"
+    )
+    contact_stiffness_nN_per_um: float = Field(CONTACT_STIFFNESS_NN_PER_UM, gt=0)
     gap_um: float = Field(0.0, ge=0, description="pipette travel before touching the lattice")
     dl_c: float = Field(0.8, gt=0, description="critical link strain of eq 3")
     damping: Literal["nodal", "link"] = Field(
