@@ -216,21 +216,34 @@ class BackwardEulerStepper:
         """Residual of the system Newton solves (full, or kept rows of the half lattice); with
         ``refresh`` its band tangent is filled too (``_ab`` or ``_ab_h``)."""
         res, ab = self.residual(x_new, x, v, advance, dt, with_tangent=refresh)[:2]
-        red = self.reduction
-        if red is None:
+        if self.reduction is None:
             return res
+        self.fold(ab, res, self._ab_h, self._res_h, refresh)
+        return self._res_h
+
+    def fold(
+        self,
+        ab: np.ndarray,
+        res: np.ndarray,
+        ab_h: np.ndarray,
+        res_h: np.ndarray,
+        with_tangent: bool,
+    ) -> None:
+        """Fold the full band tangent ``ab`` and residual ``res`` onto the half lattice of the
+        symmetric branch (:func:`nmsd.symmetry.fold`), into ``ab_h`` / ``res_h``; ``ab`` and
+        ``res`` are left intact."""
+        red = self.reduction
         fold(
             ab,
             res,
             red.kept_row,
             red.fixed,
             *self._scatter,
-            self._ab_h,
+            ab_h,
             red.band,
-            self._res_h,
-            refresh,
+            res_h,
+            with_tangent,
         )
-        return self._res_h
 
     def _factor(self) -> None:
         band = self.system_band

@@ -52,7 +52,6 @@ from scipy.linalg.lapack import dgbtrf, dgbtrs
 
 from nmsd.assembly import cell_area, link_geometry
 from nmsd.errors import NmsdInputError
-from nmsd.symmetry import fold
 
 NAMES = ("k1", "k2", "d0", "d1", "dl_c", "gap_um")
 """Constants whose force sensitivities a press returns, in this column order."""
@@ -242,17 +241,7 @@ class PressSensitivity:
             lu, piv, info = dgbtrf(ab, st.band, st.band)  # a copy: ab is kept
             band = st.band
         else:
-            fold(
-                ab,
-                self._res_full,
-                red.kept_row,
-                red.fixed,
-                *st._scatter,
-                self._ab_h,
-                red.band,
-                self._res_h,
-                True,
-            )
+            st.fold(ab, self._res_full, self._ab_h, self._res_h, True)
             lu, piv, info = dgbtrf(self._ab_h, red.band, red.band, overwrite_ab=1)
             band = red.band
         if info != 0:
