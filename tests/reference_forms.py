@@ -47,4 +47,6 @@ def contact_stiffness(du, v, w):
     vt = np.einsum("i...,i...->...", w.t_c, v)
     dn = np.einsum("i...,i...->...", w.n_c, du)
     dt = np.einsum("i...,i...->...", w.t_c, du)
-    return (w.k_nn * vn * dn + w.k_tt * vt * dt + w.k_tn * vt * dn) * _reference_radius(w)
+    return (
+        w.k_nn * vn * dn + w.k_tt * vt * dt + w.k_tn * vt * dn + w.k_nt * vn * dt
+    ) * _reference_radius(w)

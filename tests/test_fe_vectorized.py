@@ -106,6 +106,7 @@ def test_vectorised_facet_blocks_equal_scikit_fem_forms(axisym: float) -> None:
         k_nn=rng.uniform(0, 5, shape),
         k_tt=rng.uniform(0, 5, shape),
         k_tn=rng.standard_normal(shape),
+        k_nt=rng.standard_normal(shape),
     )
     f, K = ops.contact(ev, bool(axisym))
     f_ref = asm(contact_traction, fb, tr=ev.traction, axisym=axisym)
@@ -117,6 +118,7 @@ def test_vectorised_facet_blocks_equal_scikit_fem_forms(axisym: float) -> None:
         k_nn=ev.k_nn,
         k_tt=ev.k_tt,
         k_tn=ev.k_tn,
+        k_nt=ev.k_nt,
         axisym=axisym,
     ).toarray()
     np.testing.assert_allclose(f, f_ref, atol=1e-12 * np.abs(f_ref).max())

@@ -14,7 +14,7 @@ from oocyte_fe.fe.contact import Contact, ContactState, evaluate
 from oocyte_fe.fe.kinematics import Kinematics
 from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
 from oocyte_fe.fe.material import Material, Prony, ViscousHistory, response
-from oocyte_fe.fe.obstacles import Circle, flat_plate
+from oocyte_fe.fe.obstacles import Circle, Polyline, flat_plate
 from oocyte_fe.fe.solver import Problem
 from tests.fe_geometry import quarter_annulus, rectangle
 
@@ -302,6 +302,51 @@ def test_friction_tangent_matches_finite_differences(smooth: bool) -> None:
         # tangent tau = (-n_2, n_1) = (-1, 0) for n = (0, 1): du_x = -du_t, du_y = +du_n
         sign = -1.0 if comp == 0 else 1.0
         np.testing.assert_allclose(-sign * (plus - minus) / (2 * h), coeff, rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.3])
+@pytest.mark.parametrize(
+    ("obstacle", "row_y"),
+    [
+        (Circle((0.0, 2.0), 1.5), 0.45),  # points below the circle
+        (Polyline(((-1.0, -0.4), (0.0, 0.6), (1.0, -0.4))), 0.7),  # in the solid, over the peak
+    ],
+    ids=["circle", "reflex corner"],
+)
+def test_contact_tangent_on_curved_obstacles_matches_finite_differences(obstacle, row_y, friction):
+    """-d traction / du = k_nn n n^T + k_tt t t^T + k_tn t n^T + k_nt n t^T, with the turning
+    of n and t (curvature kappa) on a circle and about the reflex corner of the solid above a
+    roof-shaped boundary (peak at (0, 0.6): inside, n turns about the peak); at the converged
+    state (u = u_n) where the left-out slip-increment term vanishes."""
+    contact = Contact("b", obstacle, 100.0, friction)
+    X = np.zeros((2, 1, 5))
+    X[0, 0] = [-0.09, -0.05, 0.0, 0.045, 0.062]  # within 45 deg of the peak's axis
+    X[1, 0] = row_y
+    g0, n0 = obstacle.distance(X)
+    u = -(g0 + 0.03) * n0  # every point moved to 0.03 um inside along its normal
+    slip = np.array([[0.0, 1e-4, -2e-4, 2e-2, -2e-2]])  # stick, stick, stick, slip, slip
+    state = ContactState(u.copy(), slip, 0.0)
+    ev = evaluate(contact, X, u, state, 0.0)
+    assert np.all(ev.pressure > 0)
+    assert np.count_nonzero(obstacle.distance_curvature(X + u)[2]) >= 2  # n turns there
+    n, t = ev.normal[:, 0], ev.tangent[:, 0]
+    K = (
+        ev.k_nn[0] * n[:, None] * n[None]
+        + ev.k_tt[0] * t[:, None] * t[None]
+        + ev.k_tn[0] * t[:, None] * n[None]
+        + ev.k_nt[0] * n[:, None] * t[None]
+    )
+    h = 1e-7
+    for j in range(2):
+        du = np.zeros_like(u)
+        du[j] = h
+        plus = evaluate(contact, X, u + du, state, 0.0).traction[:, 0]
+        minus = evaluate(contact, X, u - du, state, 0.0).traction[:, 0]
+        np.testing.assert_allclose(-(plus - minus) / (2 * h), K[:, j], rtol=1e-5, atol=1e-4)
+    if isinstance(obstacle, Circle):  # kappa = 1 / distance to the centre: -lambda / r
+        r = np.linalg.norm(X[:, 0] + u[:, 0] - np.array([[0.0], [2.0]]), axis=0)
+        stick = ev.k_tt[0] + ev.pressure[0] / r
+        assert stick == pytest.approx([100.0, 100.0, 100.0, 0.0, 0.0] if friction else 0.0)
 
 
 def test_smooth_friction_saturates_at_mu_lambda() -> None:

@@ -10,7 +10,11 @@ Evaluated at the quadrature points of a named boundary, in the current position
     q = -mu lambda sign(s_trial)     otherwise                   (slip)
     traction on the body t = lambda n + q tau,   tau = (-n_2, n_1)
 
-with the consistent (unsymmetric in slip) tangent. With ``smooth_friction`` the return
+with the consistent (unsymmetric in slip) tangent, including the turning of ``n`` and ``tau``
+with the contact point on a curved obstacle (``dn/dx = kappa tau tau^T``,
+``dtau/dx = -kappa n tau^T``, :mod:`~oocyte_fe.fe.obstacles`): ``-lambda kappa`` on
+``tau tau^T`` and ``q kappa`` on ``n tau^T``. Left out: the turning of ``tau`` in the slip
+increment (a term proportional to the increment). With ``smooth_friction`` the return
 mapping is replaced by its smooth counterpart
 
     q = -mu lambda tanh(z),   z = eps_T s_trial / (mu lambda)
@@ -20,9 +24,7 @@ mapping is replaced by its smooth counterpart
 ``3 mu lambda / eps_T``; the stored slip keeps ``|z| <= 5``, so a point sliding in small steps
 stays within 1e-4 of ``mu lambda`` and a converged state re-evaluates to the same traction
 unless capped): the tangent is continuous, so Newton does not cycle when many points sit on
-the stick/slip boundary at once (a body sliding as a whole). The curvature of the obstacle
-(dn/dx) is left out of the tangent, which costs an iteration or two on curved obstacles,
-not accuracy.
+the stick/slip boundary at once (a body sliding as a whole).
 Tractions are per reference area (times ``2 pi R`` in axisymmetry). Penalties [kPa/um] default
 to ``penalty_factor * E_max / h`` (see :class:`Contact`).
 """
@@ -91,9 +93,11 @@ class ContactEval:
     pressure: NDArray  # lambda [kPa]
     shear: NDArray  # q [kPa]
     slip: NDArray  # s (elastic tangential slip), to store when converged
+    # -d traction / du = k_nn n n^T + k_tt tau tau^T + k_tn tau n^T + k_nt n tau^T  [kPa/um]
     k_nn: NDArray
-    k_tt: NDArray
+    k_tt: NDArray  # stick stiffness minus lambda kappa (the turning of n)
     k_tn: NDArray
+    k_nt: NDArray  # q kappa (the turning of tau)
 
     @property
     def traction(self) -> NDArray:
@@ -106,7 +110,7 @@ def evaluate(
     """Gap, tractions and tangent coefficients at the quadrature points (``u_q`` (2, nf, nq))."""
     d = np.asarray(contact.motion(t), dtype=float)[:, None, None]
     d_n = np.asarray(contact.motion(state.t), dtype=float)[:, None, None]
-    gap, n = contact.obstacle.distance(X + u_q - d)
+    gap, n, kappa = contact.obstacle.distance_curvature(X + u_q - d)
     tau = np.stack([-n[1], n[0]])
     pen = -gap
     closed = pen > 0.0
@@ -126,7 +130,7 @@ def evaluate(
         q, k_tt, k_tn, s_new = _smooth_return(s_trial, limit, contact.eps_t, contact.friction, dlam)
     else:
         q_trial = -contact.eps_t * s_trial
-        stick = closed & (np.abs(q_trial) <= limit)
+        stick = closed & (limit > 0.0) & (np.abs(q_trial) <= limit)  # mu = 0: never sticks
         slip = closed & ~stick
         sgn = np.sign(s_trial)
         q = np.where(stick, q_trial, np.where(slip, -limit * sgn, 0.0))
@@ -141,8 +145,9 @@ def evaluate(
         shear=q,
         slip=s_new,
         k_nn=dlam,
-        k_tt=k_tt,
+        k_tt=k_tt - lam * kappa,
         k_tn=k_tn,
+        k_nt=q * kappa,
     )
 
 

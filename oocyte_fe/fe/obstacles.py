@@ -5,6 +5,11 @@ Z axis (a polyline becomes a pipette wall, a cone or a plate, a circle centred o
 sphere). ``g > 0`` on the free side, ``g < 0`` inside the obstacle; ``n = grad g`` is the unit
 normal pointing away from the obstacle. A polyline's solid lies on the *left* of its direction
 of travel. Lengths in um.
+
+``distance_curvature`` also returns the curvature ``kappa`` [1/um] of the level set through
+``x``: ``dn/dx = kappa t t^T`` with ``t = (-n_2, n_1)`` (the Hessian of ``g``). It is 0 on a
+polyline's faces, ``1/g`` where the nearest point is a vertex (``n`` turns about it) and
+``1/(g + R)`` for a circle; the contact tangent uses it (:mod:`~oocyte_fe.fe.contact`).
 """
 
 from __future__ import annotations
@@ -33,6 +38,10 @@ class Polyline:
 
     def distance(self, x: NDArray) -> tuple[NDArray, NDArray]:
         """Signed distance ``g`` (...) and unit normal ``n`` (2, ...) at points ``x`` (2, ...)."""
+        return self.distance_curvature(x)[:2]
+
+    def distance_curvature(self, x: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        """``g``, ``n`` and the level-set curvature ``kappa`` (...) [1/um] at ``x`` (2, ...)."""
         pts = np.asarray(self.points, dtype=float)
         a, b = pts[:-1], pts[1:]  # (s, 2)
         d = b - a
@@ -60,7 +69,9 @@ class Polyline:
         )
         n /= np.linalg.norm(n, axis=1)[:, None]
         g = sign * dk
-        return g.reshape(x.shape[1:]), n.T.reshape(x.shape)
+        kappa = np.where(vertex & safe, 1.0 / np.where(safe, g, 1.0), 0.0)
+        shape = x.shape[1:]
+        return g.reshape(shape), n.T.reshape(x.shape), kappa.reshape(shape)
 
 
 @dataclass(frozen=True)
@@ -76,9 +87,13 @@ class Circle:
             raise InputError(self.name, "radius", "a positive radius", got=self.radius)
 
     def distance(self, x: NDArray) -> tuple[NDArray, NDArray]:
+        return self.distance_curvature(x)[:2]
+
+    def distance_curvature(self, x: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         rel = x - np.asarray(self.center, dtype=float).reshape((2,) + (1,) * (x.ndim - 1))
         r = np.linalg.norm(rel, axis=0)
-        return r - self.radius, rel / np.where(r > 0, r, 1.0)
+        safe = np.where(r > 0, r, 1.0)
+        return r - self.radius, rel / safe, np.where(r > 0, 1.0 / safe, 0.0)
 
 
 Obstacle = Polyline | Circle

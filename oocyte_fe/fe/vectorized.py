@@ -87,7 +87,8 @@ class FacetOperators:
         follower pressure   f_i = -p a cof(F) N . v_i dS
                             K_ij = p (da_j cof(F) N + a cof(Grad v_j) N) . v_i dS
         contact traction    f_i = t . v_i A dS
-                            K_ij = (k_nn v_i.n v_j.n + k_tt v_i.t v_j.t + k_tn v_i.t v_j.n) A dS
+                            K_ij = (k_nn v_i.n v_j.n + k_tt v_i.t v_j.t + k_tn v_i.t v_j.n
+                                    + k_nt v_i.n v_j.t) A dS
 
     (the forms of :mod:`~oocyte_fe.fe.loads` and :mod:`~oocyte_fe.fe.contact`).
     """
@@ -160,5 +161,6 @@ class FacetOperators:
             np.einsum("ifq,jfq->ijf", vn, vn * (ev.k_nn * w))
             + np.einsum("ifq,jfq->ijf", vt, vt * (ev.k_tt * w))
             + np.einsum("ifq,jfq->ijf", vt, vn * (ev.k_tn * w))
+            + np.einsum("ifq,jfq->ijf", vn, vt * (ev.k_nt * w))
         )
         return f, self._matrix(Ke)

@@ -1,0 +1,44 @@
+"""Rigid obstacle geometry: signed distance, normal and level-set curvature (exact values)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from oocyte_fe.fe.obstacles import Circle, Polyline, wedge_tip
+
+
+def test_sharp_wedge_distances_to_mouth_flank_and_corner() -> None:
+    # mouth at x = 0 between y = -10 and 10, advancing along -x; flanks open behind at 12.5 deg
+    w = wedge_tip((0.0, 0.0), (-1.0, 0.0), 20.0, 25.0, 50.0)
+    x = np.array([[-5.0, 2.0, -3.0], [0.0, 0.0, 14.0]])
+    g, n, kappa = w.distance_curvature(x)
+    assert g[0] == pytest.approx(5.0) and n[:, 0] == pytest.approx([-1.0, 0.0])
+    assert g[1] == pytest.approx(-2.0)  # inside the glass, 2 um behind the mouth
+    assert g[2] == pytest.approx(5.0)  # nearest to the corner (0, 10): |(-3, 4)|
+    assert n[:, 2] == pytest.approx([-0.6, 0.8])
+    # faces are straight; about the corner n turns at the rate 1 / distance
+    assert kappa == pytest.approx([0.0, 0.0, 0.2])
+
+
+def test_curvature_is_the_rate_at_which_the_normal_turns() -> None:
+    """dn/dx = kappa t t^T, checked by central differences: circle outside and inside, and
+    the reflex corner of an L-shaped solid (n turns about the vertex inside the glass)."""
+    circle = Circle((0.0, 0.0), 1.5)
+    ell = Polyline(((-2.0, 0.5), (0.0, 0.5), (0.0, -1.5)))  # solid: y > 0.5 or x > 0
+    cases = [
+        (circle, np.array([[2.0, 0.3], [1.0, -0.8]])),
+        (ell, np.array([[0.1, 0.2, 0.05], [0.6, 0.7, 0.9]])),
+    ]
+    h = 1e-6
+    for obstacle, x in cases:
+        g, n, kappa = obstacle.distance_curvature(x)
+        t = np.stack([-n[1], n[0]])
+        for j in range(2):
+            dx = np.zeros_like(x)
+            dx[j] = h
+            dn = (obstacle.distance(x + dx)[1] - obstacle.distance(x - dx)[1]) / (2 * h)
+            np.testing.assert_allclose(dn, kappa * t * t[j], atol=1e-6)
+    assert circle.distance_curvature(np.array([[2.0], [0.0]]))[2] == pytest.approx([0.5])
+    g, _, kappa = ell.distance_curvature(np.array([[0.3], [0.9]]))
+    assert g[0] == pytest.approx(-0.5) and kappa[0] == pytest.approx(-2.0)  # inside, at the vertex
