@@ -163,7 +163,7 @@ def test_ansys_and_febio_exports_carry_the_same_series():
     assert "MP,EX,2,7.01" in apdl and "MP,PRXY,2,0.5" in apdl
     assert "TB,PRONY,2,,2,SHEAR" in apdl
     assert "TBDATA,1,0.3,0.2,0.2,1.5" in apdl
-    xml = febio_material(material)
+    xml = febio_material(MaterialFile("zona_pellucida", "test", 7.01, 0.45, (0.3, 0.2), (0.2, 1.5)))
     assert 'type="viscoelastic"' in xml and "<E>7.01</E>" in xml
     g0 = float(xml.split("<g0>")[1].split("</g0>")[0])
     assert g0 == pytest.approx(0.5, rel=1e-12)
