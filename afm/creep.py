@@ -31,10 +31,20 @@ from scipy.optimize import least_squares, nnls
 
 from afm.errors import AfmInputError
 from afm.material_file import MaterialFile
+from afm.models import POISSON_RATIO
+from afm.models.sneddon_cone import HALF_ANGLE
 from afm.prony_series import CreepProny, RelaxationProny, relaxation_from_creep
 
 FORCE_CLAMP_TOLERANCE = 0.05
 """Largest relative spread (SD / mean) of the force during the hold accepted as clamped."""
+MAX_RELATIVE_RMS = 0.1
+"""Largest relative RMS residual of the J(t) fit accepted at all (above: refused)."""
+GOOD_RELATIVE_RMS = 0.02
+"""Largest relative RMS residual of the J(t) fit rated ``good``."""
+SHRINK_SIGMAS = 4.0
+"""A hold whose indentation falls by more than this many standard errors is refused."""
+BOUND_MARGIN = 2.0
+"""Retardation times are bounded to [step e^-2, 3 T e^2] (log margin 2 around the NNLS grid)."""
 
 
 def _cone_factor(half_angle_deg: float, nu: float) -> float:
@@ -115,6 +125,15 @@ class CreepFit:
     half_angle_deg: float
     clamp_force_nN: float
     relative_rms: float
+    undetermined: tuple[str, ...] = ()
+
+    @property
+    def quality(self) -> str:
+        """``good``, or ``poor: <reasons>`` (relative RMS above 2 %, undetermined terms)."""
+        reasons = list(self.undetermined)
+        if not self.relative_rms <= GOOD_RELATIVE_RMS:
+            reasons.insert(0, f"relative RMS {self.relative_rms:.3g} > {GOOD_RELATIVE_RMS:g}")
+        return "poor: " + "; ".join(reasons) if reasons else "good"
 
     @property
     def E0_kPa(self) -> float:
@@ -187,21 +206,113 @@ def fit_creep_prony(
         return np.column_stack([_basis(t, lam), d_log_lambda]) * weight[:, None]
 
     start = np.concatenate([[j0], terms, np.log(lambdas)])
-    lower = np.concatenate([np.zeros(1 + n), np.full(n, math.log(lo) - 2.0)])
-    upper = np.concatenate([np.full(1 + n, np.inf), np.full(n, math.log(hi) + 2.0)])
+    lower = np.concatenate([np.zeros(1 + n), np.full(n, math.log(lo) - BOUND_MARGIN)])
+    upper = np.concatenate([np.full(1 + n, np.inf), np.full(n, math.log(hi) + BOUND_MARGIN)])
     result = least_squares(residual, start, jac=jacobian, bounds=(lower, upper), method="trf")
     p = result.x
     rms = float(np.sqrt(np.mean(result.fun**2)))
-    return CreepProny(float(p[0]), tuple(p[1 : 1 + n]), tuple(np.exp(p[1 + n :]))), rms
+    terms, lambdas = _tidy(p[1 : 1 + n], np.exp(p[1 + n :]), float(np.sum(p[: 1 + n])))
+    return CreepProny(float(p[0]), tuple(terms), tuple(lambdas)), rms
+
+
+def _tidy(terms: np.ndarray, lambdas: np.ndarray, total: float) -> tuple[np.ndarray, np.ndarray]:
+    """Drop terms below 1e-9 of J_inf and merge terms whose times differ by < 0.1 %.
+
+    Dropping changes J(t) by less than 1e-9 relative, merging by less than 0.1 % of the merged
+    terms; both keep the relaxation conversion well posed (a near-zero term next to another
+    pole has its zero within round-off of that pole).
+    """
+    keep = terms > 1e-9 * total
+    order = np.argsort(lambdas[keep])
+    terms, lambdas = terms[keep][order], lambdas[keep][order]
+    merged_t: list[float] = []
+    merged_l: list[float] = []
+    for w, lam in zip(terms, lambdas, strict=True):
+        if merged_l and lam < 1.001 * merged_l[-1]:
+            total_w = merged_t[-1] + w
+            merged_l[-1] = math.exp(
+                (merged_t[-1] * math.log(merged_l[-1]) + w * math.log(lam)) / total_w
+            )
+            merged_t[-1] = total_w
+        else:
+            merged_t.append(float(w))
+            merged_l.append(float(lam))
+    return np.array(merged_t), np.array(merged_l)
+
+
+def check_creeping(data: CreepData) -> None:
+    """Refuse a hold whose indentation shrinks: under a clamped force it can only grow.
+
+    The mean indentation of the last fifth of the hold is compared with that of the first
+    fifth; a fall larger than ``SHRINK_SIGMAS`` standard errors (noise from the point-to-point
+    differences, sigma = SD(diff) / sqrt(2)) is refused.
+    """
+    d = data.indentation_um
+    n = max(d.size // 5, 2)
+    first, last = float(np.mean(d[:n])), float(np.mean(d[-n:]))
+    sigma = float(np.std(np.diff(d))) / math.sqrt(2.0)
+    if first - last > SHRINK_SIGMAS * sigma * math.sqrt(2.0 / n) + 1e-12 * first:
+        raise AfmInputError(
+            data.source,
+            "indentation_um",
+            "an indentation that does not shrink during the hold (creep under a clamped "
+            "force; check the sign of height/indentation and that the record is the hold)",
+            f"mean {first:.4g} um over the first fifth, {last:.4g} um over the last",
+        )
+
+
+def undetermined_terms(creep: CreepProny, time_s: np.ndarray) -> tuple[str, ...]:
+    """Retardation terms the record cannot determine, one line each.
+
+    A term is undetermined when its time is pinned at a bound of the fit (step e^-2 or
+    3 T e^2, T the record length), shorter than the sampling step, or longer than the record.
+    """
+    t = np.asarray(time_s, dtype=float)
+    step = max(float(np.min(np.diff(t))), 1e-6)
+    record = float(t[-1] - t[0])
+    low = math.log(step) - BOUND_MARGIN
+    high = math.log(3.0 * record) + BOUND_MARGIN
+    flags = []
+    for i, lam in enumerate(creep.lambda_s, start=1):
+        log_lam = math.log(lam)
+        name = f"lambda_{i} = {lam:.3g} s"
+        if abs(log_lam - low) < 1e-6 or abs(log_lam - high) < 1e-6:
+            bound = "step e^-2" if abs(log_lam - low) < 1e-6 else "3 T e^2"
+            flags.append(f"{name} pinned at its bound ({bound}): not determined by the record")
+        elif lam < step:
+            flags.append(f"{name} shorter than the sampling step {step:.3g} s: not determined")
+        elif lam > record:
+            flags.append(f"{name} longer than the record {record:.3g} s: not determined")
+    return tuple(flags)
 
 
 def fit_creep(
     data: CreepData, half_angle_deg: float = 10.0, nu: float = 0.5, per_decade: int = 4
 ) -> CreepFit:
-    """Lee-Radok compliance of a force-clamp hold, its creep Prony fit and relaxation series."""
+    """Lee-Radok compliance of a force-clamp hold, its creep Prony fit and relaxation series.
+
+    Refused (:class:`AfmInputError`): an indentation shrinking during the hold
+    (:func:`check_creeping`), a fit with relative RMS above ``MAX_RELATIVE_RMS``, a half angle
+    outside (0, 90) deg, nu outside (-1, 0.5], ``per_decade`` not an integer in [1, 50].
+    Terms the record cannot determine are listed in ``CreepFit.undetermined`` and make the
+    ``quality`` poor.
+    """
+    src = data.source
+    half_angle_deg = HALF_ANGLE.check(half_angle_deg, src)
+    nu = POISSON_RATIO.check(nu, src)
+    if isinstance(per_decade, bool) or not isinstance(per_decade, int) or not 1 <= per_decade <= 50:
+        raise AfmInputError(src, "per_decade", "an integer in [1, 50]", per_decade)
+    check_creeping(data)
     force = data.clamp_force_nN
     compliance = compliance_from_indentation(data.indentation_um, force, half_angle_deg, nu)
     creep, rms = fit_creep_prony(data.time_s, compliance, per_decade)
+    if not rms <= MAX_RELATIVE_RMS:
+        raise AfmInputError(
+            src,
+            "indentation_um",
+            f"a hold a creep Prony series fits (relative RMS <= {MAX_RELATIVE_RMS:g})",
+            f"relative RMS {rms:.3g}",
+        )
     return CreepFit(
         time_s=data.time_s,
         compliance_per_kPa=compliance,
@@ -211,6 +322,7 @@ def fit_creep(
         half_angle_deg=half_angle_deg,
         clamp_force_nN=force,
         relative_rms=rms,
+        undetermined=undetermined_terms(creep, data.time_s),
     )
 
 

@@ -175,3 +175,72 @@ def test_ansys_and_febio_exports_carry_the_same_series():
 def test_creep_series_refuses_negative_terms():
     with pytest.raises(AfmInputError, match="non-negative"):
         CreepProny(1.0, (-0.1,), (1.0,))
+
+
+# quality gate of fit_creep (issue 17, item 7)
+HOLD_T = np.linspace(0.0, 6.0, 3001)
+
+
+def _record(delta: np.ndarray) -> CreepData:
+    return CreepData(HOLD_T, np.full(HOLD_T.size, 5.0), delta, "hold.csv")
+
+
+def test_shrinking_indentation_is_refused_naming_the_field():
+    # the issue's case: a hold recorded backwards gave an "elastic material" with RMS 0.4
+    delta = creep_indentation(TRUTH, HOLD_T, 5.0)[::-1]
+    with pytest.raises(AfmInputError, match="hold.csv: indentation_um: .*does not shrink"):
+        fit_creep(_record(delta))
+
+
+def test_flat_noisy_hold_is_not_refused_as_shrinking():
+    # an elastic hold (constant indentation, 0.3 % noise) must pass the shrink test every time
+    for seed in range(30):
+        rng = np.random.default_rng(seed)
+        fit = fit_creep(_record(2.5 * (1 + 0.003 * rng.standard_normal(HOLD_T.size))))
+        assert fit.relative_rms < 0.01
+
+
+def test_hold_no_prony_series_fits_is_refused():
+    # oscillating indentation (whole periods in each fifth, so not "shrinking"): RMS 0.4
+    delta = 2.5 * (1 + 0.3 * np.sin(2 * np.pi * HOLD_T / 1.2))
+    with pytest.raises(AfmInputError, match="relative RMS <= 0.1"):
+        fit_creep(_record(delta))
+
+
+def test_retardation_time_pinned_at_the_upper_bound_is_flagged():
+    # J growing linearly (flow): the retardation time runs to its bound 3 T e^2 = 133 s
+    fit = fit_creep(_record(2.5 * np.sqrt(1 + 0.2 * HOLD_T)))
+    assert fit.creep.lambda_s[-1] == pytest.approx(18 * math.e**2, rel=1e-5)
+    assert len(fit.undetermined) == 1 and "pinned at its bound (3 T e^2)" in fit.undetermined[0]
+    assert fit.quality.startswith("poor:")
+
+
+@pytest.mark.parametrize(
+    ("tau", "flag"), [(0.0008, "shorter than the sampling step"), (40.0, "longer than the record")]
+)
+def test_terms_the_record_cannot_determine_are_flagged(tau, flag):
+    truth = RelaxationProny(7.01 / 3, (0.3,), (tau,))
+    fit = fit_creep(_record(creep_indentation(truth, HOLD_T, 5.0)))
+    assert any(flag in line for line in fit.undetermined)
+    assert flag in fit.quality
+
+
+def test_well_sampled_series_is_rated_good():
+    fit = fit_creep(_hold(noise=0.003, seed=4))
+    assert fit.undetermined == () and fit.quality == "good"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"half_angle_deg": 0.0}, "half_angle_deg"),
+        ({"half_angle_deg": 90.0}, "half_angle_deg"),
+        ({"nu": 1.0}, "nu"),
+        ({"nu": float("nan")}, "nu"),
+        ({"nu": -2.0}, "nu"),
+        ({"per_decade": 0}, "per_decade"),
+    ],
+)
+def test_fit_creep_refuses_nonsense_arguments(kwargs, field):
+    with pytest.raises(AfmInputError, match=field):
+        fit_creep(_hold(), **kwargs)

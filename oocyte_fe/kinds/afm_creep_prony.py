@@ -130,7 +130,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
             f"E0 = {fit.E0_kPa:.4g} kPa, E_inf = {fit.E_inf_kPa:.4g} kPa, nu = {inp.nu}. "
             f"G(t) within {100 * g_err:.3g} % of the series used to make the data over "
             f"0.01-{inp.hold_s:g} s; 1/J(t) (the paper's pointwise route) is off by up to "
-            f"{100 * inv_err:.3g} %.\n\n"
+            f"{100 * inv_err:.3g} %. Fit quality: {fit.quality} (relative RMS "
+            f"{fit.relative_rms:.2g}).\n\n"
             "| i | g_i | tau_i [s] |\n|---|---|---|\n" + series + "\n\nAlso written: "
             "`material_cytoplasm.toml` (elastic), `material_zp_ansys.inp` (TB,PRONY), "
             "`material_zp_febio.xml` (FEBio viscoelastic), `creep_zp.csv` (the synthetic record).",
