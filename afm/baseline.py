@@ -56,6 +56,23 @@ def fit_baseline(
     return _line(piezo[free], force[free])
 
 
+def baseline_before(
+    curve: ForceCurve, contact_piezo_um: float, margin_fraction: float = 0.1
+) -> Baseline:
+    """The baseline line fitted on the points before a known contact (less the margin).
+
+    Used to refine the baseline once a model fit has placed the contact point: the first
+    estimate (:func:`fit_baseline`) ends at the deviation contact, which lags the true contact
+    by the depth needed to rise above the noise, so its line can take in contact points.
+    """
+    piezo = curve.piezo_um
+    end = piezo[0] + (1.0 - margin_fraction) * (contact_piezo_um - piezo[0])
+    free = piezo <= end
+    if np.count_nonzero(free) < 3:
+        raise AfmInputError(curve.source, "baseline", "at least 3 points before contact")
+    return _line(piezo[free], curve.force_nN[free])
+
+
 def remove_baseline(curve: ForceCurve, baseline: Baseline) -> ForceCurve:
     """The curve with the baseline subtracted from its force."""
     return curve.with_force(curve.force_nN - baseline(curve.piezo_um))

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from afm.baseline import Baseline, fit_baseline, remove_baseline
+from afm.baseline import Baseline, baseline_before, fit_baseline, remove_baseline
 from afm.contact_point import check_method, deviation_index
 from afm.curve import ForceCurve
 from afm.errors import AfmInputError
@@ -33,6 +33,9 @@ from afm.models import POISSON_RATIO, IndentationModel, get_model
 
 MIN_CONTACT_POINTS = 5
 GOOD_R_SQUARED = 0.95
+MAX_BASELINE_PASSES = 4
+"""Fits at most: the first, then refits while the baseline reaches past the contact found."""
+BASELINE_MARGIN = 0.1
 
 
 @dataclass(frozen=True)
@@ -185,6 +188,16 @@ def fit_contact_power(
     return float(result.x[0]), float(result.x[1]), bool(result.success), result.message
 
 
+def _refined_baseline(curve: ForceCurve, baseline: Baseline, x0: float) -> Baseline | None:
+    """A baseline ending before contact ``x0`` if the current one reaches past it, else None."""
+    piezo = curve.piezo_um
+    end = piezo[0] + (1.0 - BASELINE_MARGIN) * (x0 - piezo[0])
+    last = piezo[min(baseline.n_points, piezo.size) - 1]
+    if last <= end or np.count_nonzero(piezo <= end) < 3:
+        return None
+    return baseline_before(curve, x0, BASELINE_MARGIN)
+
+
 def fit_indentation(
     curve: ForceCurve,
     model: str = "sneddon_cone",
@@ -208,15 +221,23 @@ def fit_indentation(
     check_method(contact_method, src)
     fit_range = fit_range or FitRange()
     baseline = fit_baseline(curve)
-    corrected = remove_baseline(curve, baseline)
-    force = corrected.force_nN
-    x = corrected.tip_position_um
-    contact = deviation_index(force, baseline.noise_nN, n_sigma, src)
-    window = fit_window(x, force, contact, fit_range, src)
-    xw, fw = x[window], force[window]
-    E, x0, ok, msg = fit_contact_power(
-        xw, fw, tip, geometry, nu, float(x[contact]), free_contact=contact_method == "fit"
-    )
+    x0 = None
+    for _ in range(MAX_BASELINE_PASSES):
+        corrected = remove_baseline(curve, baseline)
+        force = corrected.force_nN
+        x = corrected.tip_position_um
+        contact = deviation_index(force, baseline.noise_nN, n_sigma, src)
+        window = fit_window(x, force, contact, fit_range, src)
+        xw, fw = x[window], force[window]
+        start = float(x[contact]) if x0 is None or contact_method != "fit" else x0
+        E, x0, ok, msg = fit_contact_power(
+            xw, fw, tip, geometry, nu, start, free_contact=contact_method == "fit"
+        )
+        # the baseline must end before the contact found (piezo at contact ~ x0, F = 0 there)
+        refined = _refined_baseline(curve, baseline, x0)
+        if refined is None:
+            break
+        baseline = refined
     fitted = E * tip.shape(np.clip(xw - x0, 0.0, None), geometry, nu)
     in_contact = xw > x0
     rms, r2 = _contact_stats(fw, fitted, in_contact)
