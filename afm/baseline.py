@@ -17,6 +17,7 @@ import numpy as np
 from afm.contact_point import deviation_index
 from afm.curve import ForceCurve
 from afm.errors import AfmInputError
+from afm.numerics import dot
 
 
 @dataclass(frozen=True)
@@ -33,8 +34,13 @@ class Baseline:
 
 
 def _line(piezo: np.ndarray, force: np.ndarray) -> Baseline:
-    slope, offset = np.polyfit(piezo, force, 1)
-    noise = float(np.std(force - (offset + slope * piezo), ddof=2)) if force.size > 2 else 0.0
+    # closed-form least-squares line (centred sums)
+    pm, fm = float(np.mean(piezo)), float(np.mean(force))
+    dp = piezo - pm
+    slope = float(dot(dp, force - fm) / dot(dp, dp))
+    offset = fm - slope * pm
+    residual = force - (offset + slope * piezo)
+    noise = float(np.sqrt(dot(residual, residual) / (force.size - 2))) if force.size > 2 else 0.0
     return Baseline(float(offset), float(slope), noise, int(force.size))
 
 

@@ -30,12 +30,14 @@ from afm.contact_point import check_method, deviation_index
 from afm.curve import ForceCurve
 from afm.errors import AfmInputError
 from afm.models import POISSON_RATIO, IndentationModel, get_model
+from afm.numerics import dot
 
 MIN_CONTACT_POINTS = 5
 GOOD_R_SQUARED = 0.95
 MAX_BASELINE_PASSES = 4
 """Fits at most: the first, then refits while the baseline reaches past the contact found."""
 BASELINE_MARGIN = 0.1
+LM_MAX_ITERATIONS = 200
 
 
 @dataclass(frozen=True)
@@ -161,7 +163,7 @@ def fit_contact_power(
     """Least squares of ``F = E shape(x - x0)``: returns (E, x0, success, message)."""
     delta0 = np.clip(x - x0_guess, 0.0, None)
     s0 = model.shape(delta0, geometry, nu)
-    e_guess = float(np.dot(force, s0) / np.dot(s0, s0))
+    e_guess = float(dot(force, s0) / dot(s0, s0))
     if not free_contact:
         return e_guess, x0_guess, bool(e_guess > 0), "linear least squares"
 
@@ -176,16 +178,85 @@ def fit_contact_power(
         return jac
 
     span = float(np.ptp(x))
-    start = np.array([max(e_guess, 1e-12), x0_guess])
-    scale = np.array([max(e_guess, 1e-12), 0.01 * span])
-    # Levenberg-Marquardt (MINPACK) is the fastest here; bounded TRF only if it leaves the box
-    result = least_squares(residual, start, jac=jacobian, x_scale=scale, method="lm")
     lower, upper = np.array([0.0, x.min() - span]), np.array([np.inf, x.max()])
-    if not (result.success and np.all(result.x > lower) and np.all(result.x < upper)):
-        result = least_squares(
-            residual, start, jac=jacobian, bounds=(lower, upper), x_scale=scale, method="trf"
-        )
+    e_start = max(e_guess, 1e-12)
+    fitted = _levenberg_marquardt(x, force, model, geometry, nu, e_start, x0_guess, span)
+    if fitted is not None and lower[0] < fitted[0] and lower[1] < fitted[1] < upper[1]:
+        return fitted[0], fitted[1], True, fitted[2]
+    # bounded trust region reflective (scipy) if the fast path fails or leaves the box
+    result = least_squares(
+        residual,
+        np.array([e_start, x0_guess]),
+        jac=jacobian,
+        bounds=(lower, upper),
+        x_scale=np.array([e_start, 0.01 * span]),
+        method="trf",
+    )
     return float(result.x[0]), float(result.x[1]), bool(result.success), result.message
+
+
+def _levenberg_marquardt(
+    x: np.ndarray,
+    force: np.ndarray,
+    model: IndentationModel,
+    geometry: Mapping[str, float],
+    nu: float,
+    e_start: float,
+    x0_start: float,
+    span: float,
+) -> tuple[float, float, str] | None:
+    """Levenberg-Marquardt for (E, x0) with the 2 x 2 normal equations solved in closed form.
+
+    Jacobian columns ``shape(delta)`` and ``-E dshape(delta)``; Marquardt damping
+    ``(A + lambda diag A) step = -J^T r``. Converged when a step changes E by < 1e-10
+    relative and x0 by < 1e-10 of the x span, or the cost by < 1e-14 relative. Returns
+    (E, x0, message), or None when it does not converge (the caller falls back to scipy).
+    """
+
+    # sorted by x: the points before x0 contribute their force squared (a prefix sum), only
+    # the contact points (a tail slice) need the model
+    order = np.argsort(x, kind="stable")
+    xs, fs = x[order], force[order]
+    prefix = np.concatenate(([0.0], np.cumsum(fs * fs)))
+
+    def evaluate(e: float, x0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+        first = int(np.searchsorted(xs, x0, side="right"))
+        delta = xs[first:] - x0
+        shape = model.shape(delta, geometry, nu)
+        res = e * shape - fs[first:]
+        return delta, shape, res, float(prefix[first]) + dot(res, res)
+
+    e, x0 = e_start, x0_start
+    delta, shape, res, cost = evaluate(e, x0)
+    damping = 1e-3
+    for iteration in range(1, LM_MAX_ITERATIONS + 1):
+        j1 = -e * model.dshape(delta, geometry, nu)
+        a11, a12, a22 = float(dot(shape, shape)), float(dot(shape, j1)), float(dot(j1, j1))
+        g1, g2 = float(dot(shape, res)), float(dot(j1, res))
+        while True:
+            m11, m22 = a11 * (1.0 + damping), a22 * (1.0 + damping)
+            det = m11 * m22 - a12 * a12
+            if not (np.isfinite(det) and det > 0):
+                damping *= 10.0
+                if damping > 1e16:
+                    return None
+                continue
+            d_e = -(m22 * g1 - a12 * g2) / det
+            d_x = -(m11 * g2 - a12 * g1) / det
+            trial = evaluate(e + d_e, x0 + d_x)
+            if trial[3] <= cost:
+                break
+            damping *= 10.0
+            if damping > 1e16:
+                return e, x0, f"converged (no further decrease) after {iteration} iterations"
+        old_cost = cost
+        e, x0 = e + d_e, x0 + d_x
+        delta, shape, res, cost = trial
+        damping = max(damping * 0.1, 1e-12)
+        small_step = abs(d_e) <= 1e-10 * abs(e) and abs(d_x) <= 1e-10 * span
+        if small_step or old_cost - cost <= 1e-14 * old_cost:
+            return e, x0, f"Levenberg-Marquardt converged in {iteration} iterations"
+    return None
 
 
 def _refined_baseline(curve: ForceCurve, baseline: Baseline, x0: float) -> Baseline | None:
@@ -193,7 +264,8 @@ def _refined_baseline(curve: ForceCurve, baseline: Baseline, x0: float) -> Basel
     piezo = curve.piezo_um
     end = piezo[0] + (1.0 - BASELINE_MARGIN) * (x0 - piezo[0])
     last = piezo[min(baseline.n_points, piezo.size) - 1]
-    if last <= end or np.count_nonzero(piezo <= end) < 3:
+    # refit only when the line reaches past the margin by more than 2 % of the free travel
+    if last <= end + 0.02 * (x0 - piezo[0]) or np.count_nonzero(piezo <= end) < 3:
         return None
     return baseline_before(curve, x0, BASELINE_MARGIN)
 
