@@ -1,0 +1,88 @@
+"""One figure per curve of a batch, fast: a single matplotlib figure reused for every curve.
+
+Each PNG shows force against tip position with the fitted model and the contact point, and the
+pointwise modulus E(delta) = F / shape(delta) beside it (flat where the model holds), as
+:func:`afm.plotting.plot_fit`. Drawing into the same figure (new line data, no layout pass)
+costs a fraction of building a figure per curve; curves longer than ``MAX_PLOT_POINTS`` are
+drawn with every n-th point (the fit used them all).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from afm.batch import BatchResult, BatchRow
+from afm.fit import IndentationFit
+
+MAX_PLOT_POINTS = 600
+DPI = 80
+
+
+def plot_name(row: BatchRow) -> str:
+    """``<file stem>.png``, or ``<file stem>_curve<i>.png`` for a curve of a force map."""
+    index = getattr(row, "curve_index", None)
+    return Path(row.file).stem + ("" if index is None else f"_curve{index:04d}") + ".png"
+
+
+class CurveFigure:
+    """A reusable two-panel figure; :meth:`draw` writes one fit to one PNG."""
+
+    def __init__(self) -> None:
+        self.fig, (self.ax_f, self.ax_e) = plt.subplots(1, 2, figsize=(9, 3.6))
+        self.fig.subplots_adjust(left=0.08, right=0.98, bottom=0.15, top=0.88, wspace=0.28)
+        (self.data,) = self.ax_f.plot([], [], ".", ms=2, c="C0", label="data")
+        (self.model,) = self.ax_f.plot([], [], "-", lw=1.5, c="C1", label="fit")
+        self.contact = self.ax_f.axvline(0.0, ls=":", c="grey", label="contact")
+        (self.pointwise,) = self.ax_e.plot([], [], ".", ms=2, c="C0")
+        self.mean = self.ax_e.axhline(0.0, ls="--", lw=1, c="C1")
+        self.ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]")
+        self.ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) [kPa]")
+        self.ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
+        self.legend = self.ax_f.legend(fontsize=7, loc="upper left")
+
+    def draw(self, fit: IndentationFit, path: str | Path, title: str = "") -> Path:
+        step = max(1, fit.tip_position_um.size // MAX_PLOT_POINTS)
+        x, f = fit.tip_position_um[::step], fit.force_nN[::step]
+        self.data.set_data(x, f)
+        self.model.set_data(x, fit.fitted_force_nN[::step])
+        self.contact.set_xdata([fit.contact_point_um, fit.contact_point_um])
+        delta, modulus = fit.pointwise_modulus(0.1 * float(fit.indentation_um.max()))
+        self.pointwise.set_data(delta[::step], modulus[::step])
+        self.mean.set_ydata([fit.E_kPa, fit.E_kPa])
+        self.model.set_label(f"fit: E = {fit.E_kPa:.3g} kPa ({fit.quality})")
+        self.legend.get_texts()[1].set_text(self.model.get_label())
+        for ax in (self.ax_f, self.ax_e):
+            ax.relim()
+            ax.autoscale_view()
+        if modulus.size:
+            low, high = np.percentile(modulus, [2, 98])
+            pad = 0.1 * max(high - low, abs(fit.E_kPa))
+            self.ax_e.set_ylim(min(low, fit.E_kPa) - pad, max(high, fit.E_kPa) + pad)
+        self.ax_f.set_title(title, fontsize=9)
+        self.fig.savefig(path, dpi=DPI, pil_kwargs={"compress_level": 1})
+        return Path(path)
+
+    def close(self) -> None:
+        plt.close(self.fig)
+
+
+def plot_curves(result: BatchResult, folder: str | Path) -> list[Path]:
+    """A PNG per fitted curve of ``result`` in ``folder`` (:func:`plot_name`); failed curves
+    have none (their error is in the table)."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    figure = CurveFigure()
+    try:
+        return [
+            figure.draw(row.fit, folder / plot_name(row), Path(row.file).name)
+            for row in result.rows
+            if row.fit is not None and not row.error
+        ]
+    finally:
+        figure.close()

@@ -1,0 +1,91 @@
+"""The user route: case kind ``afm_fit_files`` on the shipped files and on a copied case."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from afm.material_file import read_material
+from oocyte_fe.runner.run import plan, run_cases
+
+CASE = Path(__file__).parents[1] / "cases" / "afm_fit_files"
+
+
+def _rows(folder: Path) -> list[dict[str, str]]:
+    with (folder / "fits.csv").open() as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_shipped_case_fits_every_curve_and_skips_the_bad_one(tmp_path):
+    [result] = run_cases(plan([CASE], quick=True), tmp_path, quick=True)
+    assert result.status == "PASS", result.reason
+    out = tmp_path / "afm_fit_files"
+    rows = _rows(out)
+    assert len(rows) == 13
+    bad = [r for r in rows if r["error"]]
+    assert [r["file"] for r in bad] == ["curves/zp/zp_bad_no_contact.csv"]
+    assert "reaches contact" in bad[0]["error"] and bad[0]["quality"] == "error"
+    known = {}
+    with (CASE / "known_moduli.csv").open() as fh:
+        for row in csv.DictReader(line for line in fh if not line.startswith("#")):
+            known[row["file"]] = float(row["E_kPa"])
+    for row in rows:
+        if row["file"] in known:
+            assert float(row["E_kPa"]) == pytest.approx(known[row["file"]], rel=0.05)
+            assert (out / row["plot"]).is_file()
+            assert {"height_channel", "map_x_um", "map_y_um", "curve_index"} <= set(row)
+    assert {r["group"] for r in rows} == {"zp", "cytoplasm"}
+    zp = read_material(out / "material_zp.toml")
+    assert zp.g and zp.E_kPa == pytest.approx(7.01, rel=0.03)  # from the creep record
+    cyto = read_material(out / "material_cytoplasm.toml")
+    fitted = [float(r["E_kPa"]) for r in rows if r["group"] == "cytoplasm"]
+    assert cyto.E_kPa == pytest.approx(sum(fitted) / len(fitted), rel=1e-5) and not cyto.g
+    ET.parse(out / "material_zp_febio.xml")
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["metrics"]["n_failed"] == 1 and metrics["metrics"]["n_fitted"] == 12
+    report = (out / "report.md").read_text()
+    assert "(curve_plots/zp_01.png)" in report and "zp_bad_no_contact.csv" in report
+
+
+def _copy(tmp_path: Path, edit: dict[str, str]) -> Path:
+    case = tmp_path / "mine"
+    shutil.copytree(CASE, case)
+    text = (case / "case.toml").read_text()
+    for old, new in edit.items():
+        assert old in text
+        text = text.replace(old, new)
+    (case / "case.toml").write_text(text)
+    return case
+
+
+def test_glob_and_group_patterns(tmp_path):
+    case = _copy(
+        tmp_path,
+        {
+            'curves = "curves"': 'curves = "curves/*/*_0[1-3].csv"\n'
+            'groups = { soft = "curves/cytoplasm/*", stiff = "curves/zp/*" }',
+            'creep = { zp = "creep/zp_creep.csv" }\n': "",
+            "[tolerances.n_failed]\nmax = 1": "[tolerances.n_failed]\nmax = 0",
+            "[tolerances.n_fitted]\nmin = 12": "[tolerances.n_fitted]\nmin = 6",
+        },
+    )
+    [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    out = tmp_path / "out" / "mine"
+    rows = _rows(out)
+    assert len(rows) == 6 and {r["group"] for r in rows} == {"soft", "stiff"}
+    assert (out / "material_soft.toml").is_file() and (out / "material_stiff.toml").is_file()
+    # the known-moduli check lists 12 files but only 6 were fitted: it must fail, not pass
+    assert result.status == "FAIL"
+
+
+@pytest.mark.parametrize("pattern", ["../afm_zp_cytoplasm", "/etc", "nothing_here/*.csv"])
+def test_curves_outside_the_case_folder_or_missing_are_refused(tmp_path, pattern):
+    case = _copy(tmp_path, {'curves = "curves"': f'curves = "{pattern}"'})
+    [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    assert result.status == "ERROR"
+    assert "inputs.curves" in result.reason
