@@ -74,6 +74,8 @@ class IndentationFit:
     tip_position_um: np.ndarray
     force_nN: np.ndarray
     offset_nN: float = 0.0
+    at_bound: tuple[str, ...] = ()
+    """Fit parameters that ended on a bound of the fit (each lowers the quality rating)."""
 
     @property
     def indentation_um(self) -> np.ndarray:
@@ -91,6 +93,8 @@ class IndentationFit:
         """``good``, or ``poor: <reason>`` (fit failed, R^2 < 0.95, too few contact points)."""
         if not self.success:
             return f"poor: {self.message}"
+        if self.at_bound:
+            return f"poor: {', '.join(self.at_bound)} at a bound of the fit"
         if self.n_contact_points < 4 * MIN_CONTACT_POINTS:
             return f"poor: only {self.n_contact_points} points in contact"
         if not self.r_squared >= GOOD_R_SQUARED:

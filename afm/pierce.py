@@ -7,14 +7,27 @@ The drop is the first force peak whose prominence (:func:`scipy.signal.find_peak
 * ZP: the points up to the peak are fitted like any approach curve (baseline, contact point,
   model), see :func:`afm.fit.fit_indentation`;
 * cytoplasm: from the force minimum after the drop to the end, with its own contact reference
-  x1 and force level F1 (the residual force carried by the pierced layer)::
+  x1 and force level F1::
 
       F(x) = F1 + E_cyt * shape(x - x1)                              [nN]
 
-  fitted by least squares for (E_cyt, x1, F1), started from the minimum.
+  fitted by least squares for (E_cyt, x1, F1), started from the minimum, with x1 bounded to
+  [x0 - D/2, end of the segment] (x0 the ZP contact point, D = x_after - x0 the depth at the
+  drop, x_after the tip position at the force minimum).
 
-This reads the second segment as the cytoplasm alone, indented from where the tip stood after
-the drop. The seed paper instead fits both rising segments and subtracts the ZP slope from the
+The one model covers both readings of the second segment:
+
+A. the cytoplasm indented from where the tip stood after the drop, F1 the residual force
+   carried by the pierced layer: ``F = F_res + E_cyt shape(x - x_after)``, so x1 = x_after;
+B. a force increment with the cone keeping its depth (the cytoplasm is indented by the whole
+   cone, counted from the original surface): ``F = F_res + E_cyt [shape(x - x0) -
+   shape(x_after - x0)]``, so x1 = x0 and F1 = F_res - E_cyt shape(D).
+
+The fitted x1 tells which reading the data follow (near x_after: A; near x0: B). A bound too
+close to x_after (the earlier ``x_after - segment length``) clipped reading B when the second
+segment was shorter than D and biased E_cyt by up to +25 %. A parameter that ends on a bound
+(E_cyt = 0, x1 on either bound) is listed in ``IndentationFit.at_bound`` and makes the rating
+poor. The seed paper instead fits both rising segments and subtracts the ZP slope from the
 second; that subtraction is not defined precisely enough in the paper to reproduce.
 """
 
@@ -81,8 +94,13 @@ def fit_offset_segment(
     geometry: Mapping[str, float],
     nu: float,
     source: str = "<input>",
-) -> tuple[float, float, float, bool, str]:
-    """Fit F = F1 + E shape(x - x1) on a segment starting at its contact: (E, x1, F1, ok, msg)."""
+    x1_lower: float | None = None,
+) -> tuple[float, float, float, bool, str, tuple[str, ...]]:
+    """Fit F = F1 + E shape(x - x1) on a segment starting at its minimum.
+
+    Returns (E, x1, F1, ok, message, parameters at a bound). x1 lies in [``x1_lower``, x_end]
+    (``x1_lower`` defaults to x_start - segment length).
+    """
     tip = get_model(model, source)
     if x.size < MIN_SEGMENT_POINTS:
         raise AfmInputError(source, "force_nN", f"{MIN_SEGMENT_POINTS} points after the pierce")
@@ -105,16 +123,28 @@ def fit_offset_segment(
 
     span = float(np.ptp(x))
     scale_f = max(float(np.ptp(force)), 1e-12)
+    low = x1_start - span if x1_lower is None else min(float(x1_lower), x1_start)
+    high = float(x[-1])
     result = least_squares(
         residual,
         np.array([e_start, x1_start, f1_start]),
         jac=jacobian,
-        bounds=([0.0, x1_start - span, -np.inf], [np.inf, float(x[-1]), np.inf]),
+        bounds=([0.0, low, -np.inf], [np.inf, high, np.inf]),
         x_scale=np.array([e_start, 0.01 * span, 0.01 * scale_f]),
         method="trf",
     )
     e, x1, f1 = (float(v) for v in result.x)
-    return e, x1, f1, bool(result.success), str(result.message)
+    tol = 1e-6 * max(high - low, 1e-12)
+    at_bound = tuple(
+        name
+        for name, hit in (
+            ("E_cytoplasm = 0", e <= 1e-9 * e_start),
+            ("x1 (lower)", x1 - low <= tol),
+            ("x1 (upper)", high - x1 <= tol),
+        )
+        if hit
+    )
+    return e, x1, f1, bool(result.success), str(result.message), at_bound
 
 
 def fit_pierce(
@@ -140,7 +170,10 @@ def fit_pierce(
     corrected = remove_baseline(curve, zp.baseline)
     second = corrected.slice(event.trough_index, len(curve.piezo_um))
     x, force = second.tip_position_um, second.force_nN
-    e, x1, f1, ok, msg = fit_offset_segment(x, force, model, geometry, nu, src)
+    depth = float(x[0]) - zp.contact_point_um
+    e, x1, f1, ok, msg, at_bound = fit_offset_segment(
+        x, force, model, geometry, nu, src, x1_lower=zp.contact_point_um - 0.5 * max(depth, 0.0)
+    )
     fitted = f1 + e * tip.shape(np.clip(x - x1, 0, None), geometry, nu)
     residual = force - fitted
     ss_tot = float(np.sum((force - force.mean()) ** 2))
@@ -160,5 +193,6 @@ def fit_pierce(
         tip_position_um=x,
         force_nN=force,
         offset_nN=f1,
+        at_bound=at_bound,
     )
     return PierceFit(event, zp, cytoplasm)
