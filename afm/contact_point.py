@@ -31,7 +31,7 @@ def deviation_index(
     span = float(np.ptp(force))
     threshold = max(n_sigma * noise_nN, 1e-9 * max(span, 1e-12))
     inside = force <= threshold
-    if inside[-1] or span <= 2 * threshold:
+    if not np.isfinite(threshold) or not inside.any() or inside[-1] or span <= 2 * threshold:
         raise AfmInputError(
             source, "force_nN", "a curve that reaches contact (force rising above the noise)"
         )
@@ -40,6 +40,6 @@ def deviation_index(
 
 def check_method(method: str, source: str = "<input>") -> str:
     """Return ``method`` if it is a known contact-point method, else raise."""
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise AfmInputError(source, "contact_method", f"one of {', '.join(METHODS)}", method)
     return method

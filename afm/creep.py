@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
+from afm.arguments import float_array, integer, positive
 from afm.errors import AfmInputError
 from afm.material_file import MaterialFile
 from afm.models import POISSON_RATIO
@@ -49,23 +50,41 @@ BOUND_MARGIN = 2.0
 
 def _cone_factor(half_angle_deg: float, nu: float) -> float:
     """pi (1 - nu) / (4 tan(alpha)), 1/um^0 (delta^2 = factor * F0 * J)."""
-    return math.pi * (1.0 - nu) / (4.0 * math.tan(math.radians(half_angle_deg)))
+    alpha = HALF_ANGLE.check(half_angle_deg)
+    return math.pi * (1.0 - POISSON_RATIO.check(nu)) / (4.0 * math.tan(math.radians(alpha)))
 
 
 def compliance_from_indentation(
     indentation_um: np.ndarray, force_nN: float, half_angle_deg: float = 10.0, nu: float = 0.5
 ) -> np.ndarray:
     """J(t) = 4 tan(alpha) delta(t)^2 / (pi (1 - nu) F0), 1/kPa (Lee-Radok, cone)."""
-    delta = np.asarray(indentation_um, dtype=float)
-    return delta**2 / (_cone_factor(half_angle_deg, nu) * force_nN)
+    delta = float_array(indentation_um, "indentation_um")
+    force = positive(force_nN, "force_nN", "<input>", "a positive clamped force in nN")
+    with np.errstate(all="ignore"):
+        compliance = delta**2 / (_cone_factor(half_angle_deg, nu) * force)
+    return _finite(compliance, "compliance_per_kPa")
 
 
 def indentation_from_compliance(
     compliance_per_kPa: np.ndarray, force_nN: float, half_angle_deg: float = 10.0, nu: float = 0.5
 ) -> np.ndarray:
     """delta(t) = sqrt(pi (1 - nu) F0 J(t) / (4 tan(alpha))), um (Lee-Radok, cone)."""
-    j = np.asarray(compliance_per_kPa, dtype=float)
-    return np.sqrt(_cone_factor(half_angle_deg, nu) * force_nN * j)
+    j = float_array(compliance_per_kPa, "compliance_per_kPa")
+    force = positive(force_nN, "force_nN", "<input>", "a positive clamped force in nN")
+    with np.errstate(all="ignore"):
+        delta = np.sqrt(_cone_factor(half_angle_deg, nu) * force * j)
+    return _finite(delta, "indentation_um")
+
+
+def _finite(values: np.ndarray, field: str) -> np.ndarray:
+    if not np.all(np.isfinite(values)):
+        raise AfmInputError(
+            "<input>",
+            field,
+            "a result within floating point range (inputs "
+            "too large or too small, or negative compliance)",
+        )
+    return values
 
 
 @dataclass(frozen=True)
@@ -297,14 +316,20 @@ def fit_creep(
     Terms the record cannot determine are listed in ``CreepFit.undetermined`` and make the
     ``quality`` poor.
     """
+    if not isinstance(data, CreepData):
+        raise AfmInputError("<input>", "data", "a CreepData record", type(data).__name__)
     src = data.source
     half_angle_deg = HALF_ANGLE.check(half_angle_deg, src)
     nu = POISSON_RATIO.check(nu, src)
-    if isinstance(per_decade, bool) or not isinstance(per_decade, int) or not 1 <= per_decade <= 50:
-        raise AfmInputError(src, "per_decade", "an integer in [1, 50]", per_decade)
+    per_decade = integer(per_decade, "per_decade", 1, 50, src)
     check_creeping(data)
     force = data.clamp_force_nN
     compliance = compliance_from_indentation(data.indentation_um, force, half_angle_deg, nu)
+    j_min, j_max = float(np.min(compliance)), float(np.max(compliance))
+    if not (j_min > 1e-100 and j_max < 1e100):
+        raise AfmInputError(
+            src, "indentation_um", "an indentation whose compliance J(t) is within 1e-100..1e100"
+        )
     creep, rms = fit_creep_prony(data.time_s, compliance, per_decade)
     if not rms <= MAX_RELATIVE_RMS:
         raise AfmInputError(

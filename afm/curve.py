@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from afm.arguments import float_array, positive
 from afm.errors import AfmInputError
 
 MIN_POINTS = 10
@@ -34,9 +35,9 @@ class ForceCurve:
     time_s: np.ndarray | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
-        piezo = np.asarray(self.piezo_um, dtype=float)
-        force = np.asarray(self.force_nN, dtype=float)
         src = self.source
+        piezo = float_array(self.piezo_um, "piezo_um", src)
+        force = float_array(self.force_nN, "force_nN", src)
         if piezo.ndim != 1 or force.shape != piezo.shape:
             raise AfmInputError(src, "force_nN", "one force per piezo position (1-D columns)")
         if piezo.size < MIN_POINTS:
@@ -53,9 +54,12 @@ class ForceCurve:
                 "a monotonic approach (piezo travel non-decreasing towards the sample)",
                 f"decreases at row {int(np.argmax(step < 0)) + 1}" if np.any(step < 0) else None,
             )
-        k = float(self.spring_constant_nN_per_um)
-        if not (np.isfinite(k) and k > 0):
-            raise AfmInputError(src, "spring_constant", "a positive spring constant", k)
+        k = positive(
+            self.spring_constant_nN_per_um,
+            "spring_constant",
+            src,
+            "a positive spring constant in nN/um",
+        )
         object.__setattr__(self, "piezo_um", piezo)
         object.__setattr__(self, "force_nN", force)
         object.__setattr__(self, "spring_constant_nN_per_um", k)
@@ -91,10 +95,9 @@ class ForceCurve:
 
 def spring_constant_nN_per_um(k_N_per_m: float, where: str = "<input>") -> float:
     """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000)."""
-    k = float(k_N_per_m)
-    if not (np.isfinite(k) and k > 0):
-        raise AfmInputError(where, "spring_constant_N_per_m", "a positive spring constant", k)
-    return 1e3 * k
+    return 1e3 * positive(
+        k_N_per_m, "spring_constant_N_per_m", where, "a positive spring constant in N/m"
+    )
 
 
 def force_from_deflection(
@@ -104,8 +107,12 @@ def force_from_deflection(
 
     (nm times N/m is nN.)
     """
-    s = float(sensitivity_nm_per_V)
-    if not (np.isfinite(s) and s > 0):
-        raise AfmInputError(where, "sensitivity_nm_per_V", "a positive sensitivity", s)
-    spring_constant_nN_per_um(k_N_per_m, where)
-    return np.asarray(deflection_V, dtype=float) * s * float(k_N_per_m)
+    s = positive(
+        sensitivity_nm_per_V, "sensitivity_nm_per_V", where, "a positive sensitivity in nm/V"
+    )
+    k = spring_constant_nN_per_um(k_N_per_m, where) / 1e3
+    with np.errstate(all="ignore"):
+        force = float_array(deflection_V, "deflection_V", where) * s * k
+    if not np.all(np.isfinite(force)):
+        raise AfmInputError(where, "deflection_V", "forces V * s * k within floating point range")
+    return force

@@ -19,12 +19,14 @@ force (whichever ends first; all points when neither is given).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
 
+from afm.arguments import positive, real
 from afm.baseline import Baseline, baseline_before, fit_baseline, remove_baseline
 from afm.contact_point import check_method, deviation_index
 from afm.curve import ForceCurve
@@ -38,6 +40,8 @@ MAX_BASELINE_PASSES = 4
 """Fits at most: the first, then refits while the baseline reaches past the contact found."""
 BASELINE_MARGIN = 0.1
 LM_MAX_ITERATIONS = 200
+MAX_MAGNITUDE = 1e12
+"""Largest |piezo| [um] and |force| [nN] accepted: beyond it the column's unit is wrong."""
 
 
 @dataclass(frozen=True)
@@ -49,10 +53,14 @@ class FitRange:
 
     def __post_init__(self) -> None:
         d, f = self.max_indentation_um, self.max_force_fraction
-        if d is not None and not (np.isfinite(d) and d > 0):
-            raise AfmInputError("<input>", "max_indentation_um", "a positive depth in um", d)
-        if f is not None and not (np.isfinite(f) and 0 < f <= 1):
-            raise AfmInputError("<input>", "max_force_fraction", "a fraction in (0, 1]", f)
+        if d is not None:
+            d = positive(d, "max_indentation_um", "<input>", "a positive depth in um")
+        if f is not None:
+            f = real(f, "max_force_fraction", "<input>", "a fraction in (0, 1]")
+            if not 0 < f <= 1:
+                raise AfmInputError("<input>", "max_force_fraction", "a fraction in (0, 1]", f)
+        object.__setattr__(self, "max_indentation_um", d)
+        object.__setattr__(self, "max_force_fraction", f)
 
 
 @dataclass(frozen=True)
@@ -290,12 +298,55 @@ def fit_indentation(
     :class:`IndentationFit`; bad input raises :class:`afm.errors.AfmInputError` naming
     ``curve.source``.
     """
+    if not isinstance(curve, ForceCurve):
+        raise AfmInputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
     src = curve.source
     tip = get_model(model, src)
     geometry = tip.check_geometry(geometry or {}, src)
     nu = POISSON_RATIO.check(nu, src)
     check_method(contact_method, src)
-    fit_range = fit_range or FitRange()
+    fit_range = FitRange() if fit_range is None else fit_range
+    if not isinstance(fit_range, FitRange):
+        raise AfmInputError(src, "fit_range", "a FitRange (or None)", fit_range)
+    n_sigma = positive(n_sigma, "n_sigma", src, "a positive number of noise SDs")
+    for name, values in (("piezo_um", curve.piezo_um), ("force_nN", curve.force_nN)):
+        if not float(np.max(np.abs(values))) <= MAX_MAGNITUDE:
+            raise AfmInputError(
+                src, name, f"values within +-{MAX_MAGNITUDE:g} (check the column's unit)"
+            )
+    try:
+        with np.errstate(all="ignore"):
+            fit = _fit_curve(curve, tip, geometry, nu, fit_range, contact_method, n_sigma)
+    except (ZeroDivisionError, FloatingPointError, OverflowError, np.linalg.LinAlgError):
+        fit = None
+    except ValueError as exc:  # scipy's fallback: residuals not finite at the start
+        if isinstance(exc, AfmInputError):
+            raise
+        fit = None
+    if fit is None or not all(
+        math.isfinite(v) for v in (fit.E_kPa, fit.contact_point_um, fit.residual_rms_nN)
+    ):
+        raise AfmInputError(
+            src,
+            "force_nN",
+            "a curve the fit resolves to finite numbers (check the units and scale of the "
+            "piezo and force columns)",
+        )
+    return fit
+
+
+def _fit_curve(
+    curve: ForceCurve,
+    tip: IndentationModel,
+    geometry: Mapping[str, float],
+    nu: float,
+    fit_range: FitRange,
+    contact_method: str,
+    n_sigma: float,
+) -> IndentationFit:
+    """The steps of :func:`fit_indentation` once its arguments are checked."""
+    src = curve.source
+    model = tip.key
     baseline = fit_baseline(curve)
     x0 = None
     for _ in range(MAX_BASELINE_PASSES):

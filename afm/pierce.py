@@ -33,6 +33,7 @@ second; that subtraction is not defined precisely enough in the paper to reprodu
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -40,6 +41,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
+from afm.arguments import fraction
 from afm.baseline import remove_baseline
 from afm.curve import ForceCurve
 from afm.errors import AfmInputError
@@ -157,10 +159,13 @@ def fit_pierce(
     contact_method: str = "fit",
 ) -> PierceFit:
     """Detect the pierce, fit the ZP on the first rising segment and the cytoplasm on the second."""
+    if not isinstance(curve, ForceCurve):
+        raise AfmInputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
     src = curve.source
     tip = get_model(model, src)
     geometry = tip.check_geometry(geometry or {}, src)
     nu = POISSON_RATIO.check(nu, src)
+    min_drop_fraction = fraction(min_drop_fraction, "min_drop_fraction", src)
     event = detect_pierce(curve, min_drop_fraction)
     if event.peak_index < MIN_SEGMENT_POINTS:
         raise AfmInputError(src, "force_nN", "a rising ZP segment before the pierce")
@@ -171,9 +176,19 @@ def fit_pierce(
     second = corrected.slice(event.trough_index, len(curve.piezo_um))
     x, force = second.tip_position_um, second.force_nN
     depth = float(x[0]) - zp.contact_point_um
-    e, x1, f1, ok, msg, at_bound = fit_offset_segment(
-        x, force, model, geometry, nu, src, x1_lower=zp.contact_point_um - 0.5 * max(depth, 0.0)
-    )
+    try:
+        with np.errstate(all="ignore"):
+            e, x1, f1, ok, msg, at_bound = fit_offset_segment(
+                x, force, model, geometry, nu, src, zp.contact_point_um - 0.5 * max(depth, 0.0)
+            )
+    except (ZeroDivisionError, FloatingPointError, OverflowError, np.linalg.LinAlgError):
+        e = math.nan
+    except ValueError as exc:  # scipy: residuals not finite at the start
+        if isinstance(exc, AfmInputError):
+            raise
+        e = math.nan
+    if not math.isfinite(e):
+        raise AfmInputError(src, "force_nN", "a second segment the fit resolves to finite numbers")
     fitted = f1 + e * tip.shape(np.clip(x - x1, 0, None), geometry, nu)
     residual = force - fitted
     ss_tot = float(np.sum((force - force.mean()) ** 2))

@@ -40,20 +40,37 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from afm.arguments import positive, real
 from afm.errors import AfmInputError
+
+MIN_TIME_S, MAX_TIME_S = 1e-9, 1e9
+"""Admissible relaxation / retardation times, s (outside: refused, their rates overflow)."""
+NEGLIGIBLE = 1e-12
+"""Terms below this fraction of the total are dropped by the conversions (no effect on G, J)."""
+
+
+def _items(values: object, what: str) -> list:
+    if isinstance(values, (str, bytes)) or values is None:
+        raise AfmInputError("<input>", what, "a sequence of numbers", values)
+    try:
+        return list(np.atleast_1d(np.asarray(values, dtype=object)))
+    except (TypeError, ValueError):
+        raise AfmInputError("<input>", what, "a sequence of numbers", values) from None
 
 
 def _as_terms(
     values: tuple[float, ...] | np.ndarray, times: tuple[float, ...] | np.ndarray, what: str
 ) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    v = tuple(float(a) for a in np.atleast_1d(values))
-    t = tuple(float(a) for a in np.atleast_1d(times))
+    v = tuple(real(a, what, expected="non-negative terms") for a in _items(values, what))
+    t = tuple(real(a, what, expected="positive time constants") for a in _items(times, what))
     if len(v) != len(t):
         raise AfmInputError("<input>", what, "as many terms as time constants", (len(v), len(t)))
-    if any(not np.isfinite(a) or a < 0 for a in v):
+    if any(a < 0 for a in v):
         raise AfmInputError("<input>", what, "non-negative terms", v)
-    if any(not np.isfinite(a) or a <= 0 for a in t):
-        raise AfmInputError("<input>", what, "positive time constants", t)
+    if any(not MIN_TIME_S <= a <= MAX_TIME_S for a in t):
+        raise AfmInputError(
+            "<input>", what, f"time constants in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s", t
+        )
     order = np.argsort(t)
     return tuple(v[i] for i in order), tuple(t[i] for i in order)
 
@@ -68,8 +85,8 @@ class RelaxationProny:
 
     def __post_init__(self) -> None:
         g, tau = _as_terms(self.g, self.tau_s, "g")
-        if not (np.isfinite(self.G0_kPa) and self.G0_kPa > 0):
-            raise AfmInputError("<input>", "G0_kPa", "a positive modulus", self.G0_kPa)
+        g0 = positive(self.G0_kPa, "G0_kPa", "<input>", "a positive modulus in kPa")
+        object.__setattr__(self, "G0_kPa", g0)
         if sum(g) >= 1:
             raise AfmInputError("<input>", "g", "sum of g below 1 (a solid)", sum(g))
         object.__setattr__(self, "g", g)
@@ -101,8 +118,8 @@ class CreepProny:
 
     def __post_init__(self) -> None:
         j, lam = _as_terms(self.J_per_kPa, self.lambda_s, "J_per_kPa")
-        if not (np.isfinite(self.J0_per_kPa) and self.J0_per_kPa > 0):
-            raise AfmInputError("<input>", "J0_per_kPa", "a positive compliance", self.J0_per_kPa)
+        j0 = positive(self.J0_per_kPa, "J0_per_kPa", "<input>", "a positive compliance in 1/kPa")
+        object.__setattr__(self, "J0_per_kPa", j0)
         object.__setattr__(self, "J_per_kPa", j)
         object.__setattr__(self, "lambda_s", lam)
 
@@ -122,18 +139,29 @@ def _zeros(
     func: Callable[[float], float], poles: np.ndarray, last: tuple[float, float]
 ) -> np.ndarray:
     """One zero of ``func`` in each gap between the sorted negative ``poles``, one in ``last``."""
-    eps = 1e-12
-    brackets = [(poles[i] * (1 - eps), poles[i + 1] * (1 + eps)) for i in range(poles.size - 1)]
-    brackets.append(last)
-    return np.array([brentq(func, a, b, xtol=1e-300, rtol=1e-15, maxiter=500) for a, b in brackets])
+    zeros = []
+    gaps = [(poles[i], poles[i + 1]) for i in range(poles.size - 1)]
+    for i, (a, b) in enumerate([*gaps, last]):
+        if i < len(gaps):  # just inside the gap: the closer, the larger |func| near a pole
+            for eps in (1e-12, 1e-14, 4e-16):
+                lo, hi = a * (1 - eps), b * (1 + eps)
+                if func(lo) * func(hi) < 0:
+                    break
+        else:
+            lo, hi = a, b
+        if not func(lo) * func(hi) < 0:
+            raise AfmInputError(
+                "<input>", "lambda_s", "time constants the conversion can separate", (a, b)
+            )
+        zeros.append(brentq(func, lo, hi, xtol=1e-300, rtol=1e-15, maxiter=500))
+    return np.array(zeros)
 
 
-def relaxation_from_creep(creep: CreepProny) -> RelaxationProny:
-    """Exact relaxation Prony series of a creep Prony series (module docstring)."""
+def _relaxation_from_creep(creep: CreepProny) -> RelaxationProny:
     j0 = creep.J0_per_kPa
     j = np.asarray(creep.J_per_kPa)
     r = 1.0 / np.asarray(creep.lambda_s)
-    keep = j > 0
+    keep = j > NEGLIGIBLE * (j0 + float(np.sum(j)))
     j, r = j[keep], r[keep]
     if j.size == 0:
         return RelaxationProny(1.0 / j0, (), ())
@@ -152,12 +180,11 @@ def relaxation_from_creep(creep: CreepProny) -> RelaxationProny:
     return RelaxationProny(g0, tuple(moduli / g0), tuple(-1.0 / s_k))
 
 
-def creep_from_relaxation(relaxation: RelaxationProny) -> CreepProny:
-    """Exact creep Prony series of a relaxation Prony series (module docstring)."""
+def _creep_from_relaxation(relaxation: RelaxationProny) -> CreepProny:
     g_inf = relaxation.G_inf_kPa
     gk = relaxation.moduli_kPa
     b = 1.0 / np.asarray(relaxation.tau_s)
-    keep = gk > 0
+    keep = gk > NEGLIGIBLE * relaxation.G0_kPa
     gk, b = gk[keep], b[keep]
     if gk.size == 0:
         return CreepProny(1.0 / relaxation.G0_kPa, (), ())
@@ -173,3 +200,30 @@ def creep_from_relaxation(relaxation: RelaxationProny) -> CreepProny:
     slope = np.array([np.sum(gk * b / (z + b) ** 2) for z in zeros])
     compliances = 1.0 / (rates * slope)
     return CreepProny(1.0 / relaxation.G0_kPa, tuple(compliances), tuple(1.0 / rates))
+
+
+def _converted(convert: Callable, series: object, what: str) -> object:
+    """Run a conversion; a series whose terms span more than floats can hold is refused."""
+    try:
+        with np.errstate(all="ignore"):
+            return convert(series)
+    except AfmInputError as exc:
+        raise AfmInputError(exc.file, what, exc.expected, exc.got) from None
+    except (ValueError, ZeroDivisionError, OverflowError, FloatingPointError):
+        raise AfmInputError(
+            "<input>", what, "terms and times whose ratios stay within floating point range"
+        ) from None
+
+
+def relaxation_from_creep(creep: CreepProny) -> RelaxationProny:
+    """Exact relaxation Prony series of a creep Prony series (module docstring)."""
+    if not isinstance(creep, CreepProny):
+        raise AfmInputError("<input>", "creep", "a CreepProny series", type(creep).__name__)
+    return _converted(_relaxation_from_creep, creep, "J_per_kPa")
+
+
+def creep_from_relaxation(relaxation: RelaxationProny) -> CreepProny:
+    """Exact creep Prony series of a relaxation Prony series (module docstring)."""
+    if not isinstance(relaxation, RelaxationProny):
+        raise AfmInputError("<input>", "relaxation", "a RelaxationProny series", relaxation)
+    return _converted(_creep_from_relaxation, relaxation, "g")

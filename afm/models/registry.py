@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from afm.arguments import real
 from afm.errors import AfmInputError
 
 ShapeFunction = Callable[[np.ndarray, Mapping[str, float], float], np.ndarray]
@@ -38,11 +39,11 @@ class Parameter:
 
     def check(self, value: float, where: str = "<input>") -> float:
         """Return ``value`` as float, or raise :class:`afm.errors.AfmInputError`."""
-        value = float(value)
+        close = "]" if self.upper_inclusive else ")"
+        expected = f"a value in ({self.lower:g}, {self.upper:g}{close} {self.unit}"
+        value = real(value, self.key, where, expected)
         below = value <= self.upper if self.upper_inclusive else value < self.upper
         if not (math.isfinite(value) and self.lower < value and below):
-            close = "]" if self.upper_inclusive else ")"
-            expected = f"a value in ({self.lower:g}, {self.upper:g}{close} {self.unit}"
             raise AfmInputError(where, self.key, expected, value)
         return value
 
@@ -68,6 +69,8 @@ class IndentationModel:
     def check_geometry(self, geometry: Mapping[str, float], where: str = "<input>") -> dict:
         """Validated geometry: every parameter present and inside its bounds, no extra keys."""
         known = {p.key for p in self.geometry_parameters}
+        if not isinstance(geometry, Mapping):
+            raise AfmInputError(where, "geometry", f"a table of {sorted(known)}", geometry)
         extra = sorted(set(geometry) - known)
         if extra:
             raise AfmInputError(where, extra[0], f"a geometry key of {self.key}: {sorted(known)}")
@@ -121,6 +124,6 @@ def indentation_model(
 
 def get_model(key: str, where: str = "<input>") -> IndentationModel:
     """Look a model up by key; an unknown key names the known ones."""
-    if key not in MODELS:
+    if not isinstance(key, str) or key not in MODELS:
         raise AfmInputError(where, "model", f"one of {', '.join(sorted(MODELS))}", key)
     return MODELS[key]

@@ -22,7 +22,7 @@ import numpy as np
 from afm.models.registry import Parameter, indentation_model
 
 HALF_ANGLE = Parameter(
-    "half_angle_deg", "deg", 0.0, 90.0, "half opening angle of the cone", default=10.0
+    "half_angle_deg", "deg", 1e-3, 90.0, "half opening angle of the cone", default=10.0
 )
 
 
