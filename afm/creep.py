@@ -76,17 +76,6 @@ def indentation_from_compliance(
     return _finite(delta, "indentation_um")
 
 
-def _finite(values: np.ndarray, field: str) -> np.ndarray:
-    if not np.all(np.isfinite(values)):
-        raise AfmInputError(
-            "<input>",
-            field,
-            "a result within floating point range (inputs "
-            "too large or too small, or negative compliance)",
-        )
-    return values
-
-
 @dataclass(frozen=True)
 class CreepData:
     """A force-clamp hold: time [s] from the start of the hold, force [nN], indentation [um]."""
@@ -257,6 +246,17 @@ def _tidy(terms: np.ndarray, lambdas: np.ndarray, total: float) -> tuple[np.ndar
             merged_t.append(float(w))
             merged_l.append(float(lam))
     return np.array(merged_t), np.array(merged_l)
+
+
+def _finite(values: np.ndarray, field: str) -> np.ndarray:
+    if not np.all(np.isfinite(values)):
+        raise AfmInputError(
+            "<input>",
+            field,
+            "a result within floating point range (inputs "
+            "too large or too small, or negative compliance)",
+        )
+    return values
 
 
 def check_creeping(data: CreepData) -> None:
