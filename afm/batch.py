@@ -92,7 +92,11 @@ def curve_files(folder: str | Path) -> list[Path]:
 
 
 def _fit_row(
-    file: Path, curve: ForceCurve, pierce: bool, fit_options: Mapping[str, object]
+    file: Path,
+    curve: ForceCurve,
+    pierce: bool,
+    fit_function: Callable[..., IndentationFit],
+    fit_options: Mapping[str, object],
 ) -> BatchRow:
     where = {
         "height_channel": curve.height_channel,
@@ -104,7 +108,7 @@ def _fit_row(
         if pierce:
             both: PierceFit = fit_pierce(curve, **fit_options)
             return BatchRow(str(file), group, both.zp, both.cytoplasm, **where)
-        return BatchRow(str(file), group, fit_indentation(curve, **fit_options), **where)
+        return BatchRow(str(file), group, fit_function(curve, **fit_options), **where)
     except (AfmInputError, ValueError, FloatingPointError) as exc:
         return BatchRow(str(file), group, error=str(exc).splitlines()[0], **where)
 
@@ -114,9 +118,12 @@ def fit_batch(
     pierce: bool = False,
     reader: Callable[..., ForceCurve | Sequence[ForceCurve]] = read_curves,
     read_options: Mapping[str, object] | None = None,
+    fit_function: Callable[..., IndentationFit] = fit_indentation,
     **fit_options: object,
 ) -> BatchResult:
-    """Fit every curve of every file (``fit_pierce`` when ``pierce``, else ``fit_indentation``).
+    """Fit every curve of every file (``fit_pierce`` when ``pierce``, else ``fit_function``:
+    :func:`afm.fit.fit_indentation`, or :func:`afm.nanite_pipeline.fit_nanite_default` for
+    nanite's analysis).
 
     ``reader(file, **read_options)`` returns one curve or a list (a force map: one row per
     curve); the default :func:`afm.curve_io.read_curves` takes ``spring_constant_N_per_m``,
@@ -137,7 +144,9 @@ def fit_batch(
             )
             continue
         curves = [read] if isinstance(read, ForceCurve) else list(read)
-        result.rows.extend(_fit_row(file, curve, pierce, fit_options) for curve in curves)
+        result.rows.extend(
+            _fit_row(file, curve, pierce, fit_function, fit_options) for curve in curves
+        )
     return result
 
 

@@ -10,7 +10,7 @@ nanite's default preprocessing on its side (``compute_tip_position``, ``correct_
 and retract as one segment), its fit (lmfit, free baseline offset, contact-point weight
 ``weight_cp``) over the whole approach; on our side ``read_curves`` (height channel chosen as
 nanite does) and ``fit_indentation`` (baseline line removed, contact point free) over the
-whole approach. Models: Sneddon cone 30 deg, Hertz paraboloid R = 10 um, pyramid 35 deg; nu 0.5.
+whole approach. Models: Sneddon cone 30 deg, Hertz paraboloid R = 10 um, pyramid 25 deg; nu 0.5.
 
 nanite's pyramid is three-sided (F = 0.8887 tan(a) E/(1-nu^2) delta^2), ours four-sided
 (Bilodeau, 0.7453): both are the same delta^2 law, so nanite's E is compared after the exact
@@ -33,12 +33,13 @@ import numpy as np
 from afm.curve_io import read_curves
 from afm.errors import AfmInputError
 from afm.fit import fit_indentation
+from afm.nanite_pipeline import fit_nanite_default
 
 MODELS = {
     # ours: (nanite key, our geometry, nanite geometry parameter and value, E factor)
     "sneddon_cone": ("hertz_cone", {"half_angle_deg": 30.0}, ("alpha", 30.0), 1.0),
     "hertz_paraboloid": ("hertz_para", {"radius_um": 10.0}, ("R", 10e-6), 1.0),
-    "pyramid": ("hertz_pyr3s", {"face_angle_deg": 35.0}, ("alpha", 35.0), 0.8887 / 0.7453),
+    "pyramid": ("hertz_pyr3s", {"face_angle_deg": 25.0}, ("alpha", 25.0), 0.8887 / 0.7453),
 }
 
 METADATA = {
@@ -59,6 +60,7 @@ class ParityRow:
     E_ours_kPa: float
     E_nanite_kPa: float
     contact_diff_nm: float
+    E_default_kPa: float = np.nan
     note: str = ""
 
     @property
@@ -81,6 +83,8 @@ def nanite_fit(idnt, model: str) -> tuple[float, float, float]:
     """
     key, _, (gname, gvalue), factor = MODELS[model]
     params = idnt.get_initial_fit_parameters(model_key=key)
+    for param in params.values():  # float32 columns (HDF5) give float32 values nanite can't hash
+        param.set(value=float(param.value))
     params[gname].set(gvalue)
     params["nu"].set(0.5)
     idnt.fit_model(
@@ -118,7 +122,7 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
     try:
         curves = read_curves(path, spring_constant_N_per_m=k, sensitivity_nm_per_V=s)
     except AfmInputError as exc:
-        return [ParityRow(path.name, -1, "-", np.nan, np.nan, np.nan, f"not read: {exc}")]
+        return [ParityRow(path.name, -1, "-", np.nan, np.nan, np.nan, np.nan, f"not read: {exc}")]
     group = nanite_records(path)
     rows = []
     for i, (curve, idnt) in enumerate(zip(curves, group, strict=True)):
@@ -126,25 +130,33 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
         if _reverses(idnt):
             steps.insert(1, "correct_split_approach_retract")
         idnt.apply_preprocessing(steps)
-        # Compare contact as the piezo/height travel at contact (independent of how each tool
-        # zeroes the deflection). nanite: tip = piezo - F_raw/k - C, C its contact shift.
+        # nanite: tip = piezo - F_raw/k - C (C its contact shift), force offset subtracted
         k_um = curve.spring_constant_nN_per_um
         f_raw0 = float(curve.force_nN[0])
-        tip0 = -float(idnt["tip position"][0]) * 1e6
-        shift = float(curve.piezo_um[0]) - f_raw0 / k_um - tip0
+        shift = float(curve.piezo_um[0]) - f_raw0 / k_um + float(idnt["tip position"][0]) * 1e6
         offset = f_raw0 - float(idnt["force"][0]) * 1e9
+        # nanite takes its baseline window over approach and retract
+        fraction = 0.1 * len(idnt["force"]) / curve.piezo_um.size
         for model in models:
             _, geometry, _, _ = MODELS[model]
             note = ""
             try:
-                ours = fit_indentation(curve, model, geometry, 0.5)
-                # ours: x = piezo - F_corrected/k and F_corrected = 0 at contact
-                e_ours, z_ours = ours.E_kPa, ours.contact_point_um
+                ours = fit_nanite_default(curve, model, geometry, 0.5, baseline_fraction=fraction)
+                # piezo travel at contact: there the force is the fitted baseline
+                e_ours, z_ours = ours.E_kPa, ours.contact_point_um + ours.offset_nN / k_um
             except AfmInputError as exc:
                 e_ours, z_ours, note = np.nan, np.nan, str(exc)
+            try:
+                e_default = fit_indentation(curve, model, geometry, 0.5).E_kPa
+            except AfmInputError:
+                e_default = np.nan
             e_nan, x0_nan, baseline = nanite_fit(idnt, model)
             z_nan = x0_nan + shift + (offset + baseline) / k_um
-            rows.append(ParityRow(path.name, i, model, e_ours, e_nan, (z_ours - z_nan) * 1e3, note))
+            rows.append(
+                ParityRow(
+                    path.name, i, model, e_ours, e_nan, (z_ours - z_nan) * 1e3, e_default, note
+                )
+            )
     return rows
 
 
@@ -162,7 +174,7 @@ def main(folder: str | None = None) -> None:
     warnings.simplefilter("ignore")
     print(
         f"{'file':58s} {'curve':>5s} {'model':17s} {'E ours':>10s} {'E nanite':>10s} "
-        f"{'diff':>8s} {'x0 diff nm':>10s}"
+        f"{'diff':>8s} {'x0 diff nm':>10s} {'E fit_indentation':>17s}"
     )
     for path in sorted(data.iterdir()):
         if "-fd" not in path.name:
@@ -171,7 +183,7 @@ def main(folder: str | None = None) -> None:
             print(
                 f"{r.file[:58]:58s} {r.curve:5d} {r.model:17s} {r.E_ours_kPa:10.4g} "
                 f"{r.E_nanite_kPa:10.4g} {r.difference:8.2%} {r.contact_diff_nm:10.2f} "
-                f"{r.note[:60]}"
+                f"{r.E_default_kPa:17.4g} {r.note[:60]}"
             )
 
 
