@@ -130,3 +130,24 @@ def test_instrument_creep_file_gives_compliance_and_prony_series():
 def test_force_distance_file_is_not_a_creep_file():
     with pytest.raises(AfmInputError, match="creep-compliance"):
         read_creep(instrument_file(SPOT3))
+
+
+def test_tip_position_column_is_preferred_and_kept():
+    n, k = 200, 0.05  # N/m
+    height = np.linspace(2e-6, 0.0, n)  # afmformats' sign: decreasing towards the sample
+    force = np.where(height < 1e-6, (1e-6 - height) * 2e-3, 0.0)
+    tip = height + force / k
+    data = {
+        "force": force,
+        "height (measured)": height,
+        "tip position": tip,
+        "segment": np.zeros(n, dtype=bool),
+    }
+    meta = {"spring constant": k, "imaging mode": "force-distance", "enum": 0, "path": "x"}
+    from afm.instrument_io import curve_from_record
+
+    curve = curve_from_record(afmformats.AFMForceDistance(data, meta), "x")
+    assert curve.height_channel == "tip position"
+    np.testing.assert_allclose(curve.tip_position_um, -tip * 1e6, atol=1e-9)
+    measured = curve_from_record(afmformats.AFMForceDistance(data, meta), "x", "height (measured)")
+    np.testing.assert_allclose(measured.piezo_um, -height * 1e6)
