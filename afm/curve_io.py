@@ -166,7 +166,7 @@ def read_curves(
         return read_instrument_curves(
             path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
         )
-    return [_read_table_curve(Path(path), spring_constant_N_per_m, sensitivity_nm_per_V)]
+    return [read_curve(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel)]
 
 
 def read_curve(
@@ -175,10 +175,17 @@ def read_curve(
     sensitivity_nm_per_V: float | None = None,
     height_channel: str = "auto",
 ) -> ForceCurve:
-    """Read one approach curve (the first of a force map); see :func:`read_curves`."""
+    """Read one approach curve (the first of a force map); see :func:`read_curves`.
+
+    A text table has one travel column (``height_channel`` ``"auto"`` or ``"piezo"``).
+    """
     if is_instrument_file(path):
         return read_instrument_file(
             path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
+        )
+    if height_channel not in ("auto", "piezo"):
+        raise AfmInputError(
+            path, "height_channel", "auto or piezo for a text table", height_channel
         )
     return _read_table_curve(Path(path), spring_constant_N_per_m, sensitivity_nm_per_V)
 

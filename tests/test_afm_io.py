@@ -130,3 +130,10 @@ def test_jittering_piezo_is_accepted_and_fitted_as_recorded(tmp_path):
     assert np.count_nonzero(np.diff(read.piezo_um) < 0) > 50
     fit = fit_indentation(read)
     assert fit.E_kPa == pytest.approx(7.01, rel=0.03)
+
+
+def test_a_height_channel_a_text_table_lacks_is_refused(tmp_path):
+    path = write_curve(indentation_curve(7.01, 5.0, n_points=100), tmp_path / "c.csv")
+    assert read_curve(path).height_channel == "piezo"
+    with pytest.raises(AfmInputError, match="height_channel"):
+        read_curve(path, height_channel="height (measured)")
