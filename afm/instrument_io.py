@@ -182,11 +182,12 @@ def _travel_um(segment, channel: str, force_nN: np.ndarray, k_nN_per_um: float) 
 
 
 def _approach_end(travel: np.ndarray) -> int:
-    """End (exclusive) of the approach: all points, or up to the turning point if it reverses."""
+    """End (exclusive) of the approach: all points, or, if the travel reverses, the points
+    before the turning point (the farthest travel, which starts the retract)."""
     span = float(np.ptp(travel))
     step_back = np.maximum.accumulate(travel) - travel
     if span > 0 and float(step_back.max()) > MAX_JITTER_FRACTION * span:
-        return int(np.argmax(travel)) + 1
+        return int(np.argmax(travel))
     return travel.size
 
 

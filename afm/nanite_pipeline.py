@@ -4,10 +4,10 @@ nanite (and PyJibe, built on it) is the field's open reference for AFM indentati
 default preprocessing and fit, written out here from its documented steps (units um, nN, kPa):
 
 1. tip position ``x = piezo - F/k`` with the force as recorded;
-2. force offset: the contact index ``i_c`` is the first point where
-   ``F - mean(F_b) > 2 max|F_b - mean(F_b)|``, ``F_b`` the first ``baseline_fraction`` of the
-   points (nanite takes the first 10 % of approach *and* retract, about 20 % of the
-   approach); ``F <- F - mean(F[:i_c])``;
+2. force offset: the record is clipped at its largest force (index ``n_max``: the turn, or
+   just after it in the retract); the contact index ``i_c`` is the first point where
+   ``F - mean(F_b) > 2 max|F_b - mean(F_b)|``, ``F_b`` the first 10 % of the clipped points,
+   and ``n_max // 2`` when no point is; ``F <- F - mean(F[:i_c])``;
 3. tip offset: ``x <- x - x[i_c]``;
 4. least squares of ``F = E shape(x - x0) + b`` over the whole approach, E, x0 and a baseline
    ``b`` free, started from E = 3 kPa, x0 = 0, b = 0, each residual weighted by
@@ -45,17 +45,19 @@ NANITE_E_START_KPA = 3.0
 """nanite's start value for E (3000 Pa)."""
 
 
-def contact_index_deviation(force_nN: np.ndarray, baseline_fraction: float = 0.2) -> int:
-    """First index where F exceeds the mean of the first points by twice their largest
-    deviation from it (step 2 of the module); the middle index when it never does."""
+def contact_index_deviation(force_nN: np.ndarray, n_max: int | None = None) -> int:
+    """Contact index of step 2 (module docstring); ``n_max`` defaults to the index of the
+    largest force of ``force_nN``."""
     force = np.asarray(force_nN, dtype=float)
-    window = force[: int(force.size * baseline_fraction)]
+    n = int(np.argmax(force)) if n_max is None else int(n_max)
+    clipped = force[:n]  # the approach's points when the largest force is in the retract
+    window = clipped[: int(n * 0.1)]
     if window.size:
         mean = float(window.mean())
-        above = np.flatnonzero(force - mean > 2.0 * float(np.max(np.abs(window - mean))))
+        above = np.flatnonzero(clipped - mean > 2.0 * float(np.max(np.abs(window - mean))))
         if above.size:
             return int(above[0])
-    return force.size // 2
+    return min(n // 2, force.size - 1)
 
 
 def fit_nanite_default(
@@ -64,9 +66,13 @@ def fit_nanite_default(
     geometry: Mapping[str, float] | None = None,
     nu: float = 0.5,
     weight_cp_um: float = NANITE_WEIGHT_CP_UM,
-    baseline_fraction: float = 0.2,
+    n_max: int | None = None,
 ) -> IndentationFit:
     """Fit ``curve`` the way nanite does by default (module docstring).
+
+    ``n_max`` is the index of the largest force of the whole record (approach and retract);
+    by default the largest force of the approach (the same unless the force still rises
+    after the turn).
 
     In the result, the tip position is ``piezo - (F - offset)/k`` (this package's convention),
     ``contact_point_um`` is on that axis and ``offset_nN`` is the fitted baseline ``b``.
@@ -79,7 +85,7 @@ def fit_nanite_default(
         raise AfmInputError(src, "weight_cp_um", "a positive width in um", weight_cp_um)
     k = curve.spring_constant_nN_per_um
     raw = curve.force_nN
-    contact = contact_index_deviation(raw, baseline_fraction)
+    contact = contact_index_deviation(raw, n_max)
     offset = float(raw[:contact].mean()) if contact else float(raw[0])
     force = raw - offset
     x_raw = curve.piezo_um - raw / k

@@ -135,13 +135,13 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
         f_raw0 = float(curve.force_nN[0])
         shift = float(curve.piezo_um[0]) - f_raw0 / k_um + float(idnt["tip position"][0]) * 1e6
         offset = f_raw0 - float(idnt["force"][0]) * 1e9
-        # nanite takes its baseline window over approach and retract
-        fraction = 0.1 * len(idnt["force"]) / curve.piezo_um.size
+        # nanite clips the whole record (approach and retract) at its largest force
+        n_max = int(np.argmax(idnt["force"]))
         for model in models:
             _, geometry, _, _ = MODELS[model]
             note = ""
             try:
-                ours = fit_nanite_default(curve, model, geometry, 0.5, baseline_fraction=fraction)
+                ours = fit_nanite_default(curve, model, geometry, 0.5, n_max=n_max)
                 # piezo travel at contact: there the force is the fitted baseline
                 e_ours, z_ours = ours.E_kPa, ours.contact_point_um + ours.offset_nN / k_um
             except AfmInputError as exc:

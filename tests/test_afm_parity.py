@@ -22,6 +22,7 @@ SUBSET = [
     "fmt-jpk-fd_2020.02.07-16.29.05.036.jpk-qi-data",
     "fmt-hdf5-fd_version_0.13.3.h5",
     "fmt-igor-fd_U3_3_p10004.ibw",
+    "fmt-igor-fd_SiN_FD_plot.ibw",
     "fmt-jpk-fd_flipsign_2015.05.22-15.31.49.352.jpk-force",
 ]
 
