@@ -49,7 +49,8 @@ def afmformats_data() -> Path | None:
         with tarfile.open(archive) as tar:
             members = [m for m in tar.getmembers() if m.name.startswith(prefix) and m.isfile()]
             members += [m for m in tar.getmembers() if m.name == f"{name}/LICENSE"]
-            tar.extractall(cache_dir().parent, members=members, filter="data")
+            safe = {"filter": "data"} if hasattr(tarfile, "data_filter") else {}
+            tar.extractall(cache_dir().parent, members=members, **safe)
     return target if target.is_dir() else None
 
 

@@ -98,7 +98,6 @@ def test_every_map_curve_is_read_with_its_position(tmp_path):
     assert png.stat().st_size > 5_000
 
 
-@pytest.mark.slow
 def test_force_map_gives_a_modulus_per_position(tmp_path):
     path = instrument_file("fmt-jpk-fd_map2x2_extracted.jpk-force-map")
     result = fit_batch([path], model="sneddon_cone", geometry={"half_angle_deg": 30.0})
