@@ -82,6 +82,8 @@ class IndentationFit:
     tip_position_um: np.ndarray
     force_nN: np.ndarray
     offset_nN: float = 0.0
+    height_channel: str = ""
+    """Recorded column the tip position came from (:attr:`afm.curve.ForceCurve.height_channel`)."""
     at_bound: tuple[str, ...] = ()
     """Fit parameters that ended on a bound of the fit (each lowers the quality rating)."""
 
@@ -383,4 +385,5 @@ def _fit_curve(
         baseline=baseline,
         tip_position_um=xw,
         force_nN=fw,
+        height_channel=curve.height_channel,
     )
