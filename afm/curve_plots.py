@@ -9,6 +9,7 @@ drawn with every n-th point (the fit used them all).
 
 from __future__ import annotations
 
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -22,6 +23,8 @@ from afm.fit import IndentationFit
 
 MAX_PLOT_POINTS = 600
 DPI = 80
+MIN_JOBS_PER_WORKER = 10
+"""Fewer plots than this per process are drawn in this process (start-up costs more)."""
 
 
 def plot_name(row: BatchRow) -> str:
@@ -72,17 +75,29 @@ class CurveFigure:
         plt.close(self.fig)
 
 
-def plot_curves(result: BatchResult, folder: str | Path) -> list[Path]:
-    """A PNG per fitted curve of ``result`` in ``folder`` (:func:`plot_name`); failed curves
-    have none (their error is in the table)."""
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
+def _draw_all(jobs: list[tuple[IndentationFit, Path, str]]) -> list[Path]:
     figure = CurveFigure()
     try:
-        return [
-            figure.draw(row.fit, folder / plot_name(row), Path(row.file).name)
-            for row in result.rows
-            if row.fit is not None and not row.error
-        ]
+        return [figure.draw(fit, path, title) for fit, path, title in jobs]
     finally:
         figure.close()
+
+
+def plot_curves(result: BatchResult, folder: str | Path, workers: int = 1) -> list[Path]:
+    """A PNG per fitted curve of ``result`` in ``folder`` (:func:`plot_name`); failed curves
+    have none (their error is in the table). ``workers`` > 1 draws in that many processes
+    (each with its own figure), in order."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    jobs = [
+        (row.fit, folder / plot_name(row), Path(row.file).name)
+        for row in result.rows
+        if row.fit is not None and not row.error
+    ]
+    workers = max(1, min(int(workers), len(jobs) // MIN_JOBS_PER_WORKER))
+    if workers == 1:
+        return _draw_all(jobs)
+    chunks = [jobs[i::workers] for i in range(workers)]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        drawn = list(pool.map(_draw_all, chunks))
+    return [path for chunk in drawn for path in chunk]

@@ -13,6 +13,7 @@ import csv
 import fnmatch
 import inspect
 import math
+import os
 from dataclasses import replace
 from pathlib import Path
 from typing import Literal
@@ -98,6 +99,9 @@ class FitFilesInputs(BaseModel):
                 raise ValueError(f"geometry.{key}: a finite number")
         return self
 
+
+PLOT_WORKERS = min(2, os.cpu_count() or 1)
+"""Processes drawing the per-curve plots (the machine's 2 cores)."""
 
 METRICS = {
     "n_curves": "curves read (a force map counts each of its curves)",
@@ -259,7 +263,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
 
     ctx.step("plots")
     plot_dir = ctx.output("curve_plots/.keep").parent
-    plots = {p.name for p in plot_curves(result, plot_dir)}
+    plots = {p.name for p in plot_curves(result, plot_dir, workers=PLOT_WORKERS)}
     write_fit_table(result, ctx.output("fits.csv"), case_dir, plots)
     groups = sorted({r.group for r in good})
     by_group = {g: np.array([r.fit.E_kPa for r in good if r.group == g]) for g in groups}
