@@ -29,7 +29,7 @@ MIN_JOBS_PER_WORKER = 10
 
 def plot_name(row: BatchRow) -> str:
     """``<file stem>.png``, or ``<file stem>_curve<i>.png`` for a curve of a force map."""
-    index = getattr(row, "curve_index", None)
+    index = row.curve_index
     return Path(row.file).stem + ("" if index is None else f"_curve{index:04d}") + ".png"
 
 

@@ -89,3 +89,46 @@ def test_curves_outside_the_case_folder_or_missing_are_refused(tmp_path, pattern
     [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
     assert result.status == "ERROR"
     assert "inputs.curves" in result.reason
+
+
+INSTRUMENT = Path(__file__).parent / "data" / "instrument"
+
+
+def test_instrument_files_and_force_map_through_the_user_route(tmp_path):
+    # real files (afmformats' test data, MIT): a JPK curve and a JPK QI map of 4 curves
+    case = tmp_path / "jpk"
+    (case / "curves" / "single").mkdir(parents=True)
+    (case / "curves" / "map").mkdir()
+    shutil.copy(INSTRUMENT / "fmt-jpk-fd_spot3-0192.jpk-force", case / "curves" / "single")
+    shutil.copy(
+        INSTRUMENT / "fmt-jpk-fd_2020.02.07-16.29.05.036.jpk-qi-data", case / "curves" / "map"
+    )
+    (case / "case.toml").write_text(
+        'kind = "afm_fit_files"\ndescription = "real JPK files"\n[inputs]\ncurves = "curves"\n'
+        "geometry = { half_angle_deg = 30.0 }\n"
+    )
+    [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    out = tmp_path / "out" / "jpk"
+    rows = _rows(out)
+    single = [r for r in rows if r["group"] == "single"]
+    assert len(single) == 1 and single[0]["height_channel"]
+    # JPK data processing gives 348.6 kPa for this curve (cone 30 deg, nu 0.5)
+    assert float(single[0]["E_kPa"]) == pytest.approx(348.6, rel=0.03)
+    maps = [r for r in rows if r["group"] == "map"]
+    assert len(maps) == 4 and all(r["map_x_um"] and r["curve_index"] for r in maps)
+    assert result.status in {"PASS", "FAIL"}, result.reason
+    assert (out / "modulus_map_fmt-jpk-fd_2020.02.07-16.29.05.036.png").is_file()
+
+
+def test_height_channel_override_reaches_the_table(tmp_path):
+    case = tmp_path / "piezo"
+    (case / "curves").mkdir(parents=True)
+    shutil.copy(INSTRUMENT / "fmt-jpk-fd_spot3-0192.jpk-force", case / "curves")
+    (case / "case.toml").write_text(
+        'kind = "afm_fit_files"\ndescription = "override"\n[inputs]\ncurves = "curves"\n'
+        'geometry = { half_angle_deg = 30.0 }\nheight_channel = "height (piezo)"\n'
+    )
+    run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    [row] = _rows(tmp_path / "out" / "piezo")
+    assert row["height_channel"] == "height (piezo)"
+    assert float(row["E_kPa"]) > 3000  # the piezo channel's wrong 10 245 kPa (issue 17 item 1)

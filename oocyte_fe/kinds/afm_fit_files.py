@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import fnmatch
-import inspect
 import math
 import os
 from dataclasses import replace
@@ -171,10 +170,8 @@ def write_fit_table(result: BatchResult, path: Path, case_dir: Path, plots: set[
         writer.writerow(TABLE_COLUMNS)
         for r in result.rows:
             f = r.fit
-            pos = getattr(r, "map_position_um", None)
-            index = getattr(r, "curve_index", None)
+            pos, index = r.map_position_um, r.curve_index
             plot = f"curve_plots/{plot_name(r)}" if plot_name(r) in plots else ""
-            channel = getattr(r, "height_channel", "") or getattr(f, "height_channel", "")
             writer.writerow(
                 [
                     Path(r.file).relative_to(case_dir).as_posix(),
@@ -185,7 +182,7 @@ def write_fit_table(result: BatchResult, path: Path, case_dir: Path, plots: set[
                     f"{f.residual_rms_nN:.4g}" if f else "",
                     f.quality if f else "error",
                     f.contact_method if f else "",
-                    channel,
+                    r.height_channel,
                     "" if index is None else index,
                     f"{pos[0]:.6g}" if pos else "",
                     f"{pos[1]:.6g}" if pos else "",
@@ -250,12 +247,6 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "contact_method": inp.contact_method,
     }
     if inp.height_channel is not None:
-        if "read_options" not in inspect.signature(fit_batch).parameters:
-            raise InputError(
-                case_dir / "case.toml",
-                "inputs.height_channel",
-                "no override (this version of afm.batch reads the instrument's default channel)",
-            )
         fit_options["read_options"] = {"height_channel": inp.height_channel}
     result = fit_batch(files, **fit_options)
     _regroup(result, case_dir, inp.groups)
@@ -271,11 +262,10 @@ def run(ctx: CaseContext) -> CaseOutcome:
     if good:
         plotting.plot_histogram(by_group, ctx.output("histogram.png"))
         figures.append(Figure("histogram.png", "Fitted Young's moduli per group"))
-    map_plot = getattr(plotting, "plot_modulus_map", None)
-    map_files = sorted({r.file for r in result.rows if getattr(r, "map_position_um", None)})
-    for file in map_files if map_plot else []:
+    map_files = sorted({r.file for r in result.rows if r.map_position_um is not None})
+    for file in map_files:
         name = f"modulus_map_{Path(file).stem}.png"
-        map_plot(result, file, ctx.output(name))
+        plotting.plot_modulus_map(result, file, ctx.output(name))
         figures.append(Figure(name, f"Modulus map of {Path(file).name}"))
 
     ctx.step("material files")
