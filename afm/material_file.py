@@ -33,6 +33,7 @@ HEADER = (
     "# E_kPa: instantaneous Young's modulus E0 = 2 (1 + nu) G0\n"
     "# [prony]: normalised relaxation G(t)/G0 = 1 - sum g_i (1 - exp(-t/tau_i))\n"
 )
+MAX_FILE_BYTES = 1_000_000
 _MATERIAL_KEYS = {"name", "source", "E_kPa", "nu"}
 _PRONY_KEYS = {"g", "tau_s"}
 
@@ -113,11 +114,19 @@ def _table(file: str, data: dict, key: str, allowed: set[str], required: bool) -
 def read_material(path: str | Path) -> MaterialFile:
     """Read and validate a material file; errors name the file and the field."""
     file = str(path)
+    target = Path(path)
+    if not target.is_file():  # also refuses folders and FIFOs (opening one would block)
+        raise AfmInputError(file, "", "an existing material file (a regular file)")
+    if target.stat().st_size > MAX_FILE_BYTES:
+        raise AfmInputError(file, "", f"a material file under {MAX_FILE_BYTES} bytes")
     try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError:
-        raise AfmInputError(file, "", "an existing material file") from None
+        data = tomllib.loads(target.read_bytes().decode("utf-8"))
+    except OSError as exc:
+        raise AfmInputError(file, "", "a readable material file", exc.strerror) from None
+    except UnicodeDecodeError as exc:
+        raise AfmInputError(file, "", f"UTF-8 text (byte {exc.start} is not)") from None
+    except RecursionError:
+        raise AfmInputError(file, "", "TOML nested less deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise AfmInputError(file, "", f"valid TOML ({exc})") from None
     unknown = sorted(set(data) - {"material", "prony"})

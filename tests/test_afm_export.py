@@ -4,13 +4,14 @@ ANSYS blocks that hold only the intended commands whatever the name and source c
 from __future__ import annotations
 
 import html
+import os
 import xml.etree.ElementTree as ET
 
 import pytest
 
 from afm.errors import AfmInputError
 from afm.fe_export import ansys_prony_block, febio_material
-from afm.material_file import MaterialFile
+from afm.material_file import MaterialFile, read_material
 
 HOSTILE = [
     'zp & "cyto" <b>',
@@ -80,3 +81,28 @@ def test_exports_refuse_a_bad_material_number(mat_id):
     for export in (ansys_prony_block, febio_material):
         with pytest.raises(AfmInputError, match="mat_id"):
             export(material, mat_id=mat_id)
+
+
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        ("a = " + "[" * 2000 + "]" * 2000 + "\n", "nested less deeply"),
+        ('[material]\nname = "z\xe9"\n'.encode("latin-1"), "UTF-8"),
+        (None, "regular file"),
+        ("fifo", "regular file"),
+    ],
+)
+def test_read_material_refuses_hostile_files(tmp_path, content, expected):
+    # issue 18: RecursionError, UnicodeDecodeError, IsADirectoryError, a hang on a FIFO
+    path = tmp_path / "material.toml"
+    if content is None:
+        path.mkdir()
+    elif content == "fifo":
+        os.mkfifo(path)
+    elif isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content)
+    with pytest.raises(AfmInputError, match=expected) as info:
+        read_material(path)
+    assert str(path) in str(info.value)

@@ -213,3 +213,29 @@ def test_material_and_exports(name, source, e, nu):
 def test_issue_examples_n_sigma(n_sigma):
     with pytest.raises(AfmInputError, match="n_sigma"):
         fit_indentation(GOOD_CURVE, n_sigma=n_sigma)
+
+
+@FUZZ
+@given(
+    name=st.sampled_from(
+        ["E_kPa", "contact_point_um", "max_piezo_um", "n_points", "k_nN_per_um", "noise_fraction"]
+    ),
+    value=NONSENSE,
+)
+def test_synthetic_curve_arguments(name, value):
+    kwargs = {"E_kPa": 7.01, "contact_point_um": 5.0, "n_points": 200, name: value}
+    curve = _call(indentation_curve, **kwargs)
+    if curve is not None:
+        assert np.all(np.isfinite(curve.force_nN))
+
+
+@FUZZ
+@given(
+    name=st.sampled_from(["E_zp_kPa", "pierce_force_nN", "residual_fraction", "trigger_force_nN"]),
+    value=NONSENSE,
+)
+def test_synthetic_pierce_arguments(name, value):
+    kwargs = {"E_zp_kPa": 7.01, "E_cytoplasm_kPa": 1.55, "n_points": 300, name: value}
+    curve = _call(pierce_curve, **kwargs)
+    if curve is not None:
+        assert np.all(np.isfinite(curve.force_nN))
