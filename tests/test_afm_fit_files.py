@@ -132,3 +132,27 @@ def test_height_channel_override_reaches_the_table(tmp_path):
     [row] = _rows(tmp_path / "out" / "piezo")
     assert row["height_channel"] == "height (piezo)"
     assert float(row["E_kPa"]) > 3000  # the piezo channel's wrong 10 245 kPa (issue 17 item 1)
+
+
+def test_group_names_cannot_leave_the_result_folder(tmp_path):
+    case = _copy(
+        tmp_path,
+        {
+            'curves = "curves"': 'curves = "curves"\ngroups = { "../../evil" = "curves/zp/*" }',
+            'creep = { zp = "creep/zp_creep.csv" }\n': "",
+        },
+    )
+    run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    out = tmp_path / "out" / "mine"
+    assert (out / "material_______evil.toml").is_file()
+    assert not list(tmp_path.glob("**/evil*"))
+    assert read_material(out / "material_______evil.toml").name == "../../evil"
+
+
+def test_creep_file_for_a_group_without_curves_is_refused(tmp_path):
+    case = _copy(
+        tmp_path, {'creep = { zp = "creep/zp_creep.csv" }': 'creep = { ZP = "creep/zp_creep.csv" }'}
+    )
+    [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    assert result.status == "ERROR" and "inputs.creep.ZP" in result.reason
+    assert "cytoplasm, zp" in result.reason

@@ -13,6 +13,7 @@ import csv
 import fnmatch
 import math
 import os
+import re
 from dataclasses import replace
 from pathlib import Path
 from typing import Literal
@@ -193,7 +194,7 @@ def write_fit_table(result: BatchResult, path: Path, case_dir: Path, plots: set[
     return path
 
 
-def _known(path: Path, case_dir: Path) -> dict[str, float]:
+def _known(path: Path) -> dict[str, float]:
     known: dict[str, float] = {}
     with path.open() as fh:
         rows = csv.DictReader(line for line in fh if not line.startswith("#"))
@@ -203,6 +204,12 @@ def _known(path: Path, case_dir: Path) -> dict[str, float]:
             except (KeyError, TypeError, ValueError):
                 raise InputError(path, f"row {i}", "columns file, E_kPa (a number)") from None
     return known
+
+
+def file_stem(group: str) -> str:
+    """``group`` as part of a file name: characters other than letters, digits, ``-`` and
+    ``_`` become ``_`` (a group name can never reach outside the result folder)."""
+    return re.sub(r"[^A-Za-z0-9_-]", "_", group) or "_"
 
 
 def _sd(values: np.ndarray) -> float:
@@ -221,7 +228,7 @@ def _group_material(
         )
         return MaterialFile(group, source, float(values.mean()), inp.nu), "elastic (mean E)"
     fit = fit_creep(read_creep(creep_file), inp.half_angle_deg_creep, inp.nu)
-    plotting.plot_creep(fit, ctx.output(f"creep_{group}.png"))
+    plotting.plot_creep(fit, ctx.output(f"creep_{file_stem(group)}.png"))
     source = (
         f"afm_fit_files case: creep {Path(creep_file).name}, Lee-Radok cone "
         f"(alpha {inp.half_angle_deg_creep:g} deg), Prony fit, exact relaxation series"
@@ -269,14 +276,20 @@ def run(ctx: CaseContext) -> CaseOutcome:
         figures.append(Figure(name, f"Modulus map of {Path(file).name}"))
 
     ctx.step("material files")
+    unknown = sorted(set(inp.creep) - set(groups))
+    if unknown:
+        raise InputError(
+            case_dir / "case.toml",
+            f"inputs.creep.{unknown[0]}",
+            f"a group of the fitted curves (one of {', '.join(groups) or 'none'})",
+        )
     material_lines = []
     for group in groups:
-        if by_group[group].size == 0:
-            continue
         material, how = _group_material(group, by_group[group], inp, ctx)
-        write_material(material, ctx.output(f"material_{group}.toml"))
-        ctx.output(f"material_{group}_ansys.inp").write_text(ansys_prony_block(material))
-        ctx.output(f"material_{group}_febio.xml").write_text(febio_material(material))
+        stem = f"material_{file_stem(group)}"
+        write_material(material, ctx.output(f"{stem}.toml"))
+        ctx.output(f"{stem}_ansys.inp").write_text(ansys_prony_block(material))
+        ctx.output(f"{stem}_febio.xml").write_text(febio_material(material))
         material_lines.append(
             f"| {group} | {material.E_kPa:.4g} | {material.nu:g} | {len(material.g)} | {how} |"
         )
@@ -290,14 +303,14 @@ def run(ctx: CaseContext) -> CaseOutcome:
     }
     checks = []
     if inp.known_moduli is not None:
-        known = _known(_inside(case_dir, Path(inp.known_moduli), "inputs.known_moduli"), case_dir)
+        known = _known(_inside(case_dir, Path(inp.known_moduli), "inputs.known_moduli"))
         errors = [
             abs(r.fit.E_kPa / known[key] - 1)
             for r in good
             if (key := Path(r.file).relative_to(case_dir).as_posix()) in known
         ]
-        worst = 100 * max(errors) if errors else math.inf
-        metrics["max_known_error_pct"] = worst if errors else 0.0
+        worst = 100 * max(errors) if errors else 100.0  # none fitted: count as 100 % off
+        metrics["max_known_error_pct"] = worst
         checks.append(
             Check(
                 f"every curve with a known modulus fitted, within {inp.known_tolerance_pct:g} %",
