@@ -6,11 +6,14 @@ With the baseline removed and the tip-sample separation applied, the model is
 
 x tip position [um] (``piezo - F/k``), x0 contact point [um], E Young's modulus [kPa], ``shape``
 the registered tip model (:mod:`afm.models`). The fit is a two-parameter least squares
-(:func:`scipy.optimize.least_squares`, Levenberg-Marquardt, falling back to bounded trust
-region reflective if it leaves E > 0 or the data range; analytic Jacobian ``dF/dE = shape``,
-``dF/dx0 = -E dshape``) over all points of the fit window: the non-contact
-points pin the contact point, the contact points the modulus. With ``contact_method =
-"deviation"`` x0 is fixed at the deviation estimate and E is the linear least-squares solution.
+(Levenberg-Marquardt with the 2 x 2 normal equations in closed form and the analytic Jacobian
+``dF/dE = shape``, ``dF/dx0 = -E dshape``; scipy's bounded trust region reflective if it fails
+or leaves E > 0 or the data range; a fit ending on those bounds is rated poor) over all points
+of the fit window: the non-contact points pin the contact point, the contact points the
+modulus. The baseline is refitted on the points before the fitted contact and the model
+refitted while the baseline line reached past it (at most ``MAX_BASELINE_PASSES`` fits).
+With ``contact_method = "deviation"`` x0 is fixed at the deviation estimate and E is the
+linear least-squares solution.
 
 The fit window keeps every point before contact and, in contact, the points up to
 ``max_indentation_um`` past the contact estimate or up to ``max_force_fraction`` of the maximum
@@ -370,6 +373,17 @@ def _fit_curve(
     fitted = E * tip.shape(np.clip(xw - x0, 0.0, None), geometry, nu)
     in_contact = xw > x0
     rms, r2 = _contact_stats(fw, fitted, in_contact)
+    span = float(np.ptp(xw))
+    tol = 1e-6 * max(span, 1e-300)
+    at_bound = tuple(
+        name
+        for name, hit in (
+            ("E = 0", not E > 0),
+            ("x0 (lower)", contact_method == "fit" and x0 - (float(xw.min()) - span) <= tol),
+            ("x0 (upper)", contact_method == "fit" and float(xw.max()) - x0 <= tol),
+        )
+        if hit
+    )
     return IndentationFit(
         model=model,
         E_kPa=E,
@@ -386,4 +400,5 @@ def _fit_curve(
         tip_position_um=xw,
         force_nN=fw,
         height_channel=curve.height_channel,
+        at_bound=at_bound,
     )
