@@ -331,7 +331,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         fe.mesh,
         fe.vertex_displacement_um[-1],
         obstacles=[np.asarray(end.points)],
-        title=f"FE at {fe.advance_um[-1]:g} um advance, |u| (um)",
+        title=f"FE at {fe.advance_um[-1]:g} um advance, displacement magnitude",
     )
     write_history_csv(
         ctx.output("force_history.csv"),

@@ -76,15 +76,24 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
     circle = np.column_stack(
         [cx + sphere.radius * np.cos(theta), cy + sphere.radius * np.sin(theta)]
     )
+    a = np.sqrt(sphere.radius * abs(shift[1]))  # contact radius of the final indentation
+    top = float(mesh.doflocs[1].max())
     plot_section(
         ctx.output("hertz_section.png"),
         mesh,
         prob.body.vertex_displacement(last.x),
         mirror=True,
         obstacles=[circle],
-        title="Hertz: rigid sphere on a half-space, displacement magnitude (um)",
+        title=f"Hertz contact zone (contact radius a = {a:.2f} um), displacement magnitude",
+        window=(-5 * a, 5 * a, top - 6 * a, top + 1.5 * a),
     )
-    return [Figure("hertz_section.png", "Hertz contact, deformed section coloured by |u| (um)")]
+    return [
+        Figure(
+            "hertz_section.png",
+            f"Hertz contact, the section within 5 a of the contact (a = {a:.2f} um, the "
+            "half-space is 80 a wide), coloured by |u| (um)",
+        )
+    ]
 
 
 @case_kind("fe_verification", inputs=FeVerificationInputs, metrics=METRICS)

@@ -54,7 +54,12 @@ def plot_wall_pressure(result: PassageResult, path: Path, frames: list[int]) -> 
             z[order][on], 1e3 * lam[order][on], ".", ms=3, label=f"t = {result.frames[k].t:.2f} s"
         )
     ax.axvline(result.pipette.z_neck_um, color="k", ls=":", label="neck start")
-    ax.axvline(result.pipette.z_neck_um - result.pipette.taper_length_um, color="grey", ls=":")
+    ax.axvline(
+        result.pipette.z_neck_um - result.pipette.taper_length_um,
+        color="grey",
+        ls=":",
+        label="taper start",
+    )
     ax.set(xlabel="Z along the pipette (um)", ylabel="contact pressure (Pa)")
     ax.legend()
     fig.tight_layout()
