@@ -63,7 +63,8 @@ def plot_scatter(path: Path, params: dict[str, np.ndarray], metrics: dict[str, n
 
 
 def plot_sensitivity(path: Path, indices: dict[str, Sensitivity], names: list[str]) -> None:
-    """Grouped bars: for each metric, the index of every parameter (with its 95 % interval)."""
+    """Grouped bars: for each metric, the index of every parameter with its 95 % interval;
+    an index whose interval reaches zero is drawn hatched and pale."""
     metrics = list(indices)
     width = 0.8 / len(names)
     fig, ax = plt.subplots(figsize=(max(5.0, 1.2 * len(metrics) * len(names) ** 0.5), 3.6))
@@ -72,11 +73,16 @@ def plot_sensitivity(path: Path, indices: dict[str, Sensitivity], names: list[st
         val = [indices[m].index[pname] for m in metrics]
         err = [indices[m].conf[pname] for m in metrics]
         err_arg = None if np.all(np.isnan(err)) else np.nan_to_num(err)
-        ax.bar(base + j * width, val, width, yerr=err_arg, capsize=2, label=pname)
+        bars = ax.bar(base + j * width, val, width, yerr=err_arg, capsize=2, label=pname)
+        for bar, m in zip(bars, metrics, strict=True):
+            if indices[m].spans_zero(pname):
+                bar.set_hatch("//")
+                bar.set_alpha(0.45)
     ax.set_xticks(base + 0.4 - width / 2, metrics, rotation=30, ha="right", fontsize=7)
     method = next(iter(indices.values())).method
     ax.set_ylabel("S1 (first order)" if method == "rbd_fast" else f"{method} index")
     ax.axhline(0, color="0.3", lw=0.5)
+    ax.set_xlabel("metric (hatched: 95 % interval reaches zero)", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
