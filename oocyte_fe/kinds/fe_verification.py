@@ -51,7 +51,20 @@ METRICS = {
 def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
     prob, res = v.problem, v.result
     mesh = prob.body.mesh
-    with FieldSeriesWriter(ctx.output("fields/hertz"), mesh, name="hertz") as writer:
+    contact = prob.contacts[0][0]
+    sphere = contact.obstacle
+    theta = np.linspace(-np.pi / 2, 0.0, 60)
+
+    def circle(t: float) -> np.ndarray:
+        """The sphere's section (its lower right quarter, um) at time ``t``."""
+        cx, cy = np.asarray(sphere.center) + np.asarray(contact.motion(t))
+        return np.column_stack(
+            [cx + sphere.radius * np.cos(theta), cy + sphere.radius * np.sin(theta)]
+        )
+
+    with FieldSeriesWriter(
+        ctx.output("fields/hertz"), mesh, name="hertz", axisymmetric=True
+    ) as writer:
         for frame in res.frames:
             fields = stress_fields(prob, frame.x)
             writer.write(
@@ -60,6 +73,7 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
                 pressure=-fields["mean_stress"],
                 von_mises=fields["von_mises"],
                 contact_pressure=contact_pressure_at_vertices(prob, frame),
+                obstacles={"sphere": circle(frame.t)},
             )
     force = np.array([f.obstacle_forces["contact"][1] for f in res.frames])
     write_history_csv(
@@ -68,14 +82,7 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
         {"time": "s", "force": "nN", "volume": "um3"},
     )
     last = res.frames[-1]
-    contact = prob.contacts[0][0]
-    sphere = contact.obstacle
     shift = contact.motion(last.t)
-    theta = np.linspace(-np.pi / 2, 0.0, 60)
-    cx, cy = sphere.center[0] + shift[0], sphere.center[1] + shift[1]
-    circle = np.column_stack(
-        [cx + sphere.radius * np.cos(theta), cy + sphere.radius * np.sin(theta)]
-    )
     a = np.sqrt(sphere.radius * abs(shift[1]))  # contact radius of the final indentation
     top = float(mesh.doflocs[1].max())
     plot_section(
@@ -83,7 +90,7 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
         mesh,
         prob.body.vertex_displacement(last.x),
         mirror=True,
-        obstacles=[circle],
+        obstacles=[circle(last.t)],
         title=f"Hertz contact zone (contact radius a = {a:.2f} um), displacement magnitude",
         window=(-5 * a, 5 * a, top - 6 * a, top + 1.5 * a),
     )
