@@ -64,13 +64,21 @@ def main():
             cmap="viridis",
             show_edges=True,
             edge_color="gray",
-            scalar_bar_args={{"title": "displacement (um)", "color": "black", "vertical": True}},
+            scalar_bar_args={{
+                "title": "displacement (um)",
+                "color": "black",
+                "vertical": True,
+                "position_x": 0.8,
+                "fmt": "%.3g",
+                "title_font_size": 14,
+                "label_font_size": 12,
+            }},
         )
     for pvd in OBSTACLES:
         wall, _ = at_time(pvd, t)
         for piece in pieces(wall):
             plotter.add_mesh(piece, color="black", line_width=3)
-    plotter.add_text(f"{name}, t = {{t:.3g}} s", position="upper_edge", color="black")
+    plotter.add_text(f"{name}, t = {{t:.3g}} s", position="upper_left", font_size=12, color="black")
     plotter.view_xy()
     plotter.enable_parallel_projection()
     if args.screenshot:

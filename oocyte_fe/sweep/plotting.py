@@ -43,10 +43,16 @@ def plot_histograms(
 
 
 def plot_scatter(path: Path, params: dict[str, np.ndarray], metrics: dict[str, np.ndarray]) -> None:
-    """Each metric (rows) against each parameter (columns), one dot per finished sample."""
+    """Each metric (rows) against each parameter (columns), one dot per finished sample;
+    a column shares its parameter axis, a row its metric axis (labelled at the edges)."""
     rows, cols = len(metrics), len(params)
     fig, axes = plt.subplots(
-        rows, cols, figsize=(3.2 * cols + 0.5, 2.6 * rows + 0.3), squeeze=False
+        rows,
+        cols,
+        figsize=(3.2 * cols + 0.5, 2.6 * rows + 0.3),
+        squeeze=False,
+        sharex="col",
+        sharey="row",
     )
     for i, (mname, y) in enumerate(metrics.items()):
         for j, (pname, x) in enumerate(params.items()):
