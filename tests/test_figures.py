@@ -13,7 +13,8 @@ Checks:
 * every matplotlib figure, inspected when it is saved (``Figure.savefig`` wrapped): each
   visible axes with its axis lines on has an x and a y label (its own, or one on an axes it
   shares that axis with); a colour bar has a label; an axes drawn without axis lines has a
-  title.
+  title; in an axes with a legend every line is in it (a line meant to stay out says so with
+  ``label="_nolegend_"``).
 """
 
 from __future__ import annotations
@@ -93,6 +94,12 @@ def _label_problems(fig: MplFigure) -> list[str]:
             if not ax.get_title():
                 problems.append(f"{where}: drawn without axes and without a title")
             continue
+        if ax.get_legend() is not None:
+            problems += [
+                f"{where}: a line left out of the legend without a label"
+                for line in ax.get_lines()
+                if line.get_label().startswith("_child")
+            ]
         xs = ax.get_shared_x_axes().get_siblings(ax)
         ys = ax.get_shared_y_axes().get_siblings(ax)
         if not any(a.get_xlabel() for a in xs):
@@ -126,13 +133,23 @@ def _blank(path: Path) -> str | None:
     return None
 
 
+# afm.plotting.plot_fit (curve_fit.png, curve_plots/*.png) leaves its contact-point and
+# E-level lines out of the legend; afm/ is another helper's area: reported, not fixed here
+LEGEND_EXEMPT = ("curve_fit.png", "curve_plots")
+
+
 def _check_outputs(out: Path, saved: dict[str, list[str]]) -> None:
     pngs = sorted(out.rglob("*.png"))
     assert pngs, f"no figure written in {out}"
     blank = [why for p in pngs if (why := _blank(p))]
     assert not blank, blank
-    unlabelled = {Path(f).name: p for f, p in saved.items() if p}
-    assert not unlabelled, unlabelled
+    unlabelled = {}
+    for file, problems in saved.items():
+        if any(part in file for part in LEGEND_EXEMPT):
+            problems = [p for p in problems if "out of the legend" not in p]
+        if problems:
+            unlabelled[str(Path(file).relative_to(out))] = problems
+    assert not unlabelled, "\n".join(f"{f}: {p}" for f, ps in unlabelled.items() for p in ps)
 
 
 def test_every_kind_has_a_case_or_a_reason() -> None:
@@ -159,6 +176,7 @@ def test_kind_figures(
     _check_outputs(out, saved_figures)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("folder", _sweep_dirs(), ids=lambda p: p.name)
 def test_sweep_figures(folder: Path, tmp_path: Path, saved_figures) -> None:
     """The sweep's aggregation draws labelled, non-blank figures (32 synthetic samples)."""
@@ -189,3 +207,31 @@ def test_sweep_figures(folder: Path, tmp_path: Path, saved_figures) -> None:
     assert math.isclose(outcome.metrics["ok_fraction"], 1.0)
     assert {f.file for f in outcome.figures} == {"histograms.png", "scatter.png", "sensitivity.png"}
     _check_outputs(tmp_path, saved_figures)
+
+
+def test_nmsd_snapshots_share_one_colour_scale(tmp_path: Path, monkeypatch) -> None:
+    """All panels on one scale from 0 to the largest |u|; a field at rest gets 0..1 um."""
+    from matplotlib.collections import PathCollection
+
+    from nmsd.lattice import circular_lattice
+    from nmsd.pipette import Pipette
+    from nmsd.plotting import plot_snapshots
+
+    limits: list[list[tuple[float, float]]] = []
+    original = MplFigure.savefig
+
+    def savefig(self: MplFigure, fname, *args, **kwargs):
+        scatters = [c for ax in self.axes for c in ax.collections if isinstance(c, PathCollection)]
+        limits.append([(c.norm.vmin, c.norm.vmax) for c in scatters])
+        assert not _label_problems(self), _label_problems(self)
+        return original(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(MplFigure, "savefig", savefig)
+    lattice = circular_lattice()
+    moved = lattice.nodes + np.array([[0.0, 0.0]] * (lattice.n_nodes - 1) + [[3.0, 4.0]])
+    snaps = {0.0: lattice.nodes, 10.0: lattice.nodes + 0.5, 20.0: moved}
+    plot_snapshots(tmp_path / "a.png", lattice, Pipette(), snaps)
+    plot_snapshots(tmp_path / "b.png", lattice, Pipette(), {0.0: lattice.nodes})
+    assert limits[0] == [(0.0, 5.0)] * 3  # |(3, 4)| = 5 um, shared by the three panels
+    assert limits[1] == [(0.0, 1.0)]  # nothing moved: 0..1, not -0.1..0.1
+    assert _blank(tmp_path / "a.png") is None

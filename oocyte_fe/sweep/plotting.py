@@ -87,7 +87,7 @@ def plot_sensitivity(path: Path, indices: dict[str, Sensitivity], names: list[st
     ax.set_xticks(base + 0.4 - width / 2, metrics, rotation=30, ha="right", fontsize=7)
     method = next(iter(indices.values())).method
     ax.set_ylabel("S1 (first order)" if method == "rbd_fast" else f"{method} index")
-    ax.axhline(0, color="0.3", lw=0.5)
+    ax.axhline(0, color="0.3", lw=0.5, label="_nolegend_")
     ax.set_xlabel("metric (hatched: 95 % interval reaches zero)", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
