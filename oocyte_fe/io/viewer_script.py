@@ -1,7 +1,8 @@
 """A pyvista script written next to a field series that opens it as the report's figures
 show it: the section in its current configuration (reference points + ``displacement_um``),
 coloured by the displacement magnitude (um), element edges grey, the rigid obstacles as black
-polylines, mirrored about the axis r = 0 for an axisymmetric half-section.
+polylines, mirrored about the axis r = 0 for an axisymmetric half-section, cut to the same
+window as the report's figure where that shows only a part (the Hertz contact zone).
 
 The script needs only pyvista (``python view_<name>.py`` opens a window at the last step;
 ``--time T`` picks the step nearest to T s; ``--screenshot out.png`` renders off-screen to a
@@ -29,6 +30,7 @@ HERE = Path(__file__).resolve().parent
 FIELDS = "{name}.pvd"
 OBSTACLES = {obstacles!r}
 MIRROR = {mirror!r}  # axisymmetric half-section: draw its reflection about r = 0 too
+WINDOW = {window!r}  # (x_min, x_max, y_min, y_max) um shown, as in the report; None: all
 
 
 def at_time(pvd, time_s):
@@ -41,8 +43,11 @@ def at_time(pvd, time_s):
 
 
 def pieces(mesh):
-    """``mesh`` and, for a half-section, its mirror image about x = 0."""
-    return [mesh] + ([mesh.reflect((1.0, 0.0, 0.0), point=(0.0, 0.0, 0.0))] if MIRROR else [])
+    """``mesh`` and, for a half-section, its mirror image about x = 0; cut to WINDOW."""
+    found = [mesh] + ([mesh.reflect((1.0, 0.0, 0.0), point=(0.0, 0.0, 0.0))] if MIRROR else [])
+    if WINDOW is not None:
+        found = [p.clip_box((*WINDOW, -1.0, 1.0), invert=False) for p in found]
+    return [p for p in found if p.n_cells]
 
 
 def main():
@@ -57,10 +62,13 @@ def main():
     current = grid.warp_by_vector("displacement_um", factor=1.0)
     plotter = pv.Plotter(off_screen=args.screenshot is not None, window_size=(1200, 900))
     plotter.set_background("white")
-    for piece in pieces(current):
+    shown = pieces(current)
+    top = max(float(p.point_data["|u| (um)"].max()) for p in shown)
+    for piece in shown:
         plotter.add_mesh(
             piece,
             scalars="|u| (um)",
+            clim=(0.0, max(top, 1e-12)),
             cmap="viridis",
             show_edges=True,
             edge_color="gray",
@@ -81,6 +89,9 @@ def main():
     plotter.add_text(f"{name}, t = {{t:.3g}} s", position="upper_left", font_size=12, color="black")
     plotter.view_xy()
     plotter.enable_parallel_projection()
+    if WINDOW is not None:
+        plotter.reset_camera(bounds=(*WINDOW, 0.0, 0.0))
+    plotter.camera.zoom(0.8)  # room for the colour bar
     if args.screenshot:
         plotter.screenshot(args.screenshot)
         plotter.close()
@@ -93,10 +104,19 @@ if __name__ == "__main__":
 '''
 
 
-def write_viewer_script(folder: Path, name: str, obstacles: list[str], mirror: bool) -> Path:
+def write_viewer_script(
+    folder: Path,
+    name: str,
+    obstacles: list[str],
+    mirror: bool,
+    window: tuple[float, float, float, float] | None = None,
+) -> Path:
     """Write ``folder/view_<name>.py`` for the series ``<name>.pvd`` and the obstacle series
-    ``obstacles`` (``.pvd`` file names in ``folder``); return its path."""
+    ``obstacles`` (``.pvd`` file names in ``folder``), showing only ``window`` (um, in the
+    drawn plane) when given; return its path."""
     script = f"view_{name}.py"
     path = Path(folder) / script
-    path.write_text(TEMPLATE.format(name=name, script=script, obstacles=obstacles, mirror=mirror))
+    box = None if window is None else tuple(float(v) for v in window)
+    text = TEMPLATE.format(name=name, script=script, obstacles=obstacles, mirror=mirror, window=box)
+    path.write_text(text)
     return path

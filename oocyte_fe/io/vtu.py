@@ -64,7 +64,7 @@ class FieldSeriesWriter:
 
     ``folder`` then holds ``fields_0000.vtu`` ... and ``fields.pvd`` (open the ``.pvd``),
     one series per named obstacle, and ``view_fields.py``; ``axisymmetric`` makes that
-    script mirror the half-section about r = 0.
+    script mirror the half-section about r = 0, ``view_window`` (um) show only that part.
     """
 
     def __init__(
@@ -74,6 +74,7 @@ class FieldSeriesWriter:
         name: str = "fields",
         *,
         axisymmetric: bool = False,
+        view_window: tuple[float, float, float, float] | None = None,
     ) -> None:
         if type(mesh) not in _VTK_CELL:
             raise TypeError(f"FieldSeriesWriter: a MeshTri1 or MeshTri2, got {type(mesh)}")
@@ -84,6 +85,7 @@ class FieldSeriesWriter:
         self._cells = [(_VTK_CELL[type(mesh)], np.ascontiguousarray(mesh.dofs.element_dofs.T))]
         self._regions = region_ids(mesh)
         self.axisymmetric = axisymmetric
+        self.view_window = view_window
         self._steps: list[tuple[float, str]] = []
         self._obstacle_steps: dict[str, list[tuple[float, str]]] = {}
         self._tmp: Path | None = None
@@ -168,7 +170,7 @@ class FieldSeriesWriter:
             comment = f" rigid obstacle {label}: polyline, current position, um; time in s "
             self._write_pvd(folder, f"{self.name}_{label}", steps, comment)
         obstacles = [f"{self.name}_{label}.pvd" for label in self._obstacle_steps]
-        write_viewer_script(folder, self.name, obstacles, self.axisymmetric)
+        write_viewer_script(folder, self.name, obstacles, self.axisymmetric, self.view_window)
 
     def __exit__(
         self,

@@ -62,8 +62,12 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
             [cx + sphere.radius * np.cos(theta), cy + sphere.radius * np.sin(theta)]
         )
 
+    depth = abs(contact.motion(res.frames[-1].t)[1])
+    a = np.sqrt(sphere.radius * depth)  # contact radius of the final indentation, um
+    top = float(mesh.doflocs[1].max())
+    window = (-5 * a, 5 * a, top - 6 * a, top + 1.5 * a)  # the contact zone, um
     with FieldSeriesWriter(
-        ctx.output("fields/hertz"), mesh, name="hertz", axisymmetric=True
+        ctx.output("fields/hertz"), mesh, name="hertz", axisymmetric=True, view_window=window
     ) as writer:
         for frame in res.frames:
             fields = stress_fields(prob, frame.x)
@@ -82,9 +86,6 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
         {"time": "s", "force": "nN", "volume": "um3"},
     )
     last = res.frames[-1]
-    shift = contact.motion(last.t)
-    a = np.sqrt(sphere.radius * abs(shift[1]))  # contact radius of the final indentation
-    top = float(mesh.doflocs[1].max())
     plot_section(
         ctx.output("hertz_section.png"),
         mesh,
@@ -92,7 +93,7 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
         mirror=True,
         obstacles=[circle(last.t)],
         title=f"Hertz contact zone (contact radius a = {a:.2f} um), displacement magnitude",
-        window=(-5 * a, 5 * a, top - 6 * a, top + 1.5 * a),
+        window=window,
     )
     return [
         Figure(
