@@ -10,6 +10,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.patches import Patch
 
 from oocyte_fe.sweep.statistics import Sensitivity, Summary
 
@@ -79,7 +80,7 @@ def plot_sensitivity(path: Path, indices: dict[str, Sensitivity], names: list[st
         val = [indices[m].index[pname] for m in metrics]
         err = [indices[m].conf[pname] for m in metrics]
         err_arg = None if np.all(np.isnan(err)) else np.nan_to_num(err)
-        bars = ax.bar(base + j * width, val, width, yerr=err_arg, capsize=2, label=pname)
+        bars = ax.bar(base + j * width, val, width, yerr=err_arg, capsize=2, color=f"C{j}")
         for bar, m in zip(bars, metrics, strict=True):
             if indices[m].spans_zero(pname):
                 bar.set_hatch("//")
@@ -89,7 +90,7 @@ def plot_sensitivity(path: Path, indices: dict[str, Sensitivity], names: list[st
     ax.set_ylabel("S1 (first order)" if method == "rbd_fast" else f"{method} index")
     ax.axhline(0, color="0.3", lw=0.5, label="_nolegend_")
     ax.set_xlabel("metric (hatched: 95 % interval reaches zero)", fontsize=8)
-    ax.legend(fontsize=7)
+    ax.legend(handles=[Patch(color=f"C{j}", label=n) for j, n in enumerate(names)], fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
