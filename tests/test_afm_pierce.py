@@ -49,7 +49,7 @@ def pierce_curve_independent(
         return F_RES + e_cyt * cone(x - reference) - base
 
     z_end = brentq(lambda z: _force_at(z, second) - F_TRIGGER, z_pierce, z_pierce + 50.0)
-    piezo = np.linspace(0.0, z_end, 2000)
+    piezo = np.linspace(0.0, z_end, 1000)
     force = np.array(
         [
             _force_at(z, lambda x: E_ZP * cone(x - X0)) if z < z_pierce else _force_at(z, second)
