@@ -58,3 +58,15 @@ def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) ->
     eta_wall = float(rheology.viscosity(exact.wall_shear_rate))
     assert eta_wall < float(rheology.viscosity(0.0)) / 2  # the test is in the thinning range
     assert math.isfinite(exact.flow_rate)
+
+
+@pytest.mark.slow
+def test_quick_vof_case_passes(tmp_path: Path) -> None:
+    """The quick junction case (coarse mesh, 300 hPa, 150 um of travel, second mesh and cap):
+    cell-phase volumes conserved to 1e-3, ratio change between meshes <= 2 %."""
+    from oocyte_fe.runner.run import plan, run_cases
+
+    cases = Path(__file__).resolve().parents[1] / "cases"
+    [result] = run_cases(plan([cases / "microchannel_vof_quick"], quick=True), tmp_path, quick=True)
+    assert result.status == "PASS", result.reason
+    assert result.total == 3

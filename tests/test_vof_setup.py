@@ -4,6 +4,7 @@ geometry, initial fractions, shape moments and the log monitor."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +16,10 @@ from oocyte_fe.microchannel.vof.geometry import JunctionGeometry, disk_fraction
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
 from oocyte_fe.microchannel.vof.post import shape_moments
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear, foam_viscosity
+from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, OpenFoamMissing
+from oocyte_fe.runner.run import plan, run_cases
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 PA_S = units.VISCOSITY["Pa_s"]
 RHO = 1047.0 * units.DENSITY["kg_m3"]
@@ -131,3 +136,21 @@ def test_monitor_names_each_silent_failure(line: str, mode: str) -> None:
     assert failure is not None and failure.mode == mode
     assert failure.time == pytest.approx(1e-6)
     assert "1%" in mon.progress() or "t = 1e-06" in mon.progress()
+
+
+def test_quick_case_without_openfoam_is_reported_skipped(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """No OpenFOAM: the case passes with one SKIPPED check naming the install line, the report
+    says SKIPPED, the Kelvin-Voigt estimate is still there; no traceback."""
+    import oocyte_fe.kinds.microchannel_vof as kind
+
+    def missing(_path: object = None) -> None:
+        raise OpenFoamMissing(f"not found; install it with: {INSTALL_HINT}")
+
+    monkeypatch.setattr(kind, "find_openfoam", missing)
+    [result] = run_cases(plan([CASES / "microchannel_vof_quick"]), tmp_path)
+    assert result.status == "PASS" and result.total == 1
+    report = (tmp_path / "microchannel_vof_quick" / "report.md").read_text()
+    assert "SKIPPED" in report and "apt-get install -y openfoam" in report
+    assert "Kelvin-Voigt estimate" in report
