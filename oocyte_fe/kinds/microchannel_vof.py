@@ -27,7 +27,12 @@ from oocyte_fe.microchannel.vof.junction import JunctionRun, junction_setup, run
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
 from oocyte_fe.microchannel.vof.post import snapshot, time_directories
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
-from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, OpenFoamMissing, find_openfoam
+from oocyte_fe.microchannel.vof.runner import (
+    INSTALL_HINT,
+    OpenFoamMissing,
+    find_openfoam,
+    terminate_active,
+)
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 
@@ -248,7 +253,11 @@ def run(ctx: CaseContext) -> CaseOutcome:
             )
         )
     with ThreadPoolExecutor(max_workers=inp.concurrent) as pool:
-        runs = list(pool.map(lambda job: _run_one(ctx, inp, *job), jobs))
+        try:
+            runs = list(pool.map(lambda job: _run_one(ctx, inp, *job), jobs))
+        except BaseException:  # a failed run, the case's timeout: stop the others
+            terminate_active()
+            raise
     main = runs[: len(pressures)]
     extra = dict(zip([j[0] for j in jobs[len(pressures) :]], runs[len(pressures) :], strict=True))
     return _report(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra)

@@ -3,9 +3,10 @@ with N ranks + reconstructPar), with the log watched by :class:`.monitor.SolverM
 
 OpenFOAM is found from, in this order: the ``openfoam`` argument, the environment variable
 ``OOCYTE_FE_OPENFOAM``, ``WM_PROJECT_DIR``, or ``/usr/share/openfoam`` when the binaries are on
-``PATH`` (Debian's package). Its ``etc/bashrc`` is not sourced (it aborts under ``set -u``);
-the binaries only need ``WM_PROJECT_DIR``. ``mpirun`` as root needs the two
-``OMPI_ALLOW_RUN_AS_ROOT`` variables, set here.
+``PATH`` (Debian's package); a source build's ``platforms/*/bin`` is put on ``PATH``. Its
+``etc/bashrc`` is not sourced (it aborts under ``set -u``); Debian's binaries only need
+``WM_PROJECT_DIR`` (a source build also needs its libraries: source its bashrc first).
+``mpirun`` as root needs the two ``OMPI_ALLOW_RUN_AS_ROOT`` variables, set here.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import os
 import shutil
 import signal
 import subprocess
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -27,6 +29,19 @@ INSTALL_HINT = "apt-get install -y openfoam  (Debian/Ubuntu: OpenFOAM v1912 with
 ENV_VAR = "OOCYTE_FE_OPENFOAM"
 SOLVER = "multiphaseInterFoam"
 PROJECTION_STEP = 1e-10  # s
+
+
+_ACTIVE: set[subprocess.Popen] = set()
+_ACTIVE_LOCK = threading.Lock()
+
+
+def terminate_active() -> None:
+    """Stop every solver this process started and that still runs (on a timeout or an
+    interrupt of a case that runs several pressures at once)."""
+    with _ACTIVE_LOCK:
+        for proc in list(_ACTIVE):
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGTERM)
 
 
 class OpenFoamMissing(RuntimeError):
@@ -72,8 +87,9 @@ def find_openfoam(openfoam: str | Path | None = None) -> OpenFoam:
     for candidate in (openfoam, os.environ.get(ENV_VAR), os.environ.get("WM_PROJECT_DIR")):
         if candidate:
             root = Path(candidate)
-            bins = [d for d in (root / "bin", root / "platforms") if d.is_dir()]
-            found = OpenFoam(root, bins[0] if bins and (bins[0] / SOLVER).exists() else None)
+            bins = [*sorted(root.glob("platforms/*/bin")), root / "bin"]
+            with_solver = [d for d in bins if (d / SOLVER).exists()]
+            found = OpenFoam(root, with_solver[0] if with_solver else None)
             if shutil.which(SOLVER, path=found.env()["PATH"]):
                 return found
     if shutil.which(SOLVER) and Path("/usr/share/openfoam/etc").is_dir():
@@ -165,6 +181,8 @@ def run_solver(
             start_new_session=True,
         )
         assert proc.stdout is not None
+        with _ACTIVE_LOCK:
+            _ACTIVE.add(proc)
         try:
             last = 0
             for line in proc.stdout:
@@ -176,9 +194,11 @@ def run_solver(
                     last = monitor.steps
                     progress(monitor.progress())
         finally:
-            if proc.poll() is None and monitor.failure is not None:
+            if proc.poll() is None:  # a failure found, or an exception in this thread
                 os.killpg(proc.pid, signal.SIGTERM)
             code = proc.wait()
+            with _ACTIVE_LOCK:
+                _ACTIVE.discard(proc)
     if monitor.failure is not None:
         raise VofFailure(monitor.failure, log)
     if code != 0:

@@ -49,14 +49,16 @@ def slit_flow(
     velocity: float,
     numerics: Numerics,
     nice: int = 0,
+    ranks: int = 1,
 ) -> SlitResult:
-    """Write, mesh and run the slit; return the steady G, q and the velocity profile."""
+    """Write, mesh and run the slit (``ranks`` > 1: decomposed, MPI); return the steady G, q
+    and the velocity profile."""
     layout = slit_layout(length, half_height, dx, velocity)
     phases = (Phase("medium", rheology, density), Phase("inert", rheology, density))
-    case = write_case(VofSetup(layout, phases, (), numerics), directory)
+    case = write_case(VofSetup(layout, phases, (), numerics), directory, ranks)
     run_utility(foam, case, ["blockMesh"], nice)
     monitor = SolverMonitor(numerics.end_time, numerics.time_step, dx * 1e-6, 1.5 * velocity * 1e-6)
-    run_solver(foam, case, monitor, nice=nice)
+    run_solver(foam, case, monitor, ranks=ranks, nice=nice)
     times = time_directories(case)
     window = (0.5 * length, length - 2 * dx)
     gradients = [centreline_gradient(folder, layout, window) for _, folder in times[-2:]]
