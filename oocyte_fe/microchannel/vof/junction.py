@@ -21,7 +21,7 @@ from pathlib import Path
 from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetup, write_case
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
-from oocyte_fe.microchannel.vof.post import CellHistory, cell_history
+from oocyte_fe.microchannel.vof.post import CellHistory, cell_history, time_directories
 from oocyte_fe.microchannel.vof.runner import (
     OpenFoam,
     project_initial_flow,
@@ -97,6 +97,8 @@ def run_junction(
     wall = time.perf_counter() - start
     names = [p.name for p in setup.phases]
     history = cell_history(case, layout, CELL_PHASES, names)
+    for _, folder in time_directories(case)[1:-1]:  # face fluxes: only t = 0 and the last kept
+        (folder / "phi").unlink(missing_ok=True)
     t_j, r_j = history.at_x(0.0)
     return JunctionRun(
         case,

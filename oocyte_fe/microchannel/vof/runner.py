@@ -71,6 +71,7 @@ class OpenFoam:
         env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
         env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        env.setdefault("OMPI_MCA_mpi_yield_when_idle", "1")  # shared cores: do not spin
         if self.bin_dir is not None:
             env["PATH"] = f"{self.bin_dir}{os.pathsep}{env.get('PATH', '')}"
         return env
