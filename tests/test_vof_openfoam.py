@@ -43,7 +43,6 @@ def test_newtonian_slit_matches_poiseuille(tmp_path: Path) -> None:
     assert np.max(np.abs(res.u - exact.velocity(res.y))) < 0.01 * exact.max_velocity
 
 
-@pytest.mark.slow
 def test_two_mpi_ranks_give_the_serial_solution(tmp_path: Path) -> None:
     """decomposePar + mpirun -np 2 + reconstructPar: after 20 steps, G equal to the serial run
     within 1e-5."""
