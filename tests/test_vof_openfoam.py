@@ -94,3 +94,23 @@ def test_quick_vof_case_passes(tmp_path: Path) -> None:
     [result] = run_cases(plan([cases / "microchannel_vof_quick"], quick=True), tmp_path, quick=True)
     assert result.status == "PASS", result.reason
     assert result.total == 3
+
+
+def test_cell_order_matches_blockmesh(tmp_path: Path) -> None:
+    """The Python cell centres (used to write alpha and U and to take moments) are OpenFOAM's,
+    in OpenFOAM's order (writeCellCentres on the junction mesh, dx = 25 um), to 1e-9 um."""
+    from oocyte_fe.microchannel.vof.casewriter import Phase, VofSetup, write_case
+    from oocyte_fe.microchannel.vof.foamfile import read_internal_field
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+    from oocyte_fe.microchannel.vof.runner import run_utility
+
+    layout = JunctionGeometry().layout(25.0, 1e5, 1e5)
+    water = Rheology.of("newtonian", mu=1e-6)
+    phases = (Phase("medium", water, RHO), Phase("inert", water, RHO))
+    case = write_case(VofSetup(layout, phases, (), STEADY), tmp_path)
+    foam = find_openfoam()
+    run_utility(foam, case, ["blockMesh"])
+    run_utility(foam, case, ["postProcess", "-func", "writeCellCentres", "-time", "0"])
+    centres = read_internal_field(case / "0" / "C") * 1e6
+    assert centres.shape == (layout.n_cells, 3)
+    assert np.max(np.abs(centres[:, :2] - layout.cell_centres())) < 1e-9
