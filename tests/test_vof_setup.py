@@ -154,3 +154,18 @@ def test_quick_case_without_openfoam_is_reported_skipped(
     report = (tmp_path / "microchannel_vof_quick" / "report.md").read_text()
     assert "SKIPPED" in report and "apt-get install -y openfoam" in report
     assert "Kelvin-Voigt estimate" in report
+
+
+def test_initial_velocity_carries_the_inflow_through_each_arm() -> None:
+    """Flow per unit depth across a column: A's in the upstream arm, A + B's downstream,
+    B's (downwards) in the branch; each arm a plane-Poiseuille profile."""
+    from oocyte_fe.microchannel.vof.casewriter import initial_velocity
+
+    layout = JunctionGeometry().layout(5.0, 7e5, 3e5)
+    u, c = initial_velocity(layout), layout.cell_centres()
+    up = np.isclose(c[:, 0], -402.5)
+    down = np.isclose(c[:, 0], 502.5)
+    branch = np.isclose(c[:, 1], 302.5)
+    assert u[up, 0].sum() * 5.0 == pytest.approx(7e5 * 250.0, rel=1e-3)
+    assert u[down, 0].sum() * 5.0 == pytest.approx(1e6 * 250.0, rel=1e-3)
+    assert u[branch, 1].sum() * 5.0 == pytest.approx(-3e5 * 250.0, rel=1e-3)
