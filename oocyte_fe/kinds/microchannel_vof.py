@@ -88,12 +88,20 @@ class GeometryInputs(BaseModel):
 
 class VofInputs(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    deformation_data: DataFile = Field(description="CSV: pressure_<unit>, ratio_experiment, ...")
-    viscosity_data: DataFile = Field(description="CSV flow curve (Table 2) for lambda and n")
-    channel: ChannelInputs
-    zp: CellPhaseInputs
-    cytoplasm: CellPhaseInputs
-    geometry: GeometryInputs = Field(default_factory=GeometryInputs)
+    deformation_data: DataFile = Field(
+        description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
+        json_schema_extra={"unit": "file"},
+    )
+    viscosity_data: DataFile = Field(
+        description="CSV flow curve (Table 2) for the Carreau lambda and n",
+        json_schema_extra={"unit": "file"},
+    )
+    channel: ChannelInputs = Field(description="the device (calibrates U(p))")
+    zp: CellPhaseInputs = Field(description="zona pellucida phase (Table 3)")
+    cytoplasm: CellPhaseInputs = Field(description="cytoplasm phase (Table 3)")
+    geometry: GeometryInputs = Field(
+        default_factory=GeometryInputs, description="junction dimensions (defaults: the reading)"
+    )
     pressures_hPa: list[float] = _f(
         [300.0], "driving pressures run by the VOF", "hPa", min_length=1
     )
