@@ -1,0 +1,300 @@
+"""Writing a complete ``multiphaseInterFoam`` case (OpenFOAM v1912) from Python.
+
+The solver advances, for N immiscible phases with volume fractions alpha_i (sum 1), one
+velocity and one pressure for the mixture::
+
+    d(alpha_i)/dt + div(U alpha_i) + div(U_r alpha_i (1 - alpha_i)) = 0     (MULES, compression)
+    d(rho U)/dt + div(rho U U) = -grad p + div(rho nu (grad U + grad U^T)) + f_sigma
+    div U = 0,       rho = sum alpha_i rho_i,      rho nu = sum alpha_i rho_i nu_i(gamma)
+
+with each phase's kinematic viscosity from its own model (:mod:`.rheology`). Gravity is zero
+(a horizontal device). Internal units (um, s, kPa s, nN s^2/um^4) are converted to SI here,
+at the file boundary. The initial volume fractions are sampled per cell from the disks of the
+cell and its cytoplasm (:func:`.geometry.disk_fraction`); the velocity starts at the fully
+developed profile of each arm (inlet A's upstream, their sum downstream, B's in the branch), so
+the first pressure solve only repairs the junction; cells of the non-background phases start
+in rigid translation at their mean velocity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from oocyte_fe.microchannel.viscosity import Rheology
+from oocyte_fe.microchannel.vof.foamfile import field_values, write_dictionary, write_field
+from oocyte_fe.microchannel.vof.geometry import Layout, disk_fraction
+from oocyte_fe.microchannel.vof.rheology import foam_viscosity
+
+UM = 1e-6  # um -> m
+_DENSITY_SI = 1e15  # nN s^2/um^4 -> kg/m^3
+
+
+@dataclass(frozen=True)
+class Phase:
+    """A phase: name (OpenFOAM's ``alpha.<name>``), viscosity model, density (nN s^2/um^4)."""
+
+    name: str
+    rheology: Rheology
+    density: float
+
+
+@dataclass(frozen=True)
+class Disk:
+    """A region of one phase at t = 0: centre and radius (um); later disks overwrite earlier."""
+
+    phase: str
+    centre: tuple[float, float]
+    radius: float
+
+
+@dataclass(frozen=True)
+class Numerics:
+    """Time stepping and PIMPLE controls (see docs/microchannel.md, VOF numerics)."""
+
+    time_step: float = 1e-6  # s
+    end_time: float = 1e-4  # s
+    write_interval: float = 2e-5  # s
+    adjustable: bool = False
+    max_courant: float = 0.3
+    outer_correctors: int = 1
+    correctors: int = 3
+    alpha_subcycles: int = 1
+    compression: float = 1.0
+    surface_tension: float = 0.0  # N/m, every pair
+    momentum_predictor: bool = False
+
+
+@dataclass(frozen=True)
+class VofSetup:
+    """Everything the case needs: the mesh layout, phases (first = background), disks."""
+
+    layout: Layout
+    phases: tuple[Phase, ...]
+    disks: tuple[Disk, ...]
+    numerics: Numerics
+
+    def alpha(self) -> dict[str, np.ndarray]:
+        """Initial volume fractions per phase (sum 1 in every cell)."""
+        centres = self.layout.cell_centres()
+        alpha = {p.name: np.zeros(len(centres)) for p in self.phases}
+        alpha[self.phases[0].name][:] = 1.0
+        for disk in self.disks:
+            f = disk_fraction(centres, self.layout.dx, disk.centre, disk.radius)
+            for name in alpha:
+                alpha[name] *= 1.0 - f
+            alpha[disk.phase] += f
+        return alpha
+
+
+def _phases_text(phases: tuple[Phase, ...]) -> str:
+    lines = ["("]
+    for p in phases:
+        visc = foam_viscosity(p.rheology, p.density)
+        lines.append(f"    {p.name}\n    {{\n        transportModel {visc.model};")
+        if visc.model == "Newtonian":
+            lines.append(f"        nu {visc.coeffs['nu']:.10g};")
+        else:
+            body = " ".join(f"{k} {v:.10g};" for k, v in visc.coeffs.items())
+            lines.append(f"        {visc.model}Coeffs {{ {body} }}")
+        lines.append(f"        rho {p.density * _DENSITY_SI:.10g};\n    }}")
+    lines.append(")")
+    return "\n".join(lines)
+
+
+def initial_velocity(layout: Layout) -> np.ndarray:
+    """(n_cells, 3) developed profiles (um/s): each arm carries what flows through it."""
+    centres = layout.cell_centres()
+    u = np.zeros((len(centres), 3))
+    inflow = sum(i.velocity * _width(layout, i.block, i.side) for i in layout.inlets.values())
+    start = 0
+    for index, b in enumerate(layout.blocks):
+        stop = start + b.nx * b.ny
+        x, y = centres[start:stop, 0], centres[start:stop, 1]
+        fed = [i for i in layout.inlets.values() if i.block == index]
+        along_x = fed[0].side.startswith("x") if fed else True
+        if fed:
+            flow = fed[0].velocity * _width(layout, index, fed[0].side)
+            sign = 1.0 if fed[0].side in ("xmin", "ymin") else -1.0
+        else:
+            upstream = [i for i in layout.inlets.values() if i.side == "xmin"]
+            through = index == layout.outlet[0]
+            flow = inflow if through else upstream[0].velocity * (b.y1 - b.y0) if upstream else 0.0
+            sign = 1.0
+        lo, hi = (b.y0, b.y1) if along_x else (b.x0, b.x1)
+        s = ((y if along_x else x) - 0.5 * (lo + hi)) / (0.5 * (hi - lo))
+        speed = sign * 1.5 * flow / (hi - lo) * (1.0 - s**2)
+        u[start:stop, 0 if along_x else 1] = speed
+        start = stop
+    return u
+
+
+def _width(layout: Layout, block: int, side: str) -> float:
+    _, a, b = layout.blocks[block].side_span(side)
+    return b - a
+
+
+def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
+    """Write the OpenFOAM case into ``directory`` (created); return it."""
+    d = Path(directory)
+    layout, num = setup.layout, setup.numerics
+    write_dictionary(d / "system" / "blockMeshDict", layout.block_mesh_dict())
+    write_dictionary(d / "system" / "controlDict", control_dict(num))
+    write_dictionary(d / "system" / "fvSchemes", _schemes())
+    write_dictionary(d / "system" / "fvSolution", _solution(num))
+    write_dictionary(
+        d / "system" / "decomposeParDict",
+        {"numberOfSubdomains": ranks, "method": "simple", "coeffs": {"n": f"({ranks} 1 1)"}},
+    )
+    write_dictionary(
+        d / "constant" / "g",
+        {"dimensions": "[0 1 -2 0 0 0 0]", "value": "(0 0 0)"},
+        "uniformDimensionedVectorField",
+    )
+    write_dictionary(d / "constant" / "turbulenceProperties", {"simulationType": "laminar"})
+    names = [p.name for p in setup.phases]
+    sigmas = [
+        f"({a} {b}) {num.surface_tension:.10g}" for i, a in enumerate(names) for b in names[i + 1 :]
+    ]
+    write_dictionary(
+        d / "constant" / "transportProperties",
+        {"phases": _phases_text(setup.phases), "sigmas": "(\n" + "\n".join(sigmas) + "\n)"},
+    )
+    inlets = list(layout.inlets)
+    outlet = layout.outlet_name
+    empty = {"frontAndBack": {"type": "empty"}}
+    velocity = {
+        n: {"type": "fixedValue", "value": field_values(layout.inlet_velocity(n) * UM)}
+        for n in inlets
+    }
+    alpha = setup.alpha()
+    u0 = initial_velocity(layout)
+    inside = alpha[setup.phases[0].name] < 0.5  # the cell starts in rigid translation
+    if inside.any():
+        u0[inside] = u0[inside].mean(axis=0)
+    write_field(
+        d / "0" / "U",
+        "[0 1 -1 0 0 0 0]",
+        u0 * UM,
+        {**velocity, outlet: {"type": "zeroGradient"}, "walls": {"type": "noSlip"}, **empty},
+    )
+    flux = {"type": "fixedFluxPressure", "value": "uniform 0"}
+    write_field(
+        d / "0" / "p_rgh",
+        "[1 -1 -2 0 0 0 0]",
+        "uniform 0",
+        {
+            **{n: flux for n in inlets},
+            outlet: {"type": "fixedValue", "value": "uniform 0"},
+            "walls": flux,
+            **empty,
+        },
+    )
+    for name, values in alpha.items():
+        inflow = {
+            n: {"type": "fixedValue", "value": f"uniform {float(layout.inlets[n].phase == name):g}"}
+            for n in inlets
+        }
+        out = {
+            "type": "inletOutlet",
+            "inletValue": f"uniform {float(name == names[0]):g}",
+            "value": f"uniform {float(name == names[0]):g}",
+        }
+        write_field(
+            d / "0" / f"alpha.{name}",
+            "[0 0 0 0 0 0 0]",
+            values,
+            {**inflow, outlet: out, "walls": {"type": "zeroGradient"}, **empty},
+        )
+    write_field(
+        d / "0" / "alphas",
+        "[0 0 0 0 0 0 0]",
+        "uniform 0",
+        {**{n: {"type": "zeroGradient"} for n in [*inlets, outlet, "walls"]}, **empty},
+    )
+    (d / "case.foam").write_text("")  # ParaView opens the series through this file
+    return d
+
+
+def control_dict(num: Numerics) -> dict:
+    """``system/controlDict``: fixed or adaptive step, ASCII writes, |U| logged each step."""
+    return {
+        "application": "multiphaseInterFoam",
+        "startFrom": "startTime",
+        "startTime": 0,
+        "stopAt": "endTime",
+        "endTime": num.end_time,
+        "deltaT": num.time_step,
+        "writeControl": "adjustableRunTime" if num.adjustable else "runTime",
+        "writeInterval": num.write_interval,
+        "purgeWrite": 0,
+        "writeFormat": "ascii",
+        "writePrecision": 10,
+        "writeCompression": "off",
+        "timeFormat": "general",
+        "timePrecision": 10,
+        "runTimeModifiable": "false",
+        "adjustTimeStep": "yes" if num.adjustable else "no",
+        "maxCo": num.max_courant,
+        "maxAlphaCo": num.max_courant,
+        "maxDeltaT": num.time_step,
+        "functions": {
+            "speed": {
+                "type": "fieldMinMax",
+                "libs": '("libfieldFunctionObjects.so")',
+                "fields": "(U)",
+                "mode": "magnitude",
+                "log": "true",
+                "writeToFile": "false",
+            }
+        },
+    }
+
+
+def _schemes() -> dict:
+    return {
+        "ddtSchemes": {"default": "Euler"},
+        "gradSchemes": {"default": "Gauss linear"},
+        "divSchemes": {
+            "div(rhoPhi,U)": "Gauss linearUpwind grad(U)",
+            "div(phi,alpha)": "Gauss vanLeer",
+            "div(phirb,alpha)": "Gauss linear",
+            "div(((rho*nuEff)*dev2(T(grad(U)))))": "Gauss linear",
+        },
+        "laplacianSchemes": {"default": "Gauss linear corrected"},
+        "interpolationSchemes": {"default": "linear"},
+        "snGradSchemes": {"default": "corrected"},
+    }
+
+
+def _solution(num: Numerics) -> dict:
+    gamg = {"solver": "GAMG", "smoother": "GaussSeidel", "tolerance": 1e-8, "relTol": 0.01}
+    return {
+        "solvers": {
+            '"alpha.*"': {"nAlphaSubCycles": num.alpha_subcycles, "cAlpha": num.compression},
+            '"pcorr.*"': {**gamg, "tolerance": 1e-6, "relTol": 0},
+            "p_rgh": {**gamg, "relTol": 0},
+            "p_rghFinal": {**gamg, "relTol": 0},
+            "U": {
+                "solver": "smoothSolver",
+                "smoother": "symGaussSeidel",
+                "tolerance": 1e-9,
+                "relTol": 0.01,
+            },
+            "UFinal": {
+                "solver": "smoothSolver",
+                "smoother": "symGaussSeidel",
+                "tolerance": 1e-9,
+                "relTol": 0,
+            },
+        },
+        "PIMPLE": {
+            "momentumPredictor": "yes" if num.momentum_predictor else "no",
+            "nOuterCorrectors": num.outer_correctors,
+            "nCorrectors": num.correctors,
+            "nNonOrthogonalCorrectors": 0,
+        },
+        "relaxationFactors": {"equations": {'".*"': 1}},
+    }

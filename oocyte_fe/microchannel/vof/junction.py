@@ -1,0 +1,114 @@
+"""The oocyte at the junction (seed 001, Model II): set up, run and measure one pressure.
+
+Three phases: the culture medium (Newtonian), the zona pellucida (ZP) shell and the cytoplasm
+core (both Carreau, zero-shear viscosity capped, :func:`.rheology.cap_zero_shear`). The
+driving pressure ``p`` sets the mean velocity of each inlet through the device's calibrated
+hydraulic resistance (:class:`~oocyte_fe.microchannel.channel.Channel`: ``U = p R^2/(8 mu L)``,
+nearly all the resistance is in the tubing, so the box sets the flow rate, not the pressure at
+the junction): inlet A carries ``U(p)``, inlet B ``b_ratio U(p)``, both as plane-Poiseuille
+profiles. The cell starts at rest-shape 500 um before the junction centre. The measured axis
+ratio is the one when the cell's centroid crosses the junction centre (x = 0), and the
+smallest one over the run.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetup, write_case
+from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
+from oocyte_fe.microchannel.vof.post import CellHistory, cell_history, time_directories
+from oocyte_fe.microchannel.vof.runner import (
+    OpenFoam,
+    project_initial_flow,
+    run_solver,
+    run_utility,
+)
+
+CELL_PHASES = ("zp", "cytoplasm")
+
+
+@dataclass(frozen=True)
+class JunctionRun:
+    """One pressure: inputs (velocities in um/s) and the result."""
+
+    case: Path
+    velocity_a: float
+    velocity_b: float
+    n_cells: int
+    steps: int
+    wall_seconds: float
+    history: CellHistory
+    ratio_at_junction: float
+    time_at_junction: float
+    min_ratio: float
+
+    @property
+    def seconds_per_ms(self) -> float:
+        """Wall-clock seconds per simulated millisecond."""
+        return self.wall_seconds / (self.history.time[-1] * 1e3)
+
+
+def junction_setup(
+    geometry: JunctionGeometry,
+    dx: float,
+    medium: Phase,
+    zp: Phase,
+    cytoplasm: Phase,
+    velocity_a: float,
+    velocity_b: float,
+    numerics: Numerics,
+) -> VofSetup:
+    """The three-phase junction case: ZP disk (cell diameter) then cytoplasm disk inside."""
+    layout = geometry.layout(dx, velocity_a, velocity_b)
+    centre = geometry.cell_centre
+    disks = (
+        Disk(zp.name, centre, 0.5 * geometry.cell_diameter),
+        Disk(cytoplasm.name, centre, 0.5 * geometry.cytoplasm_diameter),
+    )
+    return VofSetup(layout, (medium, zp, cytoplasm), disks, numerics)
+
+
+def run_junction(
+    foam: OpenFoam,
+    directory: Path,
+    setup: VofSetup,
+    ranks: int = 1,
+    nice: int = 0,
+    limits: Limits | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> JunctionRun:
+    """Write, mesh, run (stopping at a silent failure) and post-process one pressure."""
+    layout, num = setup.layout, setup.numerics
+    case = write_case(setup, directory, ranks)
+    run_utility(foam, case, ["blockMesh"], nice)
+    project_initial_flow(foam, case, num, nice)
+    inlets = list(layout.inlets.values())
+    u_ref = 1.5 * sum(i.velocity for i in inlets) * 1e-6  # m/s: fastest the inflow can drive
+    monitor = SolverMonitor(
+        num.end_time, num.time_step, layout.dx * 1e-6, u_ref, limits or Limits()
+    )
+    start = time.perf_counter()
+    run_solver(foam, case, monitor, ranks=ranks, nice=nice, progress=progress)
+    wall = time.perf_counter() - start
+    names = [p.name for p in setup.phases]
+    history = cell_history(case, layout, CELL_PHASES, names)
+    for _, folder in time_directories(case)[1:-1]:  # face fluxes: only t = 0 and the last kept
+        (folder / "phi").unlink(missing_ok=True)
+    t_j, r_j = history.at_x(0.0)
+    return JunctionRun(
+        case,
+        inlets[0].velocity,
+        inlets[1].velocity,
+        layout.n_cells,
+        monitor.steps,
+        wall,
+        history,
+        r_j,
+        t_j,
+        float(history.ratio.min()),
+    )

@@ -1,0 +1,116 @@
+"""VOF verification on OpenFOAM (multiphaseInterFoam): slit flow against the closed forms.
+
+Skipped, with the one install line, when OpenFOAM is not installed.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from oocyte_fe.microchannel import units
+from oocyte_fe.microchannel.poiseuille import PoiseuilleFlow, pressure_gradient_for_mean_velocity
+from oocyte_fe.microchannel.rabinowitsch import fully_developed_flow
+from oocyte_fe.microchannel.viscosity import Rheology
+from oocyte_fe.microchannel.vof.casewriter import Numerics
+from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, find_openfoam, openfoam_available
+from oocyte_fe.microchannel.vof.verification import slit_flow
+
+pytestmark = pytest.mark.skipif(
+    not openfoam_available(), reason=f"OpenFOAM not installed: {INSTALL_HINT}"
+)
+
+PA_S = units.VISCOSITY["Pa_s"]
+RHO = 1000.0 * units.DENSITY["kg_m3"]
+H, LENGTH, DX, U = 50.0, 1000.0, 5.0, 1e4  # um, um, um, um/s (1 cm/s)
+STEADY = Numerics(time_step=2e-7, end_time=4e-5, write_interval=2e-5)
+
+
+def test_newtonian_slit_matches_poiseuille(tmp_path: Path) -> None:
+    """Pressure gradient within 1 % and velocity profile within 1 % of the centre-line value
+    (20 cells across the gap)."""
+    mu = 1.0 * PA_S
+    res = slit_flow(
+        find_openfoam(), tmp_path, Rheology.of("newtonian", mu=mu), RHO, H, LENGTH, DX, U, STEADY
+    )
+    exact_g = pressure_gradient_for_mean_velocity("slit", H, U, mu)
+    assert res.steady_change < 1e-3
+    assert res.pressure_gradient == pytest.approx(exact_g, rel=0.01)
+    exact = PoiseuilleFlow("slit", H, exact_g, mu)
+    assert np.max(np.abs(res.u - exact.velocity(res.y))) < 0.01 * exact.max_velocity
+
+
+def test_two_mpi_ranks_give_the_serial_solution(tmp_path: Path) -> None:
+    """decomposePar + mpirun -np 2 + reconstructPar: after 20 steps, G equal to the serial run
+    within 1e-5."""
+    mu = 1.0 * PA_S
+    short = Numerics(time_step=2e-7, end_time=4e-6, write_interval=2e-6)
+    runs = [
+        slit_flow(
+            find_openfoam(),
+            tmp_path / f"r{n}",
+            Rheology.of("newtonian", mu=mu),
+            RHO,
+            H,
+            LENGTH,
+            DX,
+            U,
+            short,
+            ranks=n,
+        )
+        for n in (1, 2)
+    ]
+    assert (tmp_path / "r2" / "processor1").is_dir()
+    assert runs[1].pressure_gradient == pytest.approx(runs[0].pressure_gradient, rel=1e-5)
+
+
+@pytest.mark.parametrize("model", ["carreau", "cross"])
+def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) -> None:
+    """BirdCarreau and CrossPowerLaw in OpenFOAM: the exact Rabinowitsch flow rate at the
+    computed pressure gradient is the imposed one within 1 % (wall rate ~600 1/s, eta falls
+    six-fold across the gap)."""
+    params = {"eta0": 1e-3 * 1e3 * PA_S, "eta_inf": 1e-2 * PA_S, "time_constant": 1e-2}
+    params["n" if model == "carreau" else "m"] = 0.5
+    rheology = Rheology.of(model, **params)
+    res = slit_flow(find_openfoam(), tmp_path, rheology, RHO, H, LENGTH, DX, U, STEADY)
+    assert res.steady_change < 1e-3
+    exact = fully_developed_flow(rheology, "slit", H, res.pressure_gradient)
+    assert exact.flow_rate == pytest.approx(res.flow_rate, rel=0.01)
+    eta_wall = float(rheology.viscosity(exact.wall_shear_rate))
+    assert eta_wall < float(rheology.viscosity(0.0)) / 2  # the test is in the thinning range
+    assert math.isfinite(exact.flow_rate)
+
+
+@pytest.mark.slow
+def test_quick_vof_case_passes(tmp_path: Path) -> None:
+    """The quick junction case (coarse mesh, 300 hPa, 150 um of travel, second mesh and cap):
+    cell-phase volumes conserved to 1e-3, ratio change between meshes <= 2 %."""
+    from oocyte_fe.runner.run import plan, run_cases
+
+    cases = Path(__file__).resolve().parents[1] / "cases"
+    [result] = run_cases(plan([cases / "microchannel_vof_quick"], quick=True), tmp_path, quick=True)
+    assert result.status == "PASS", result.reason
+    assert result.total == 3
+
+
+def test_cell_order_matches_blockmesh(tmp_path: Path) -> None:
+    """The Python cell centres (used to write alpha and U and to take moments) are OpenFOAM's,
+    in OpenFOAM's order (writeCellCentres on the junction mesh, dx = 25 um), to 1e-9 um."""
+    from oocyte_fe.microchannel.vof.casewriter import Phase, VofSetup, write_case
+    from oocyte_fe.microchannel.vof.foamfile import read_internal_field
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+    from oocyte_fe.microchannel.vof.runner import run_utility
+
+    layout = JunctionGeometry().layout(25.0, 1e5, 1e5)
+    water = Rheology.of("newtonian", mu=1e-6)
+    phases = (Phase("medium", water, RHO), Phase("inert", water, RHO))
+    case = write_case(VofSetup(layout, phases, (), STEADY), tmp_path)
+    foam = find_openfoam()
+    run_utility(foam, case, ["blockMesh"])
+    run_utility(foam, case, ["postProcess", "-func", "writeCellCentres", "-time", "0"])
+    centres = read_internal_field(case / "0" / "C") * 1e6
+    assert centres.shape == (layout.n_cells, 3)
+    assert np.max(np.abs(centres[:, :2] - layout.cell_centres())) < 1e-9
