@@ -2,14 +2,16 @@
 
 A case that raises, diverges or times out is reported ``ERROR`` with its reason; its result
 folder then holds only ``report.md`` (the reason) and ``error.log`` (log and traceback), none of
-the partial outputs. The other cases run on and keep their results.
+the partial outputs. The other cases run on and keep their results. With ``jobs > 1`` each case
+runs in its own process (:mod:`oocyte_fe.runner.workers`): a process that dies costs only its
+own case. ``summary.md`` and ``index.html`` are rebuilt, atomically, from the case folders
+present after every finished case.
 """
 
 from __future__ import annotations
 
 import contextlib
 import logging
-import multiprocessing
 import os
 import shutil
 import signal
@@ -17,40 +19,24 @@ import threading
 import time
 import traceback
 import uuid
-from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import dataclass
+from collections.abc import Iterator
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import Case, discover, load_case
-from oocyte_fe.runner.registry import CaseContext
+from oocyte_fe.runner.progress import EventSink, ProgressEvent, Throttle, ignore
+from oocyte_fe.runner.registry import CaseContext, batch_runner
 from oocyte_fe.runner.report import (
     evaluate_checks,
+    misses,
     write_case_report,
     write_failure_report,
     write_summary,
 )
+from oocyte_fe.runner.result import CaseResult
 
-Notify = Callable[[str, str], None]
-"""Progress callback: ``notify(case_name, message)``."""
-
-
-@dataclass(frozen=True)
-class CaseResult:
-    """The outcome of one case as the summary shows it."""
-
-    name: str
-    kind: str
-    status: str  # PASS, FAIL or ERROR
-    passed: int
-    total: int
-    seconds: float
-    reason: str = ""
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "PASS"
+__all__ = ["CaseResult", "RunPlan", "execute_case", "partial_folder", "plan", "run_cases"]
 
 
 class CaseTimeout(Exception):
@@ -82,6 +68,8 @@ def _time_limit(seconds: float | None, log: logging.Logger) -> Iterator[None]:
 
 def check_writable(out_root: Path) -> None:
     """Fail early, with the folder named, when results cannot be written."""
+    if str(out_root) == "":
+        raise InputError("--out", "", "a folder name (use --out . for the current folder)")
     try:
         out_root.mkdir(parents=True, exist_ok=True)
         probe = out_root / f".write-test-{uuid.uuid4().hex}"
@@ -91,13 +79,64 @@ def check_writable(out_root: Path) -> None:
         raise InputError(out_root, "--out", "a writable output folder", got=exc.strerror) from None
 
 
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's live process
+        return True
+    return True
+
+
+def clean_stale(out_root: Path) -> list[Path]:
+    """Remove ``.NAME.partial-PID-*`` / ``.NAME.old-PID-*`` folders of runs no longer alive."""
+    removed = []
+    for path in out_root.glob(".*.*-*-*"):
+        tag = path.name.rsplit(".", 1)[-1]
+        what, _, rest = tag.partition("-")
+        pid = rest.partition("-")[0]
+        if what in ("partial", "old") and pid.isdigit() and not _pid_alive(int(pid)):
+            shutil.rmtree(path, ignore_errors=True)
+            removed.append(path)
+    return removed
+
+
+def partial_folder(out_root: Path, name: str) -> Path:
+    """A fresh temporary result folder for ``out_root/<name>`` (renamed into place later).
+
+    Its name carries this process's id, so a later run removes it once the process is gone.
+    """
+    tmp = out_root / f".{name}.partial-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+    tmp.mkdir(parents=True)
+    return tmp
+
+
 def swap_into_place(tmp: Path, final: Path) -> None:
     """Replace ``final`` by ``tmp`` (two renames; the old folder is removed after)."""
-    old = final.with_name(f".{final.name}.old-{uuid.uuid4().hex[:8]}")
+    old = final.with_name(f".{final.name}.old-{os.getpid()}-{uuid.uuid4().hex[:8]}")
     if final.exists():
         final.rename(old)
-    tmp.rename(final)
+    try:
+        tmp.rename(final)
+    except OSError:
+        if old.exists():
+            old.rename(final)  # put the previous result back
+        raise
     shutil.rmtree(old, ignore_errors=True)
+
+
+def place_result(tmp: Path, final: Path, result: CaseResult) -> CaseResult:
+    """Move a finished case into place; a failure is that case's ERROR, never the run's."""
+    try:
+        swap_into_place(tmp, final)
+    except OSError as exc:
+        reason = (
+            f"finished ({result.status}) but its folder could not be moved into place "
+            f"({exc.strerror or exc}): the result is in {tmp} until the next run"
+        )
+        return replace(result, status="ERROR", reason=reason)
+    return result
 
 
 def _case_logger(name: str, log_file: Path) -> tuple[logging.Logger, logging.Handler]:
@@ -110,23 +149,55 @@ def _case_logger(name: str, log_file: Path) -> tuple[logging.Logger, logging.Han
     return logger, handler
 
 
-def execute_case(
-    case: Case, tmp: Path, quick: bool = False, notify: Notify | None = None
-) -> CaseResult:
-    """Run one validated case with ``tmp`` as its result folder; never raises for a case failure.
+def quiet_vtk(log_file: Path | None) -> None:
+    """Keep VTK's warnings (``bad X server connection`` of off-screen rendering) off stderr;
+    ``log_file`` (``--verbose``) receives them instead."""
+    try:
+        from vtkmodules.vtkCommonCore import vtkLogger
+    except ImportError:  # pragma: no cover - vtk comes with pyvista
+        return
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    if log_file is not None:
+        vtkLogger.LogToFile(str(log_file), vtkLogger.APPEND, vtkLogger.VERBOSITY_WARNING)
 
-    On failure ``tmp`` is emptied and holds only ``report.md`` (the reason) and ``error.log``.
-    """
-    logger, handler = _case_logger(case.name, tmp / "log.txt")
-    ctx = CaseContext(
+
+def _context(case: Case, tmp: Path, quick: bool, logger: logging.Logger, events: EventSink):
+    stage = {"now": "started"}
+
+    def on_step(message: str) -> None:
+        stage["now"] = message
+        events(ProgressEvent(case.name, "stage", message))
+
+    def on_progress(done: int, total: int, what: str | None) -> None:
+        events(ProgressEvent(case.name, "count", what or stage["now"], int(done), int(total)))
+
+    return CaseContext(
         name=case.name,
         case_dir=case.directory,
         out_dir=tmp,
         inputs=case.inputs,
         quick=quick,
         log=logger,
-        notify=(lambda msg: notify(case.name, msg)) if notify else (lambda _msg: None),
+        notify=on_step,
+        on_progress=on_progress,
     )
+
+
+def execute_case(
+    case: Case,
+    tmp: Path,
+    quick: bool = False,
+    events: EventSink = ignore,
+    verbose: bool = False,
+) -> CaseResult:
+    """Run one validated case with ``tmp`` as its result folder; never raises for a case failure.
+
+    Writes ``result.json`` beside the report. On failure ``tmp`` is emptied and holds only
+    ``report.md`` (the reason), ``error.log`` and ``result.json``.
+    """
+    logger, handler = _case_logger(case.name, tmp / "log.txt")
+    quiet_vtk(tmp / "vtk.log" if verbose else None)
+    ctx = _context(case, tmp, quick, logger, Throttle(events))
     start = time.perf_counter()
     try:
         ctx.step("started" + (" (quick)" if quick else ""))
@@ -137,16 +208,25 @@ def execute_case(
         logger.info("finished in %.2f s", seconds)
         handler.close()
         status = write_case_report(case, outcome, checks, tmp, seconds)
+        failed = [c.name for c in checks if c.status == "FAIL"]
+        missed = [c.name for c in checks if c.status == "MISS"]
+        reason = "; ".join(
+            part
+            for part in (
+                "failed: " + ", ".join(failed) if failed else "",
+                "documented miss: " + ", ".join(missed) if missed else "",
+            )
+            if part
+        )
         result = CaseResult(
             case.name,
             case.kind.name,
             status,
-            sum(c.passed for c in checks),
+            sum(c.status == "PASS" for c in checks),
             len(checks),
             seconds,
-            ""
-            if status == "PASS"
-            else "failed: " + ", ".join(c.name for c in checks if not c.passed),
+            reason,
+            misses(checks),
         )
     except Exception as exc:  # a case failure must never stop the other cases
         seconds = time.perf_counter() - start
@@ -161,32 +241,33 @@ def execute_case(
         result = CaseResult(case.name, case.kind.name, "ERROR", 0, 0, seconds, reason)
     finally:
         logger.removeHandler(handler)
+    result.write(tmp)
     return result
 
 
-def partial_folder(out_root: Path, name: str) -> Path:
-    """A fresh temporary result folder for ``out_root/<name>`` (renamed into place later)."""
-    tmp = out_root / f".{name}.partial-{uuid.uuid4().hex[:8]}"
-    tmp.mkdir(parents=True)
-    return tmp
+def failure_folder(out_root: Path, name: str, kind: str, reason: str) -> CaseResult:
+    """Put an ERROR folder for a case that could not run (invalid, or its process died)."""
+    result = CaseResult(name, kind, "ERROR", 0, 0, 0.0, reason)
+    tmp = partial_folder(out_root, name)
+    write_failure_report(name, kind, reason, tmp)
+    result.write(tmp)
+    return place_result(tmp, out_root / name, result)
 
 
-def run_case(
-    case: Case, out_root: Path, quick: bool = False, notify: Notify | None = None
+def run_one(
+    case: Case,
+    out_root: Path,
+    quick: bool = False,
+    events: EventSink = ignore,
+    verbose: bool = False,
 ) -> CaseResult:
     """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
+    events(ProgressEvent(case.name, "start", "started"))
     tmp = partial_folder(out_root, case.name)
-    result = execute_case(case, tmp, quick, notify)
-    swap_into_place(tmp, out_root / case.name)
+    result = execute_case(case, tmp, quick, events, verbose)
+    result = place_result(tmp, out_root / case.name, result)
+    events(ProgressEvent(case.name, "end", result.status, result=result))
     return result
-
-
-def _run_in_worker(
-    directory: Path, out_root: Path, quick: bool, kind_module: str, queue: object
-) -> CaseResult:
-    """Process-pool entry point: reload the case in the worker and run it."""
-    case = load_case(directory, quick=quick, kind_module=kind_module)
-    return run_case(case, out_root, quick, lambda name, msg: queue.put((name, msg)))  # type: ignore[attr-defined]
 
 
 @dataclass(frozen=True)
@@ -195,10 +276,16 @@ class RunPlan:
 
     cases: list[Case]
     invalid: list[tuple[str, str]]  # (case name, one-line error)
+    skipped: list[str] = field(default_factory=list)  # full-only cases left out
 
 
-def plan(paths: list[Path], only: list[str] | None = None, quick: bool = False) -> RunPlan:
-    """Discover and validate cases. A malformed case is listed as invalid, not fatal."""
+def plan(
+    paths: list[Path], only: list[str] | None = None, quick: bool = False, full: bool = False
+) -> RunPlan:
+    """Discover and validate cases. A malformed case is listed as invalid, not fatal.
+
+    Without ``full`` the cases marked ``full = true`` are skipped unless named in ``only``.
+    """
     folders = discover(paths)
     if only:
         unknown = sorted(set(only) - {f.name for f in folders})
@@ -209,13 +296,26 @@ def plan(paths: list[Path], only: list[str] | None = None, quick: bool = False) 
                 f"one of the cases found: {', '.join(f.name for f in folders)}",
             )
         folders = [f for f in folders if f.name in only]
-    cases, invalid = [], []
+    cases, invalid, skipped = [], [], []
     for folder in folders:
         try:
-            cases.append(load_case(folder, quick=quick))
+            case = load_case(folder, quick=quick)
         except InputError as exc:
             invalid.append((folder.name, str(exc)))
-    return RunPlan(cases, invalid)
+            continue
+        if case.spec.full and not (full or only):
+            skipped.append(case.name)
+        else:
+            cases.append(case)
+    return RunPlan(cases, invalid, skipped)
+
+
+def default_jobs() -> int:
+    """Cases run at once by default: one per core the process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
 
 
 def run_cases(
@@ -224,74 +324,39 @@ def run_cases(
     *,
     jobs: int = 1,
     quick: bool = False,
-    notify: Notify | None = None,
+    events: EventSink = ignore,
     scheduler: str | None = None,
     workers: int | None = None,
+    verbose: bool = False,
 ) -> list[CaseResult]:
     """Run every case of the plan, ``jobs`` at a time; write ``summary.md``; return results.
 
-    Cases with a ``[sweep]`` table run after the others, their samples on Dask: a local
-    cluster of ``workers`` processes (one per core by default) or the ``scheduler`` address.
+    Cases with a ``[sweep]`` table run after the others, through the registry's batch runner
+    (:func:`oocyte_fe.sweep.run.run_sweeps`), their samples on Dask: a local cluster of
+    ``workers`` processes (one per core by default) or the ``scheduler`` address.
     """
     check_writable(out_root)
-    results = [CaseResult(name, "?", "ERROR", 0, 0, 0.0, err) for name, err in run_plan.invalid]
+    clean_stale(out_root)
+    results = [failure_folder(out_root, n, "?", f"invalid case: {e}") for n, e in run_plan.invalid]
+
+    def finished(event: ProgressEvent) -> None:
+        events(event)
+        if event.what == "end" and event.result is not None:
+            results.append(event.result)
+            write_summary(results, out_root)
+
+    write_summary(results, out_root)
     plain = [c for c in run_plan.cases if c.spec.sweep is None]
     sweeps = [c for c in run_plan.cases if c.spec.sweep is not None]
     if jobs <= 1 or len(plain) <= 1:
         for case in plain:
-            results.append(run_case(case, out_root, quick, notify))
+            run_one(case, out_root, quick, finished, verbose)
     else:
-        results.extend(_run_parallel(plain, out_root, jobs, quick, notify))
+        from oocyte_fe.runner.workers import run_in_processes
+
+        run_in_processes(plain, out_root, jobs, quick, finished, verbose)
     if sweeps:
-        results.extend(_run_sweeps(sweeps, out_root, notify, scheduler, workers))
-    order = {c.name: i for i, c in enumerate(run_plan.cases)}
-    results.sort(key=lambda r: (order.get(r.name, -1), r.name))
+        batch_runner("sweep")(sweeps, out_root, finished, scheduler, workers)
     write_summary(results, out_root)
-    return results
-
-
-def _run_sweeps(
-    cases: list[Case],
-    out_root: Path,
-    notify: Notify | None,
-    scheduler: str | None,
-    workers: int | None,
-) -> list[CaseResult]:
-    from oocyte_fe.sweep.cluster import dask_client
-    from oocyte_fe.sweep.run import run_sweep
-
-    with dask_client(scheduler, workers) as client:
-        return [run_sweep(case, out_root, client, notify) for case in cases]
-
-
-def _run_parallel(
-    cases: list[Case], out_root: Path, jobs: int, quick: bool, notify: Notify | None
-) -> list[CaseResult]:
-    ctx = multiprocessing.get_context("spawn")
-    results = []
-    with ctx.Manager() as manager:
-        queue = manager.Queue()
-        with ProcessPoolExecutor(
-            max_workers=min(jobs, os.cpu_count() or 1), mp_context=ctx
-        ) as pool:
-            futures = {
-                pool.submit(_run_in_worker, c.directory, out_root, quick, c.kind.module, queue): c
-                for c in cases
-            }
-            pending = set(futures)
-            while pending:
-                done, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-                while not queue.empty():
-                    name, msg = queue.get()
-                    if notify:
-                        notify(name, msg)
-                for fut in done:
-                    case = futures[fut]
-                    try:
-                        results.append(fut.result())
-                    except Exception as exc:  # the worker itself died
-                        reason = f"{type(exc).__name__}: {exc}".splitlines()[0]
-                        results.append(
-                            CaseResult(case.name, case.kind.name, "ERROR", 0, 0, 0.0, reason)
-                        )
-    return results
+    order = {c.name: i for i, c in enumerate(run_plan.cases)}
+    return sorted(results, key=lambda r: (order.get(r.name, -1), r.name))
