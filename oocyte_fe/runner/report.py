@@ -117,6 +117,7 @@ def write_case_report(
                         "name": c.name,
                         "computed": c.computed,
                         "reference": c.reference,
+                        "unit": c.unit,
                         "tolerance": c.tolerance,
                         "passed": c.passed,
                         "status": c.status,

@@ -1,0 +1,174 @@
+"""Case runner outcomes: known misses, the summary rebuilt from folders, faults that must cost
+only their own case (a killed worker, a failed rename, stale partial folders), progress events,
+the Python route and the HTML pages."""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+import tests.kinds_for_tests  # noqa: F401  (registers test_echo)
+from oocyte_fe.errors import InputError
+from oocyte_fe.runner import run as run_mod
+from oocyte_fe.runner.casefile import load_case
+from oocyte_fe.runner.progress import ProgressEvent
+from oocyte_fe.runner.run import plan, run_cases
+from tests.test_runner import GOOD, make_case
+
+# y = 2 x = 4 um; the goal max = 3 is missed by 1 um
+MISS = GOOD.replace(
+    "rel = 0.01", 'max = 3.0\nknown_miss = "the echo doubles"\nworst = WORST'
+).replace("[reference.y_um]", "[reference.y_um]")
+
+
+def test_known_miss_is_miss_within_worst_and_fail_beyond(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    make_case(cases, "missed", MISS.replace("WORST", "4.5"))
+    make_case(cases, "regressed", MISS.replace("WORST", "3.5"))
+    make_case(cases, "met", MISS.replace("WORST", "4.5").replace("x_um = 2.0", "x_um = 1.0"))
+    out = tmp_path / "out"
+    res = {r.name: r for r in run_cases(plan([cases]), out)}
+    assert res["missed"].status == "MISS" and res["missed"].ok
+    [line] = res["missed"].misses
+    assert "y_um = 4" in line and "1 above the goal <= 3" in line and "the echo doubles" in line
+    assert res["regressed"].status == "FAIL" and not res["regressed"].ok
+    assert res["met"].status == "PASS"
+    report = (out / "met" / "report.md").read_text()
+    assert "now passes: remove known_miss" in report
+    summary = (out / "summary.md").read_text()
+    assert "Documented misses" in summary and "the echo doubles" in summary
+    checks = json.loads((out / "missed" / "metrics.json").read_text())["checks"]
+    assert checks[0]["status"] == "MISS"
+
+
+@pytest.mark.parametrize(
+    ("tolerance", "fragment"),
+    [
+        ('max = 3.0\nknown_miss = "why"', "known_miss and worst together"),
+        ('max = 3.0\nknown_miss = "why"\nworst = 2.0', "worst above the goal max"),
+        ('min = 3.0\nknown_miss = "why"\nworst = 4.0', "worst below the goal min"),
+        ("min = 3.0\nmax = 2.0", "min <= max"),
+        ("max = nan", "finite numbers"),
+    ],
+)
+def test_impossible_tolerances_are_refused(tmp_path: Path, tolerance: str, fragment: str) -> None:
+    d = make_case(tmp_path, "case", GOOD.replace("rel = 0.01", tolerance))
+    with pytest.raises(InputError, match=fragment):
+        load_case(d)
+
+
+def test_summary_lists_cases_of_earlier_runs_into_the_same_folder(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    make_case(tmp_path / "a", "first", GOOD)
+    make_case(tmp_path / "b", "second", GOOD.replace("value = 4.0", "value = 9.0"))
+    run_cases(plan([tmp_path / "a"]), out)
+    run_cases(plan([tmp_path / "b"]), out)
+    summary = (out / "summary.md").read_text()
+    assert "[first](first/report.md) | test_echo | PASS" in summary
+    assert "[second](second/report.md) | test_echo | FAIL" in summary
+    assert 'class="PASS"' in (out / "index.html").read_text()
+    assert (out / "first" / "report.html").is_file()
+
+
+def test_stale_partial_folders_are_removed(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    dead = out / ".good.partial-999999999-abcdef12"  # no such process
+    alive = out / f".other.partial-{os.getpid()}-abcdef12"  # a live run's folder
+    dead.mkdir(parents=True)
+    alive.mkdir()
+    make_case(tmp_path / "cases", "good", GOOD)
+    run_cases(plan([tmp_path / "cases"]), out)
+    assert not dead.exists() and alive.exists()
+
+
+def test_failed_rename_costs_only_that_case(tmp_path: Path, monkeypatch) -> None:
+    cases = tmp_path / "cases"
+    make_case(cases, "a_stuck", GOOD)
+    make_case(cases, "b_good", GOOD)
+    real = run_mod.swap_into_place
+
+    def swap(tmp: Path, final: Path) -> None:
+        if final.name == "a_stuck":
+            raise PermissionError(13, "Permission denied")
+        real(tmp, final)
+
+    monkeypatch.setattr(run_mod, "swap_into_place", swap)
+    res = {r.name: r for r in run_cases(plan([cases]), tmp_path / "out")}
+    assert res["a_stuck"].status == "ERROR"
+    assert "could not be moved into place (Permission denied)" in res["a_stuck"].reason
+    assert res["b_good"].status == "PASS"
+    assert "a_stuck" in (tmp_path / "out" / "summary.md").read_text()
+
+
+def test_progress_counts_cross_the_process_boundary(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    for name in ("c1", "c2"):
+        make_case(cases, name, GOOD.replace("x_um = 2.0", "x_um = 2.0\nsteps = 30"))
+    events: list[ProgressEvent] = []
+    run_cases(plan([cases]), tmp_path / "out", jobs=2, events=events.append)
+    for name in ("c1", "c2"):
+        mine = [e for e in events if e.case == name]
+        assert [mine[0].what, mine[-1].what] == ["start", "end"]
+        counts = [e for e in mine if e.what == "count"]
+        assert counts and counts[-1].done == counts[-1].total == 30
+        assert counts[-1].stage == "counting"
+
+
+@pytest.mark.slow
+def test_killed_worker_costs_only_its_own_case(tmp_path: Path) -> None:
+    """Issue 18: kill one worker of a -j 2 run; every other case finishes whole."""
+    cases = tmp_path / "cases"
+    make_case(cases, "victim", GOOD.replace("x_um = 2.0", "x_um = 2.0\nsleep_s = 60"))
+    for i in range(3):
+        make_case(cases, f"case{i}", GOOD.replace("x_um = 2.0", "x_um = 2.0\nsleep_s = 1"))
+    out = tmp_path / "out"
+    results: list = []
+    runner = threading.Thread(target=lambda: results.extend(run_cases(plan([cases]), out, jobs=2)))
+    runner.start()
+    deadline = time.monotonic() + 60
+    victim = None
+    while victim is None and time.monotonic() < deadline:
+        found = [p for p in multiprocessing.active_children() if p.name == "case-victim"]
+        if found and (out / "case0" / "result.json").is_file():  # the others have begun
+            victim = found[0]
+        time.sleep(0.1)
+    assert victim is not None and victim.pid is not None
+    os.kill(victim.pid, 9)
+    runner.join(120)
+    assert not runner.is_alive()
+    res = {r.name: r for r in results}
+    assert res["victim"].status == "ERROR" and "killed (SIGKILL)" in res["victim"].reason
+    for i in range(3):
+        assert res[f"case{i}"].status == "PASS"
+        metrics = json.loads((out / f"case{i}" / "metrics.json").read_text())
+        assert metrics["metrics"]["y_um"] == pytest.approx(4.0)
+    assert "killed (SIGKILL)" in (out / "victim" / "report.md").read_text()
+    summary = (out / "summary.md").read_text()
+    assert all(f"[case{i}](case{i}/report.md)" in summary for i in range(3))
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_runner_does_not_import_the_sweep() -> None:
+    code = "import sys, oocyte_fe.runner.run; print('oocyte_fe.sweep.run' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_python_route_returns_metrics_and_checks_frame(tmp_path: Path) -> None:
+    from oocyte_fe.runner import run_case
+
+    d = make_case(tmp_path, "good", GOOD)
+    res = run_case(d, out=tmp_path / "out")
+    assert res.status == "PASS" and res.ok
+    assert res.metrics["y_um"] == pytest.approx(4.0)
+    assert res.scalars()["y_um"] == pytest.approx(4.0)
+    row = res.checks.set_index("check").loc["y_um"]
+    assert (row["value"], row["reference"], row["unit"], row["status"]) == (4.0, 4.0, "um", "PASS")
