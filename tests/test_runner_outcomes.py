@@ -172,3 +172,56 @@ def test_python_route_returns_metrics_and_checks_frame(tmp_path: Path) -> None:
     assert res.scalars()["y_um"] == pytest.approx(4.0)
     row = res.checks.set_index("check").loc["y_um"]
     assert (row["value"], row["reference"], row["unit"], row["status"]) == (4.0, 4.0, "um", "PASS")
+
+
+# --- CLI -----------------------------------------------------------------------------------
+
+
+def test_cli_help_version_out_and_plain_progress(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from oocyte_fe import __version__
+    from oocyte_fe.cli import app
+
+    cli = CliRunner()
+    assert cli.invoke(app, ["--version"]).output.strip() == f"oocyte-fe {__version__}"
+    helped = cli.invoke(app, ["run", "-h"], terminal_width=120)
+    assert helped.exit_code == 0 and "[quick]" in helped.output and "[sweep]" in helped.output
+    assert "--scheduler" in helped.output and "--workers" in helped.output
+    make_case(tmp_path / "cases", "good", GOOD)
+    empty = cli.invoke(app, ["run", str(tmp_path / "cases"), "--out", ""])
+    assert empty.exit_code == 2 and "--out" in empty.output
+    res = cli.invoke(app, ["run", str(tmp_path / "cases"), "--out", str(tmp_path / "o"), "-j", "1"])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    assert any("good (" in ln and ln.endswith(": started") for ln in lines)  # not a terminal:
+    assert any("good (" in ln and ": PASS 1/1 checks" in ln for ln in lines)  # plain lines
+    assert "| good | test_echo | PASS | 1/1 |" in res.output.replace(
+        "[good](good/report.md)", "good"
+    )
+
+
+def test_cli_kinds_and_new_case_round_trip(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+
+    cli = CliRunner()
+    shown = cli.invoke(app, ["kinds", "test_echo"])
+    assert shown.exit_code == 0 and "PydanticUndefined" not in shown.output
+    assert "x_um: a positive length, um (required)" in shown.output
+    assert "nu: Poisson ratio (compressible) (default 0.3)" in shown.output
+    folder = tmp_path / "mine"
+    made = cli.invoke(app, ["new", "test_echo", str(folder)])
+    assert made.exit_code == 0, made.output
+    text = (folder / "case.toml").read_text()
+    assert "# x_um =    # REQUIRED" in text and "nu = 0.3" in text
+    assert not [ln for ln in text.splitlines() if ln.startswith(("[reference", "[tolerances"))]
+    assert (folder / "data.csv").is_file()  # a template for the data-file input
+    text = text.replace("# x_um =    # REQUIRED: set a value", "x_um = 1.5")
+    (folder / "case.toml").write_text(text)
+    (folder / "data.csv").write_text("a\nb\n")
+    ran = cli.invoke(app, ["run", str(folder), "--out", str(tmp_path / "o"), "-q"])
+    assert ran.exit_code == 0, ran.output
+    again = cli.invoke(app, ["new", "test_echo", str(folder)])
+    assert again.exit_code == 2 and "not overwritten" in again.output
