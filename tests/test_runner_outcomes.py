@@ -225,3 +225,29 @@ def test_cli_kinds_and_new_case_round_trip(tmp_path: Path) -> None:
     assert ran.exit_code == 0, ran.output
     again = cli.invoke(app, ["new", "test_echo", str(folder)])
     assert again.exit_code == 2 and "not overwritten" in again.output
+
+
+def test_library_loops_report_fe_steps_and_calibration_presses() -> None:
+    from nmsd.calibration import calibrate
+    from nmsd.press import press_setup
+    from nmsd.tableII import read_force_displacement
+    from oocyte_fe.progress import reporting
+    from oocyte_fe.verification import neo_hookean_inflation
+
+    seen: list[tuple[int, int, str]] = []
+    with reporting(lambda done, total, what: seen.append((done, total, what))):
+        neo_hookean_inflation(size_um=4.0)
+    assert seen == [(i, 8, "FE steps") for i in range(1, 9)]  # one per output time
+    table = Path(__file__).parent.parent / "cases/nmsd_calibration_tableII"
+    presses: list[tuple[int, int]] = []
+    data = read_force_displacement(table / "nmsd_force_displacement_tableII.csv")
+    calibrate(
+        press_setup(n_steps=4),
+        data,
+        "linear_msd",
+        n_starts=1,
+        max_evaluations=4,
+        on_press=lambda done, most: presses.append((done, most)),
+    )
+    assert presses and [d for d, _ in presses] == list(range(1, len(presses) + 1))
+    assert all(most == 4 for _, most in presses)

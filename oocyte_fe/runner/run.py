@@ -24,6 +24,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.progress import reporting
 from oocyte_fe.runner.casefile import Case, discover, load_case
 from oocyte_fe.runner.progress import EventSink, ProgressEvent, Throttle, ignore
 from oocyte_fe.runner.registry import CaseContext, batch_runner
@@ -201,7 +202,7 @@ def execute_case(
     start = time.perf_counter()
     try:
         ctx.step("started" + (" (quick)" if quick else ""))
-        with _time_limit(case.spec.timeout_s, logger):
+        with _time_limit(case.spec.timeout_s, logger), reporting(ctx.progress):
             outcome = case.kind.run(ctx)
         checks = evaluate_checks(case, outcome)
         seconds = time.perf_counter() - start
