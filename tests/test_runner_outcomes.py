@@ -251,3 +251,16 @@ def test_library_loops_report_fe_steps_and_calibration_presses() -> None:
     )
     assert presses and [d for d, _ in presses] == list(range(1, len(presses) + 1))
     assert all(most == 4 for _, most in presses)
+
+
+def test_full_only_cases_run_with_full_only_or_by_folder(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    make_case(cases, "light", GOOD)
+    heavy = make_case(
+        cases, "heavy", GOOD.replace('description = "echo"', 'description = "e"\nfull = true')
+    )
+    assert [c.name for c in plan([cases]).cases] == ["light"]
+    assert plan([cases]).skipped == ["heavy"]
+    assert [c.name for c in plan([cases], full=True).cases] == ["heavy", "light"]
+    assert [c.name for c in plan([cases], only=["heavy"]).cases] == ["heavy"]
+    assert [c.name for c in plan([heavy]).cases] == ["heavy"]

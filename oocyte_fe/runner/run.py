@@ -25,7 +25,7 @@ from pathlib import Path
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.progress import reporting
-from oocyte_fe.runner.casefile import Case, discover, load_case
+from oocyte_fe.runner.casefile import CASE_FILE, Case, discover, load_case
 from oocyte_fe.runner.progress import EventSink, ProgressEvent, Throttle, ignore
 from oocyte_fe.runner.registry import CaseContext, batch_runner
 from oocyte_fe.runner.report import (
@@ -201,7 +201,7 @@ def execute_case(
     ctx = _context(case, tmp, quick, logger, Throttle(events))
     start = time.perf_counter()
     try:
-        ctx.step("started" + (" (quick)" if quick else ""))
+        logger.info("started%s", " (quick)" if quick else "")
         with _time_limit(case.spec.timeout_s, logger), reporting(ctx.progress):
             outcome = case.kind.run(ctx)
         checks = evaluate_checks(case, outcome)
@@ -263,7 +263,7 @@ def run_one(
     verbose: bool = False,
 ) -> CaseResult:
     """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
-    events(ProgressEvent(case.name, "start", "started"))
+    events(ProgressEvent(case.name, "start", "started (quick)" if quick else "started"))
     tmp = partial_folder(out_root, case.name)
     result = execute_case(case, tmp, quick, events, verbose)
     result = place_result(tmp, out_root / case.name, result)
@@ -285,7 +285,8 @@ def plan(
 ) -> RunPlan:
     """Discover and validate cases. A malformed case is listed as invalid, not fatal.
 
-    Without ``full`` the cases marked ``full = true`` are skipped unless named in ``only``.
+    Without ``full`` the cases marked ``full = true`` are skipped unless named in ``only`` or
+    given as a case folder of their own.
     """
     folders = discover(paths)
     if only:
@@ -297,6 +298,7 @@ def plan(
                 f"one of the cases found: {', '.join(f.name for f in folders)}",
             )
         folders = [f for f in folders if f.name in only]
+    named = {p.resolve() for p in paths if (p / CASE_FILE).is_file()}
     cases, invalid, skipped = [], [], []
     for folder in folders:
         try:
@@ -304,7 +306,7 @@ def plan(
         except InputError as exc:
             invalid.append((folder.name, str(exc)))
             continue
-        if case.spec.full and not (full or only):
+        if case.spec.full and not (full or only or folder.resolve() in named):
             skipped.append(case.name)
         else:
             cases.append(case)

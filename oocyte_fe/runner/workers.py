@@ -94,7 +94,7 @@ def run_in_processes(
                 process = mp.Process(target=_child, args=args, name=f"case-{case.name}")
                 process.start()
                 running[case.name] = _Running(case, process, tmp, time.monotonic())
-                events(ProgressEvent(case.name, "start", "started"))
+                events(ProgressEvent(case.name, "start", "started (quick)" if quick else "started"))
             drain(0.2)
             for name, run in list(running.items()):
                 limit = (run.case.spec.timeout_s or float("inf")) + GRACE_S
