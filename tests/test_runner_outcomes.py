@@ -264,3 +264,25 @@ def test_full_only_cases_run_with_full_only_or_by_folder(tmp_path: Path) -> None
     assert [c.name for c in plan([cases], full=True).cases] == ["heavy", "light"]
     assert [c.name for c in plan([cases], only=["heavy"]).cases] == ["heavy"]
     assert [c.name for c in plan([heavy]).cases] == ["heavy"]
+
+
+def test_vtk_warnings_kept_off_stderr_and_in_the_log_when_verbose(tmp_path: Path) -> None:
+    warn = (
+        "from vtkmodules.vtkCommonCore import vtkLogger;"
+        "vtkLogger.Log(vtkLogger.VERBOSITY_WARNING, 'f', 1, 'bad X server connection. DISPLAY=')"
+    )
+    quiet = (
+        "import sys; from pathlib import Path; from oocyte_fe.runner.run import quiet_vtk;"
+        "quiet_vtk(Path(sys.argv[1]) if len(sys.argv) > 1 else None);"
+    )
+
+    def run(code: str, *args: str) -> str:
+        done = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        return done.stderr
+
+    assert "bad X server" in run(warn)  # VTK prints it by default
+    assert "X server" not in run(quiet + warn)
+    log = tmp_path / "vtk.log"
+    assert "X server" not in run(quiet + warn, str(log))
+    assert "bad X server" in log.read_text()
