@@ -286,3 +286,28 @@ def test_vtk_warnings_kept_off_stderr_and_in_the_log_when_verbose(tmp_path: Path
     log = tmp_path / "vtk.log"
     assert "X server" not in run(quiet + warn, str(log))
     assert "bad X server" in log.read_text()
+
+
+def test_summary_never_cuts_case_names() -> None:
+    import io
+
+    from rich.console import Console
+
+    from oocyte_fe.runner.display import summary_table
+    from oocyte_fe.runner.result import CaseResult
+
+    long = "microchannel_deformation_with_a_long_name"
+    rows = [
+        CaseResult(
+            long, "microchannel_deformation", "MISS", 1, 2, 3.0, "documented miss: x", ("x",)
+        ),
+        CaseResult("short", "test_echo", "PASS", 1, 1, 0.1),
+    ]
+    for width in (50, 200):  # narrow: one block per case; wide: a table
+        buf = io.StringIO()
+        summary_table(rows, Console(file=buf, width=width, force_terminal=True, color_system=None))
+        text = buf.getvalue()
+        assert long in text and "microchannel_deformation" in text and "…" not in text
+    buf = io.StringIO()
+    summary_table(rows, Console(file=buf, width=80, force_terminal=False))  # a log: Markdown
+    assert f"| [{long}]({long}/report.md) | microchannel_deformation | MISS |" in buf.getvalue()
