@@ -311,3 +311,17 @@ def test_summary_never_cuts_case_names() -> None:
     buf = io.StringIO()
     summary_table(rows, Console(file=buf, width=80, force_terminal=False))  # a log: Markdown
     assert f"| [{long}]({long}/report.md) | microchannel_deformation | MISS |" in buf.getvalue()
+
+
+def test_a_failing_display_never_loses_the_summary(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    for name in ("a", "b"):
+        make_case(cases, name, GOOD)
+
+    def broken(_event: ProgressEvent) -> None:
+        raise BrokenPipeError(32, "Broken pipe")  # the terminal went away
+
+    results = run_cases(plan([cases]), tmp_path / "out", events=broken)
+    assert [r.status for r in results] == ["PASS", "PASS"]
+    summary = (tmp_path / "out" / "summary.md").read_text()
+    assert "[a](a/report.md)" in summary and "[b](b/report.md)" in summary

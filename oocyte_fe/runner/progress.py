@@ -49,3 +49,19 @@ class Throttle:
         if final or now - self._last >= self.interval:
             self._last = now
             self.sink(event)
+
+
+class Guarded:
+    """Pass events on until the sink raises once (a closed terminal, a broken pipe); then drop
+    them, so a failing display never stops the run or its summary."""
+
+    def __init__(self, sink: EventSink) -> None:
+        self.sink = sink
+        self.failed: Exception | None = None
+
+    def __call__(self, event: ProgressEvent) -> None:
+        if self.failed is None:
+            try:
+                self.sink(event)
+            except Exception as exc:
+                self.failed = exc

@@ -26,7 +26,7 @@ from pathlib import Path
 from oocyte_fe.errors import InputError
 from oocyte_fe.progress import reporting
 from oocyte_fe.runner.casefile import CASE_FILE, Case, discover, load_case
-from oocyte_fe.runner.progress import EventSink, ProgressEvent, Throttle, ignore
+from oocyte_fe.runner.progress import EventSink, Guarded, ProgressEvent, Throttle, ignore
 from oocyte_fe.runner.registry import CaseContext, batch_runner
 from oocyte_fe.runner.report import (
     evaluate_checks,
@@ -342,8 +342,10 @@ def run_cases(
     clean_stale(out_root)
     results = [failure_folder(out_root, n, "?", f"invalid case: {e}") for n, e in run_plan.invalid]
 
+    show = Guarded(events)
+
     def finished(event: ProgressEvent) -> None:
-        events(event)
+        show(event)
         if event.what == "end" and event.result is not None:
             results.append(event.result)
             write_summary(results, out_root)
