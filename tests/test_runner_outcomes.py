@@ -325,3 +325,17 @@ def test_a_failing_display_never_loses_the_summary(tmp_path: Path) -> None:
     assert [r.status for r in results] == ["PASS", "PASS"]
     summary = (tmp_path / "out" / "summary.md").read_text()
     assert "[a](a/report.md)" in summary and "[b](b/report.md)" in summary
+
+
+def test_new_case_of_every_kind_asks_only_for_required_inputs(tmp_path: Path) -> None:
+    from oocyte_fe.runner.registry import kinds
+    from oocyte_fe.runner.scaffold import new_case
+
+    for kind in kinds().values():
+        folder = tmp_path / kind.name
+        new_case(kind, folder)
+        try:
+            load_case(folder)  # valid as written, or missing only what has no default
+        except InputError as exc:
+            assert "it is required" in str(exc), f"{kind.name}: {exc}"
+            assert "# " in (folder / "case.toml").read_text()
