@@ -17,7 +17,7 @@ import pytest
 
 import tests.kinds_for_tests  # noqa: F401  (registers test_echo)
 from oocyte_fe.errors import InputError
-from oocyte_fe.runner import run as run_mod
+from oocyte_fe.runner import execute as execute_mod
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.progress import ProgressEvent
 from oocyte_fe.runner.run import plan, run_cases
@@ -93,14 +93,14 @@ def test_failed_rename_costs_only_that_case(tmp_path: Path, monkeypatch) -> None
     cases = tmp_path / "cases"
     make_case(cases, "a_stuck", GOOD)
     make_case(cases, "b_good", GOOD)
-    real = run_mod.swap_into_place
+    real = execute_mod.swap_into_place
 
     def swap(tmp: Path, final: Path) -> None:
         if final.name == "a_stuck":
             raise PermissionError(13, "Permission denied")
         real(tmp, final)
 
-    monkeypatch.setattr(run_mod, "swap_into_place", swap)
+    monkeypatch.setattr(execute_mod, "swap_into_place", swap)
     res = {r.name: r for r in run_cases(plan([cases]), tmp_path / "out")}
     assert res["a_stuck"].status == "ERROR"
     assert "could not be moved into place (Permission denied)" in res["a_stuck"].reason
@@ -157,7 +157,7 @@ def test_killed_worker_costs_only_its_own_case(tmp_path: Path) -> None:
 
 
 def test_runner_does_not_import_the_sweep() -> None:
-    code = "import sys, oocyte_fe.runner.run; print('oocyte_fe.sweep.run' in sys.modules)"
+    code = "import sys, oocyte_fe.cli; print('oocyte_fe.sweep.run' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 
@@ -272,7 +272,7 @@ def test_vtk_warnings_kept_off_stderr_and_in_the_log_when_verbose(tmp_path: Path
         "vtkLogger.Log(vtkLogger.VERBOSITY_WARNING, 'f', 1, 'bad X server connection. DISPLAY=')"
     )
     quiet = (
-        "import sys; from pathlib import Path; from oocyte_fe.runner.run import quiet_vtk;"
+        "import sys; from pathlib import Path; from oocyte_fe.runner.execute import quiet_vtk;"
         "quiet_vtk(Path(sys.argv[1]) if len(sys.argv) > 1 else None);"
     )
 

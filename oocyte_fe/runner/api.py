@@ -15,10 +15,11 @@ from typing import Any
 import pandas as pd
 
 from oocyte_fe.runner.casefile import load_case
+from oocyte_fe.runner.execute import check_writable, clean_stale
 from oocyte_fe.runner.progress import EventSink, ignore
 from oocyte_fe.runner.registry import batch_runner
 from oocyte_fe.runner.result import CaseResult, read_result
-from oocyte_fe.runner.run import check_writable, clean_stale, run_one
+from oocyte_fe.runner.run import run_one
 
 
 @dataclass(frozen=True)

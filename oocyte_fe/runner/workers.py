@@ -20,9 +20,9 @@ from multiprocessing.process import BaseProcess
 from pathlib import Path
 
 from oocyte_fe.runner.casefile import Case, load_case
+from oocyte_fe.runner.execute import execute_case, failure_folder, partial_folder, place_result
 from oocyte_fe.runner.progress import EventSink, ProgressEvent
 from oocyte_fe.runner.result import CaseResult
-from oocyte_fe.runner.run import execute_case, failure_folder, partial_folder, place_result
 
 GRACE_S = 30.0
 """How long past its ``timeout_s`` a case process may take before it is killed."""

@@ -22,6 +22,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from oocyte_fe.runner.casefile import Case
+from oocyte_fe.runner.execute import execute_case, partial_folder
 from oocyte_fe.runner.progress import EventSink, ProgressEvent
 from oocyte_fe.runner.report import (
     evaluate_checks,
@@ -30,7 +31,6 @@ from oocyte_fe.runner.report import (
     write_failure_report,
 )
 from oocyte_fe.runner.result import CaseResult
-from oocyte_fe.runner.run import execute_case, partial_folder
 from oocyte_fe.sweep.paths import PathError
 from oocyte_fe.sweep.report import SampleRow, aggregate
 from oocyte_fe.sweep.sampling import design
