@@ -339,3 +339,18 @@ def test_new_case_of_every_kind_asks_only_for_required_inputs(tmp_path: Path) ->
         except InputError as exc:
             assert "it is required" in str(exc), f"{kind.name}: {exc}"
             assert "# " in (folder / "case.toml").read_text()
+
+
+def test_cases_start_longest_first_by_their_last_run(tmp_path: Path) -> None:
+    from oocyte_fe.runner.result import CaseResult
+    from oocyte_fe.runner.run import longest_first
+
+    cases = tmp_path / "cases"
+    for name in ("a", "b", "c", "d"):
+        make_case(cases, name, GOOD)
+    out = tmp_path / "out"
+    for name, seconds in (("a", 1.0), ("b", 30.0), ("d", 5.0)):
+        (out / name).mkdir(parents=True)
+        CaseResult(name, "test_echo", "PASS", 1, 1, seconds).write(out / name)
+    order = [c.name for c in longest_first(plan([cases]).cases, out)]
+    assert order == ["c", "b", "d", "a"]  # never run first, then by last run time

@@ -11,6 +11,7 @@ registry's batch runner (the sweep builds on case execution; this module never i
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +29,7 @@ from oocyte_fe.runner.execute import (
 from oocyte_fe.runner.progress import EventSink, Guarded, ProgressEvent, ignore
 from oocyte_fe.runner.registry import batch_runner
 from oocyte_fe.runner.report import write_summary
-from oocyte_fe.runner.result import CaseResult
+from oocyte_fe.runner.result import CaseResult, read_result
 from oocyte_fe.runner.workers import run_in_processes
 
 __all__ = [  # execute_case and partial_folder: kept importable from here for older callers
@@ -108,6 +109,17 @@ def default_jobs() -> int:
         return os.cpu_count() or 1
 
 
+def longest_first(cases: list[Case], out_root: Path) -> list[Case]:
+    """Cases ordered by their last run time in ``out_root`` (longest first, so parallel runs
+    end together); cases never run before go first, in their given order."""
+
+    def last_seconds(case: Case) -> float:
+        found = read_result(out_root / case.name)
+        return found.seconds if found is not None else math.inf
+
+    return sorted(cases, key=last_seconds, reverse=True)
+
+
 def run_cases(
     run_plan: RunPlan,
     out_root: Path,
@@ -138,7 +150,7 @@ def run_cases(
             write_summary(results, out_root)
 
     write_summary(results, out_root)
-    plain = [c for c in run_plan.cases if c.spec.sweep is None]
+    plain = longest_first([c for c in run_plan.cases if c.spec.sweep is None], out_root)
     sweeps = [c for c in run_plan.cases if c.spec.sweep is not None]
     if jobs <= 1 or len(plain) <= 1:
         for case in plain:
