@@ -354,3 +354,25 @@ def test_cases_start_longest_first_by_their_last_run(tmp_path: Path) -> None:
         CaseResult(name, "test_echo", "PASS", 1, 1, seconds).write(out / name)
     order = [c.name for c in longest_first(plan([cases]).cases, out)]
     assert order == ["c", "b", "d", "a"]  # never run first, then by last run time
+
+
+def test_kind_text_reads_units_and_data_file_columns(tmp_path: Path) -> None:
+    from pydantic import BaseModel, ConfigDict, Field
+
+    from oocyte_fe.runner.casefile import DataFile
+    from oocyte_fe.runner.registry import CaseKind
+    from oocyte_fe.runner.scaffold import describe_kind, new_case
+
+    class Inputs(BaseModel):
+        model_config = ConfigDict(extra="forbid")
+        E_kPa: float = Field(7.0, gt=0, description="modulus", json_schema_extra={"unit": "kPa"})
+        curve: DataFile = Field(
+            description="force curve", json_schema_extra={"columns": ["z_um", "force_nN"]}
+        )
+
+    kind = CaseKind("k", "a kind", Inputs, {"m": "a metric, 1"}, lambda ctx: None)  # type: ignore[arg-type]
+    text = "\n".join(describe_kind(kind))
+    assert "E_kPa [kPa]: modulus (default 7.0)" in text and "curve: force curve (required)" in text
+    new_case(kind, tmp_path / "c")
+    assert "# modulus [kPa]\nE_kPa = 7.0" in (tmp_path / "c" / "case.toml").read_text()
+    assert (tmp_path / "c" / "curve.csv").read_text().endswith("z_um,force_nN\n")
