@@ -38,7 +38,7 @@ match up to scale; the paper stops its calibration at 0.999).
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -176,6 +176,7 @@ def calibrate(
     tolerance: float = 1e-3,
     k2_over_k1_min: float = K2_OVER_K1_MIN,
     also: Sequence[tuple[PressSetup, ForceDisplacement]] = (),
+    on_press: Callable[[int, int], None] | None = None,
 ) -> CalibrationResult:
     """Minimise eq 7 under eq 8 for ``model`` from ``n_starts`` starts.
 
@@ -191,6 +192,8 @@ def calibrate(
     ``also``: further presses and their curves (e.g. the same press at another speed) fitted
     together with the main one: eq 7 summed over all curves, one press per curve and
     evaluation (``evaluations`` counts presses).
+    ``on_press(done, most)``: called after each evaluation with the presses so far and the
+    most there can be (``n_starts x max_evaluations`` evaluations; a start may end sooner).
     """
     if jacobian not in JACOBIANS:
         raise NmsdInputError("calibrate", "jacobian", f"one of {JACOBIANS}", got=jacobian)
@@ -232,6 +235,8 @@ def calibrate(
     def residual(values: np.ndarray) -> np.ndarray:
         nonlocal count
         count += len(curves)
+        if on_press is not None:
+            on_press(count, len(curves) * max_evaluations * len(starts))
         try:
             if jacobian == "2-point":
                 forces = [model_forces(*press_for(values, p), c) for p, c in curves]

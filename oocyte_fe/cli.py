@@ -1,9 +1,9 @@
-"""The ``oocyte-fe`` command line: thin wrappers over :mod:`oocyte_fe.runner`.
+"""The ``oocyte-fe`` command line: thin wrappers over :mod:`oocyte_fe.runner`, one function
+per command (``run``, ``validate``, ``kinds``, ``new``).
 
-``oocyte-fe run PATH... [--scheduler ADDRESS]``, ``oocyte-fe validate PATH...``,
-``oocyte-fe kinds``. Bad input is one line on stderr naming the file, the field and the
-expectation, exit code 2 (``--debug`` shows the traceback). ``run`` exits 0 only when every
-check of every case passes.
+Bad input is one line on stderr naming the file, the field and the expectation, exit code 2
+(``--debug`` shows the traceback). ``run`` exits 0 when every case passes or misses only
+documented goals (``known_miss``), 1 when a check fails or a case errors.
 """
 
 from __future__ import annotations
@@ -13,15 +13,25 @@ from pathlib import Path
 
 import typer
 from rich.console import Console
-from rich.live import Live
-from rich.table import Table
+from rich.markup import escape
 
+from oocyte_fe import __version__
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import discover, load_case
+from oocyte_fe.runner.display import LiveDisplay, PlainDisplay, summary_table
+from oocyte_fe.runner.progress import ignore
+from oocyte_fe.runner.registry import get_kind
 from oocyte_fe.runner.registry import kinds as registered_kinds
-from oocyte_fe.runner.run import CaseResult, plan, run_cases
+from oocyte_fe.runner.run import default_jobs, plan, run_cases
+from oocyte_fe.runner.scaffold import describe_kind, new_case
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, help="oocyte-fe validation cases.")
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    rich_markup_mode=None,  # help texts show [sweep], [quick] literally
+    context_settings={"help_option_names": ["-h", "--help"]},
+    help="oocyte-fe validation cases: run, validate, list kinds, start a case of your own.",
+)
 console = Console()
 err_console = Console(stderr=True)
 
@@ -29,25 +39,23 @@ err_console = Console(stderr=True)
 def _fail(exc: Exception, debug: bool) -> typer.Exit:
     if debug:
         raise exc
-    err_console.print(f"[bold red]error:[/] {exc}", highlight=False, soft_wrap=True)
+    err_console.print(f"[bold red]error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True)
     return typer.Exit(2)
 
 
-def _summary_table(results: list[CaseResult]) -> Table:
-    table = Table(title="Validation summary")
-    for col in ("case", "kind", "status", "checks", "time (s)", "reason"):
-        table.add_column(col)
-    colour = {"PASS": "green", "FAIL": "yellow", "ERROR": "red"}
-    for r in results:
-        table.add_row(
-            r.name,
-            r.kind,
-            f"[{colour[r.status]}]{r.status}[/]",
-            f"{r.passed}/{r.total}",
-            f"{r.seconds:.1f}",
-            r.reason,
-        )
-    return table
+def _version(value: bool) -> None:
+    if value:
+        console.print(f"oocyte-fe {__version__}", highlight=False)
+        raise typer.Exit(0)
+
+
+@app.callback()
+def main_options(
+    version: bool = typer.Option(
+        False, "--version", callback=_version, is_eager=True, help="Show the version and exit."
+    ),
+) -> None:
+    """oocyte-fe validation cases: run, validate, list kinds, start a case of your own."""
 
 
 @app.command()
@@ -55,9 +63,18 @@ def run(
     paths: list[Path] = typer.Argument(..., help="Case folders, or folders of cases."),
     only: list[str] = typer.Option(None, "--only", help="Run only this case (repeatable)."),
     list_: bool = typer.Option(False, "--list", help="List the cases found and stop."),
-    out: Path = typer.Option(Path("results"), "--out", help="Results folder."),
-    jobs: int = typer.Option(1, "-j", "--jobs", min=1, help="Cases run in parallel processes."),
+    out: str = typer.Option("results", "--out", help="Results folder ('.' for the current one)."),
+    jobs: int = typer.Option(
+        None, "-j", "--jobs", min=1, help="Cases run at once, one process each (default: cores)."
+    ),
     quick: bool = typer.Option(False, "--quick", help="Coarse settings (the [quick] table)."),
+    full: bool = typer.Option(
+        False, "--full", help="Also run the heavy extras: the cases marked full = true."
+    ),
+    quiet: bool = typer.Option(False, "-q", "--quiet", help="No progress; the summary only."),
+    verbose: bool = typer.Option(
+        False, "-v", "--verbose", help="Step counters in the log lines; VTK warnings to vtk.log."
+    ),
     scheduler: str = typer.Option(
         None, "--scheduler", help="Dask scheduler address for sweeps (default: local cluster)."
     ),
@@ -66,50 +83,58 @@ def run(
     ),
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
-    """Run validation cases; write results/<case>/ and results/summary.md.
+    """Run validation cases; write results/<case>/ and results/summary.md (and index.html).
 
     Cases with a [sweep] table run their samples on Dask (docs/sweeps.md).
     """
+    if not out.strip():
+        raise _fail(InputError("--out", "", "a folder name ('.' for the current folder)"), debug)
+    out_root = Path(out)
     try:
-        run_plan = plan(paths, only=only, quick=quick)
+        run_plan = plan(paths, only=only, quick=quick, full=full)
     except InputError as exc:
         raise _fail(exc, debug) from None
     if list_:
         for case in run_plan.cases:
-            console.print(f"{case.name:32s} {case.kind.name:28s} {case.spec.description}")
+            console.print(
+                f"{case.name:32s} {case.kind.name:28s} {escape(case.spec.description)}",
+                highlight=False,
+            )
+        for name in run_plan.skipped:
+            console.print(f"{name:32s} [dim]full only (run with --full)[/]", highlight=False)
         for name, err in run_plan.invalid:
-            console.print(f"{name:32s} [red]INVALID[/] {err}", highlight=False)
+            console.print(f"{name:32s} [red]INVALID[/] {escape(err)}", highlight=False)
         raise typer.Exit(0 if not run_plan.invalid else 2)
     for name, err in run_plan.invalid:
-        err_console.print(f"[bold red]invalid case {name}:[/] {err}", highlight=False)
-    steps: dict[str, str] = {c.name: "waiting" for c in run_plan.cases}
-
-    def progress_table() -> Table:
-        table = Table(show_header=False, box=None)
-        for name, step in steps.items():
-            table.add_row(name, step)
-        return table
-
+        err_console.print(f"[bold red]invalid case {name}:[/] {escape(err)}", highlight=False)
+    if run_plan.skipped and not quiet:
+        console.print(f"Not run (full only, add --full): {', '.join(run_plan.skipped)}")
+    n = len(run_plan.cases)
+    live = console.is_terminal and not quiet and not verbose
+    display = (
+        ignore
+        if quiet
+        else LiveDisplay(console, n)
+        if live
+        else PlainDisplay(console, verbose=verbose)
+    )
+    options = {
+        "jobs": jobs or default_jobs(),
+        "quick": quick,
+        "scheduler": scheduler,
+        "workers": workers,
+        "verbose": verbose,
+    }
     try:
-        with Live(progress_table(), console=console, transient=True, refresh_per_second=4) as live:
-
-            def notify(name: str, msg: str) -> None:
-                steps[name] = msg
-                live.update(progress_table())
-
-            results = run_cases(
-                run_plan,
-                out,
-                jobs=jobs,
-                quick=quick,
-                notify=notify,
-                scheduler=scheduler,
-                workers=workers,
-            )
+        if isinstance(display, LiveDisplay):
+            with display:
+                results = run_cases(run_plan, out_root, events=display, **options)
+        else:
+            results = run_cases(run_plan, out_root, events=display, **options)
     except InputError as exc:
         raise _fail(exc, debug) from None
-    console.print(_summary_table(results))
-    console.print(f"Results in {out}/ (summary: {out / 'summary.md'})")
+    summary_table(results, console)
+    console.print(f"Results in {out_root}/ (summary: {out_root / 'summary.md'}, index.html)")
     raise typer.Exit(0 if all(r.ok for r in results) else 1)
 
 
@@ -128,25 +153,49 @@ def validate(
     for folder in folders:
         try:
             case = load_case(folder, quick=quick)
-            console.print(f"[green]ok[/]      {folder.name} ({case.kind.name})")
+            console.print(f"[green]ok[/]      {folder.name} ({case.kind.name})", highlight=False)
         except InputError as exc:
             if debug:
                 raise
             bad += 1
-            err_console.print(f"[red]invalid[/] {exc}", highlight=False, soft_wrap=True)
+            msg = f"[red]invalid[/] {escape(str(exc))}"
+            err_console.print(msg, highlight=False, soft_wrap=True)
     raise typer.Exit(2 if bad else 0)
 
 
 @app.command("kinds")
-def list_kinds() -> None:
-    """List the registered case kinds, their inputs and metrics."""
-    for kind in registered_kinds().values():
-        console.print(f"[bold]{kind.name}[/]: {kind.description}")
-        for name, field in kind.inputs.model_fields.items():
-            req = "required" if field.is_required() else f"default {field.default!r}"
-            console.print(f"    input  {name}: {field.description or ''} ({req})", highlight=False)
-        for name, desc in kind.metrics.items():
-            console.print(f"    metric {name}: {desc}", highlight=False)
+def list_kinds(
+    kind: str = typer.Argument(None, help="Show this kind only, with every input and metric."),
+    debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
+) -> None:
+    """List the registered case kinds (or one kind: inputs with unit, default, description)."""
+    if kind is None:
+        for k in registered_kinds().values():
+            console.print(f"[bold]{k.name}[/]: {escape(k.description)}", highlight=False)
+        console.print("Details of one kind: oocyte-fe kinds KIND", highlight=False)
+        return
+    try:
+        found = get_kind(kind, "oocyte-fe kinds")
+    except InputError as exc:
+        raise _fail(exc, debug) from None
+    for line in describe_kind(found):
+        console.print(line, markup=False, highlight=False, soft_wrap=True)
+
+
+@app.command()
+def new(
+    kind: str = typer.Argument(..., help="The case kind (oocyte-fe kinds lists them)."),
+    folder: Path = typer.Argument(..., help="The case folder to write (must not hold a case)."),
+    debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
+) -> None:
+    """Write a case folder for KIND: case.toml with every input and data-file templates."""
+    try:
+        written = new_case(get_kind(kind, "oocyte-fe new"), folder)
+    except InputError as exc:
+        raise _fail(exc, debug) from None
+    for path in written:
+        console.print(f"wrote {path}", highlight=False)
+    console.print(f"Edit {folder / 'case.toml'}, then: oocyte-fe run {folder}", highlight=False)
 
 
 def main() -> None:

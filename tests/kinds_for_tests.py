@@ -16,6 +16,7 @@ class EchoInputs(BaseModel):
     nu: float = Field(default=0.3, ge=-1.0, lt=0.5, description="Poisson ratio (compressible)")
     crash: bool = False
     sleep_s: float = Field(default=0.0, ge=0)
+    steps: int = Field(default=0, ge=0, description="counted steps (ctx.progress), 0.01 s each")
     data: DataFile | None = None
 
 
@@ -25,6 +26,9 @@ def run_echo(ctx: CaseContext) -> CaseOutcome:
     inp = ctx.inputs
     ctx.output("partial.txt").write_text("written before any crash")
     ctx.step("computing")
+    for i in range(inp.steps):
+        time.sleep(0.01)
+        ctx.progress(i + 1, inp.steps, "counting")
     if inp.sleep_s:
         time.sleep(inp.sleep_s)
     if inp.crash:

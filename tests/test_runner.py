@@ -48,7 +48,8 @@ def test_pass_writes_report_metrics_and_summary(tmp_path: Path) -> None:
     metrics = json.loads((out / "good" / "metrics.json").read_text())
     assert metrics["metrics"]["y_um"] == pytest.approx(4.0)
     report = (out / "good" / "report.md").read_text()
-    assert "| y_um | 4 | 4 um |" in report and "PASS" in report
+    assert "| y_um [1] | 4 | 4 | um | +0 (+0.00 %) | rel <= 0.01 | PASS |" in report
+    assert "1. **y_um**: source: analytic: y = 2 x" in report
     assert "good" in (out / "summary.md").read_text()
     assert not [p for p in out.iterdir() if p.name.startswith(".")]
 
@@ -78,7 +79,8 @@ def test_crash_leaves_no_partial_results_and_others_run(tmp_path: Path) -> None:
     results = {r.name: r for r in run_dir(cases, out)}
     assert results["a_crash"].status == "ERROR"
     assert "deliberate crash" in results["a_crash"].reason
-    assert sorted(p.name for p in (out / "a_crash").iterdir()) == ["error.log", "report.md"]
+    names = sorted(p.name for p in (out / "a_crash").iterdir())
+    assert names == ["error.log", "report.html", "report.md", "result.json"]
     assert "deliberate crash" in (out / "a_crash" / "error.log").read_text()
     assert results["b_good"].status == "PASS"
     assert (out / "b_good" / "metrics.json").is_file()

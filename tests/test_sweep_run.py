@@ -136,7 +136,9 @@ def test_crashing_samples_are_reported_and_the_sweep_completes(
     for r in crashed:  # the failed sample keeps its reason and log, no partial output
         assert sorted(p.name for p in (out / SAMPLES / r["key"]).iterdir()) == [
             "error.log",
+            "report.html",
             "report.md",
+            "result.json",
             "status.json",
         ]
 

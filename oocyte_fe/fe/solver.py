@@ -44,6 +44,7 @@ from oocyte_fe.fe.loads import (
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
 from oocyte_fe.fe.vectorized import FacetOperators, RegionOperators
+from oocyte_fe.progress import report
 
 LOG = logging.getLogger("oocyte_fe.fe")
 
@@ -481,7 +482,7 @@ class Problem:
         if any(b <= a for a, b in zip([self.t, *times], times, strict=False)):
             raise InputError("solve", "times", f"increasing output times after t = {self.t:g}")
         result = SolveResult()
-        for t_out in times:
+        for i_out, t_out in enumerate(times):
             dt_nominal = min(t_out - self.t, max_dt or np.inf)
             dt, easy = dt_nominal, 0
             while self.t < t_out - 1e-12 * max(1.0, abs(t_out)):
@@ -519,4 +520,5 @@ class Problem:
             result.frames.append(frame)
             if on_frame is not None:
                 on_frame(frame)
+            report(i_out + 1, len(times), "FE steps")
         return result

@@ -289,6 +289,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         base,
         inp.n_starts,
         max_evaluations=inp.max_evaluations,
+        on_press=lambda done, most: ctx.progress(done, most, "calibration presses"),
         k2_over_k1_min=inp.nmsd_k2_over_k1_min,
         also=also,
     )

@@ -156,6 +156,7 @@ def _calibrate(ctx: CaseContext, setup, data, base, model: str) -> CalibrationRe
         base,
         inp.n_starts,
         max_evaluations=inp.max_evaluations,
+        on_press=lambda done, most: ctx.progress(done, most, "calibration presses"),
         extra=tuple(inp.calibrate_extra),
     )
 

@@ -21,6 +21,9 @@ from oocyte_fe.errors import InputError
 
 _KINDS: dict[str, CaseKind] = {}
 _BUILTINS = "oocyte_fe.kinds"
+_BATCH_RUNNERS = {"sweep": "oocyte_fe.sweep.run:run_sweeps"}
+"""Runners of cases that hold a table of many runs (``[sweep]``), by table; resolved at call
+time, so the layers import one way: the sweep builds on case execution, not the reverse."""
 
 
 @dataclass(frozen=True)
@@ -42,6 +45,14 @@ class Check:
     reference: float | None = None
     source: str | None = None
     unit: str | None = None
+    status: str = ""
+    """``PASS``, ``MISS`` (a documented known miss) or ``FAIL``; from ``passed`` if not given."""
+    remark: str = ""
+    """The tolerance's note, or the distance and reason of a known miss (shown below the table)."""
+
+    def __post_init__(self) -> None:
+        if not self.status:
+            object.__setattr__(self, "status", "PASS" if self.passed else "FAIL")
 
     @property
     def deviation(self) -> str:
@@ -79,11 +90,20 @@ class CaseContext:
     quick: bool
     log: logging.Logger
     notify: Callable[[str], None] = lambda _msg: None
+    on_progress: Callable[[int, int, str | None], None] = lambda _done, _total, _stage: None
 
     def step(self, message: str) -> None:
-        """Log a step and show it on the progress display."""
+        """Log a step and show it on the progress display (it becomes the current stage)."""
         self.log.info(message)
         self.notify(message)
+
+    def progress(self, done: int, total: int, stage: str | None = None) -> None:
+        """Report ``done`` of ``total`` units of the current stage (FE steps, evaluations...).
+
+        ``stage`` (optional) names the counted work; the display shows a bar and an ETA.
+        Cheap: call it once per unit of work.
+        """
+        self.on_progress(done, total, stage)
 
     def output(self, relative: str) -> Path:
         """Path of an output file inside the case's (temporary) result folder."""
@@ -151,3 +171,13 @@ def get_kind(name: str, file: str | Path = "case.toml", module: str | None = Non
     if name not in known:
         raise InputError(file, "kind", f"one of {', '.join(sorted(known))}", got=name)
     return known[name]
+
+
+def batch_runner(table: str) -> Callable[..., None]:
+    """The runner for cases with the table ``table`` (``"sweep"``), imported on first use.
+
+    It is called as ``runner(cases, out_root, events, scheduler, workers)`` and reports each
+    case's end through ``events``.
+    """
+    module, _, name = _BATCH_RUNNERS[table].partition(":")
+    return getattr(importlib.import_module(module), name)

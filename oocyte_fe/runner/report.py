@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
-from typing import Any
 
 import tomli_w
 
 from oocyte_fe.runner.casefile import Case
+from oocyte_fe.runner.html import index_html, write_case_html
 from oocyte_fe.runner.registry import CaseOutcome, Check
+from oocyte_fe.runner.result import STATUSES, CaseResult, read_result
 
 
 def _fmt(value: float | None) -> str:
@@ -29,15 +31,18 @@ def evaluate_checks(case: Case, outcome: CaseOutcome) -> list[Check]:
             checks.append(Check(key, math.nan, False, f"{tol.describe()} (metric not reported)"))
             continue
         refval = ref.value if ref else None
+        status, remark = tol.judge(float(value), refval)
         checks.append(
             Check(
                 key,
                 float(value),
-                tol.accepts(float(value), refval),
-                tol.describe() + (f" ({tol.note})" if tol.note else ""),
+                status == "PASS",
+                tol.describe(),
                 reference=refval,
                 source=ref.source if ref else None,
                 unit=ref.unit if ref else None,
+                status=status,
+                remark="; ".join(r for r in (remark, tol.note or "") if r),
             )
         )
     return checks + list(outcome.checks)
@@ -59,11 +64,46 @@ def _comparisons(case: Case, outcome: CaseOutcome) -> list[str]:
     return rows
 
 
+def case_status(checks: list[Check]) -> str:
+    """``FAIL`` if any check fails, else ``MISS`` if any is a documented miss, else ``PASS``."""
+    statuses = {c.status for c in checks}
+    return "FAIL" if "FAIL" in statuses else "MISS" if "MISS" in statuses else "PASS"
+
+
+def misses(checks: list[Check]) -> tuple[str, ...]:
+    """One line per documented miss: name, value and the remark (distance and reason)."""
+    return tuple(f"{c.name} = {_fmt(c.computed)}: {c.remark}" for c in checks if c.status == "MISS")
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def checks_table(checks: list[Check]) -> list[str]:
+    """The checks as a Markdown table; notes and sources are numbered below it."""
+    lines = [
+        "| check | value | reference | unit | deviation | tolerance | status |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    notes = []
+    for c in checks:
+        marks = ""
+        for text in (c.remark, f"source: {c.source}" if c.source else ""):
+            if text:
+                notes.append(f"{len(notes) + 1}. **{c.name}**: {text}")
+                marks += f" [{len(notes)}]"
+        lines.append(
+            f"| {c.name}{marks} | {_fmt(c.computed)} | {_fmt(c.reference)} | {c.unit or ''} "
+            f"| {c.deviation} | {_cell(c.tolerance)} | {c.status} |"
+        )
+    return lines + ([""] + notes if notes else [])
+
+
 def write_case_report(
     case: Case, outcome: CaseOutcome, checks: list[Check], out_dir: Path, seconds: float
 ) -> str:
     """Write ``report.md`` and ``metrics.json`` into ``out_dir``; return the status."""
-    status = "PASS" if all(c.passed for c in checks) else "FAIL"
+    status = case_status(checks)
     (out_dir / "metrics.json").write_text(
         json.dumps(
             {
@@ -77,8 +117,11 @@ def write_case_report(
                         "name": c.name,
                         "computed": c.computed,
                         "reference": c.reference,
+                        "unit": c.unit,
                         "tolerance": c.tolerance,
                         "passed": c.passed,
+                        "status": c.status,
+                        "remark": c.remark,
                         "source": c.source,
                     }
                     for c in checks
@@ -98,16 +141,7 @@ def write_case_report(
         lines += ["## Reading of the paper", "", case.spec.reading.strip(), ""]
     lines += ["## Checks", ""]
     if checks:
-        lines += [
-            "| check | computed | reference | deviation | tolerance | result | source |",
-            "|---|---|---|---|---|---|---|",
-        ]
-        for c in checks:
-            ref = f"{_fmt(c.reference)} {c.unit or ''}".strip()
-            lines.append(
-                f"| {c.name} | {_fmt(c.computed)} | {ref} | {c.deviation} | {c.tolerance} "
-                f"| {'PASS' if c.passed else 'FAIL'} | {c.source or ''} |"
-            )
+        lines += checks_table(checks)
     else:
         lines.append("No checks declared.")
     comparisons = _comparisons(case, outcome)
@@ -128,6 +162,7 @@ def write_case_report(
             lines += [f"![{fig.caption}]({fig.file})", "", f"*{fig.caption}*", ""]
     lines += ["", "## Inputs", "", "```toml", _inputs_toml(case), "```", ""]
     (out_dir / "report.md").write_text("\n".join(lines))
+    write_case_html(out_dir, f"{case.name}: {status}")
     return status
 
 
@@ -142,21 +177,55 @@ def write_failure_report(name: str, kind: str, reason: str, out_dir: Path) -> No
         f"# {name}: ERROR\n\nKind `{kind}`. The case did not finish:\n\n    {reason}\n\n"
         "The traceback and the case's log are in `error.log`. No partial results are kept.\n"
     )
+    write_case_html(out_dir, f"{name}: ERROR")
 
 
-def write_summary(results: list[Any], out_root: Path) -> Path:
-    """``summary.md``: one row per case."""
+def summary_rows(out_root: Path, results: list[CaseResult]) -> list[CaseResult]:
+    """Every case folder present under ``out_root`` (its ``result.json``), with ``results``
+    (this run's) taking precedence; sorted by name."""
+    rows = {}
+    for folder in sorted(p for p in out_root.iterdir() if p.is_dir() and p.name[0] != "."):
+        found = read_result(folder)
+        if found is not None:
+            rows[found.name] = found
+    rows.update({r.name: r for r in results})
+    return [rows[name] for name in sorted(rows)]
+
+
+def summary_markdown(rows: list[CaseResult]) -> str:
+    """``summary.md``: one row per case, then the documented misses."""
+    counts = ", ".join(f"{n} {s}" for s in STATUSES if (n := sum(r.status == s for r in rows)))
     lines = [
         "# Validation summary",
+        "",
+        f"{len(rows)} cases: {counts}.",
         "",
         "| case | kind | status | checks passed | time (s) | reason |",
         "|---|---|---|---|---|---|",
     ]
-    for r in results:
+    for r in rows:
         lines.append(
             f"| [{r.name}]({r.name}/report.md) | {r.kind} | {r.status} | "
-            f"{r.passed}/{r.total} | {r.seconds:.1f} | {r.reason} |"
+            f"{r.passed}/{r.total} | {r.seconds:.1f} | {_cell(r.reason)} |"
         )
+    documented = [(r.name, m) for r in rows for m in r.misses]
+    if documented:
+        lines += ["", "## Documented misses (not failures)", ""]
+        lines += [f"- {name}: {m}" for name, m in documented]
+    return "\n".join(lines) + "\n"
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and a rename (never half-written)."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def write_summary(results: list[CaseResult], out_root: Path) -> Path:
+    """Rebuild ``summary.md`` and ``index.html`` from the case folders present (atomically)."""
+    rows = summary_rows(out_root, results)
     path = out_root / "summary.md"
-    path.write_text("\n".join(lines) + "\n")
+    write_atomic(path, summary_markdown(rows))
+    write_atomic(out_root / "index.html", index_html(rows, out_root))
     return path

@@ -1,192 +1,62 @@
-"""Running cases: each in a temporary folder renamed into place at the end (whole or nothing).
+"""Running cases: plan them, run each (one process per case with ``jobs > 1``), keep the
+summary current.
 
-A case that raises, diverges or times out is reported ``ERROR`` with its reason; its result
-folder then holds only ``report.md`` (the reason) and ``error.log`` (log and traceback), none of
-the partial outputs. The other cases run on and keep their results.
+Each case runs in a temporary folder renamed into place at the end (whole or nothing,
+:mod:`oocyte_fe.runner.execute`); a failing case never stops the others. With ``jobs > 1``
+each case runs in its own process (:mod:`oocyte_fe.runner.workers`): a process that dies costs
+only its own case. ``summary.md`` and ``index.html`` are rebuilt, atomically, from the case
+folders present after every finished case. Cases with a ``[sweep]`` table go to the
+registry's batch runner (the sweep builds on case execution; this module never imports it).
 """
 
 from __future__ import annotations
 
-import contextlib
-import logging
-import multiprocessing
+import math
 import os
-import shutil
-import signal
-import threading
-import time
-import traceback
-import uuid
-from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from oocyte_fe.errors import InputError
-from oocyte_fe.runner.casefile import Case, discover, load_case
-from oocyte_fe.runner.registry import CaseContext
-from oocyte_fe.runner.report import (
-    evaluate_checks,
-    write_case_report,
-    write_failure_report,
-    write_summary,
+from oocyte_fe.runner.casefile import CASE_FILE, Case, discover, load_case
+from oocyte_fe.runner.execute import (
+    check_writable,
+    clean_stale,
+    execute_case,
+    failure_folder,
+    partial_folder,
+    place_result,
 )
+from oocyte_fe.runner.progress import EventSink, Guarded, ProgressEvent, ignore
+from oocyte_fe.runner.registry import batch_runner
+from oocyte_fe.runner.report import write_summary
+from oocyte_fe.runner.result import CaseResult, read_result
+from oocyte_fe.runner.workers import run_in_processes
 
-Notify = Callable[[str, str], None]
-"""Progress callback: ``notify(case_name, message)``."""
-
-
-@dataclass(frozen=True)
-class CaseResult:
-    """The outcome of one case as the summary shows it."""
-
-    name: str
-    kind: str
-    status: str  # PASS, FAIL or ERROR
-    passed: int
-    total: int
-    seconds: float
-    reason: str = ""
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "PASS"
+__all__ = [  # execute_case and partial_folder: kept importable from here for older callers
+    "CaseResult",
+    "RunPlan",
+    "execute_case",
+    "partial_folder",
+    "plan",
+    "run_cases",
+    "run_one",
+]
 
 
-class CaseTimeout(Exception):
-    """Raised inside a case that ran past its ``timeout_s``."""
-
-
-@contextlib.contextmanager
-def _time_limit(seconds: float | None, log: logging.Logger) -> Iterator[None]:
-    if not seconds:
-        yield
-        return
-    if threading.current_thread() is not threading.main_thread():
-        # SIGALRM reaches the main thread only (a Dask worker runs tasks in a thread)
-        log.warning("timeout_s = %g s not enforced outside the main thread", seconds)
-        yield
-        return
-
-    def _alarm(_signum: int, _frame: object) -> None:
-        raise CaseTimeout(f"timed out after {seconds:g} s (timeout_s in case.toml)")
-
-    previous = signal.signal(signal.SIGALRM, _alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
-
-def check_writable(out_root: Path) -> None:
-    """Fail early, with the folder named, when results cannot be written."""
-    try:
-        out_root.mkdir(parents=True, exist_ok=True)
-        probe = out_root / f".write-test-{uuid.uuid4().hex}"
-        probe.write_text("")
-        probe.unlink()
-    except OSError as exc:
-        raise InputError(out_root, "--out", "a writable output folder", got=exc.strerror) from None
-
-
-def swap_into_place(tmp: Path, final: Path) -> None:
-    """Replace ``final`` by ``tmp`` (two renames; the old folder is removed after)."""
-    old = final.with_name(f".{final.name}.old-{uuid.uuid4().hex[:8]}")
-    if final.exists():
-        final.rename(old)
-    tmp.rename(final)
-    shutil.rmtree(old, ignore_errors=True)
-
-
-def _case_logger(name: str, log_file: Path) -> tuple[logging.Logger, logging.Handler]:
-    logger = logging.getLogger(f"oocyte_fe.case.{name}.{uuid.uuid4().hex[:6]}")
-    logger.setLevel(logging.INFO)
-    logger.propagate = False
-    handler = logging.FileHandler(log_file)
-    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
-    logger.addHandler(handler)
-    return logger, handler
-
-
-def execute_case(
-    case: Case, tmp: Path, quick: bool = False, notify: Notify | None = None
-) -> CaseResult:
-    """Run one validated case with ``tmp`` as its result folder; never raises for a case failure.
-
-    On failure ``tmp`` is emptied and holds only ``report.md`` (the reason) and ``error.log``.
-    """
-    logger, handler = _case_logger(case.name, tmp / "log.txt")
-    ctx = CaseContext(
-        name=case.name,
-        case_dir=case.directory,
-        out_dir=tmp,
-        inputs=case.inputs,
-        quick=quick,
-        log=logger,
-        notify=(lambda msg: notify(case.name, msg)) if notify else (lambda _msg: None),
-    )
-    start = time.perf_counter()
-    try:
-        ctx.step("started" + (" (quick)" if quick else ""))
-        with _time_limit(case.spec.timeout_s, logger):
-            outcome = case.kind.run(ctx)
-        checks = evaluate_checks(case, outcome)
-        seconds = time.perf_counter() - start
-        logger.info("finished in %.2f s", seconds)
-        handler.close()
-        status = write_case_report(case, outcome, checks, tmp, seconds)
-        result = CaseResult(
-            case.name,
-            case.kind.name,
-            status,
-            sum(c.passed for c in checks),
-            len(checks),
-            seconds,
-            ""
-            if status == "PASS"
-            else "failed: " + ", ".join(c.name for c in checks if not c.passed),
-        )
-    except Exception as exc:  # a case failure must never stop the other cases
-        seconds = time.perf_counter() - start
-        reason = f"{type(exc).__name__}: {exc}".splitlines()[0]
-        logger.error("case failed: %s", reason)
-        handler.close()
-        log_text = (tmp / "log.txt").read_text() if (tmp / "log.txt").exists() else ""
-        shutil.rmtree(tmp)
-        tmp.mkdir()
-        (tmp / "error.log").write_text(log_text + "\n" + traceback.format_exc())
-        write_failure_report(case.name, case.kind.name, reason, tmp)
-        result = CaseResult(case.name, case.kind.name, "ERROR", 0, 0, seconds, reason)
-    finally:
-        logger.removeHandler(handler)
-    return result
-
-
-def partial_folder(out_root: Path, name: str) -> Path:
-    """A fresh temporary result folder for ``out_root/<name>`` (renamed into place later)."""
-    tmp = out_root / f".{name}.partial-{uuid.uuid4().hex[:8]}"
-    tmp.mkdir(parents=True)
-    return tmp
-
-
-def run_case(
-    case: Case, out_root: Path, quick: bool = False, notify: Notify | None = None
+def run_one(
+    case: Case,
+    out_root: Path,
+    quick: bool = False,
+    events: EventSink = ignore,
+    verbose: bool = False,
 ) -> CaseResult:
     """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
+    events(ProgressEvent(case.name, "start", "started (quick)" if quick else "started"))
     tmp = partial_folder(out_root, case.name)
-    result = execute_case(case, tmp, quick, notify)
-    swap_into_place(tmp, out_root / case.name)
+    result = execute_case(case, tmp, quick, events, verbose)
+    result = place_result(tmp, out_root / case.name, result)
+    events(ProgressEvent(case.name, "end", result.status, result=result))
     return result
-
-
-def _run_in_worker(
-    directory: Path, out_root: Path, quick: bool, kind_module: str, queue: object
-) -> CaseResult:
-    """Process-pool entry point: reload the case in the worker and run it."""
-    case = load_case(directory, quick=quick, kind_module=kind_module)
-    return run_case(case, out_root, quick, lambda name, msg: queue.put((name, msg)))  # type: ignore[attr-defined]
 
 
 @dataclass(frozen=True)
@@ -195,10 +65,17 @@ class RunPlan:
 
     cases: list[Case]
     invalid: list[tuple[str, str]]  # (case name, one-line error)
+    skipped: list[str] = field(default_factory=list)  # full-only cases left out
 
 
-def plan(paths: list[Path], only: list[str] | None = None, quick: bool = False) -> RunPlan:
-    """Discover and validate cases. A malformed case is listed as invalid, not fatal."""
+def plan(
+    paths: list[Path], only: list[str] | None = None, quick: bool = False, full: bool = False
+) -> RunPlan:
+    """Discover and validate cases. A malformed case is listed as invalid, not fatal.
+
+    Without ``full`` the cases marked ``full = true`` are skipped unless named in ``only`` or
+    given as a case folder of their own.
+    """
     folders = discover(paths)
     if only:
         unknown = sorted(set(only) - {f.name for f in folders})
@@ -209,13 +86,38 @@ def plan(paths: list[Path], only: list[str] | None = None, quick: bool = False) 
                 f"one of the cases found: {', '.join(f.name for f in folders)}",
             )
         folders = [f for f in folders if f.name in only]
-    cases, invalid = [], []
+    named = {p.resolve() for p in paths if (p / CASE_FILE).is_file()}
+    cases, invalid, skipped = [], [], []
     for folder in folders:
         try:
-            cases.append(load_case(folder, quick=quick))
+            case = load_case(folder, quick=quick)
         except InputError as exc:
             invalid.append((folder.name, str(exc)))
-    return RunPlan(cases, invalid)
+            continue
+        if case.spec.full and not (full or only or folder.resolve() in named):
+            skipped.append(case.name)
+        else:
+            cases.append(case)
+    return RunPlan(cases, invalid, skipped)
+
+
+def default_jobs() -> int:
+    """Cases run at once by default: one per core the process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def longest_first(cases: list[Case], out_root: Path) -> list[Case]:
+    """Cases ordered by their last run time in ``out_root`` (longest first, so parallel runs
+    end together); cases never run before go first, in their given order."""
+
+    def last_seconds(case: Case) -> float:
+        found = read_result(out_root / case.name)
+        return found.seconds if found is not None else math.inf
+
+    return sorted(cases, key=last_seconds, reverse=True)
 
 
 def run_cases(
@@ -224,74 +126,39 @@ def run_cases(
     *,
     jobs: int = 1,
     quick: bool = False,
-    notify: Notify | None = None,
+    events: EventSink = ignore,
     scheduler: str | None = None,
     workers: int | None = None,
+    verbose: bool = False,
 ) -> list[CaseResult]:
     """Run every case of the plan, ``jobs`` at a time; write ``summary.md``; return results.
 
-    Cases with a ``[sweep]`` table run after the others, their samples on Dask: a local
-    cluster of ``workers`` processes (one per core by default) or the ``scheduler`` address.
+    Cases with a ``[sweep]`` table run after the others, through the registry's batch runner
+    (:func:`oocyte_fe.sweep.run.run_sweeps`), their samples on Dask: a local cluster of
+    ``workers`` processes (one per core by default) or the ``scheduler`` address.
     """
     check_writable(out_root)
-    results = [CaseResult(name, "?", "ERROR", 0, 0, 0.0, err) for name, err in run_plan.invalid]
-    plain = [c for c in run_plan.cases if c.spec.sweep is None]
+    clean_stale(out_root)
+    results = [failure_folder(out_root, n, "?", f"invalid case: {e}") for n, e in run_plan.invalid]
+
+    show = Guarded(events)
+
+    def finished(event: ProgressEvent) -> None:
+        show(event)
+        if event.what == "end" and event.result is not None:
+            results.append(event.result)
+            write_summary(results, out_root)
+
+    write_summary(results, out_root)
+    plain = longest_first([c for c in run_plan.cases if c.spec.sweep is None], out_root)
     sweeps = [c for c in run_plan.cases if c.spec.sweep is not None]
     if jobs <= 1 or len(plain) <= 1:
         for case in plain:
-            results.append(run_case(case, out_root, quick, notify))
+            run_one(case, out_root, quick, finished, verbose)
     else:
-        results.extend(_run_parallel(plain, out_root, jobs, quick, notify))
+        run_in_processes(plain, out_root, jobs, quick, finished, verbose)
     if sweeps:
-        results.extend(_run_sweeps(sweeps, out_root, notify, scheduler, workers))
-    order = {c.name: i for i, c in enumerate(run_plan.cases)}
-    results.sort(key=lambda r: (order.get(r.name, -1), r.name))
+        batch_runner("sweep")(sweeps, out_root, finished, scheduler, workers)
     write_summary(results, out_root)
-    return results
-
-
-def _run_sweeps(
-    cases: list[Case],
-    out_root: Path,
-    notify: Notify | None,
-    scheduler: str | None,
-    workers: int | None,
-) -> list[CaseResult]:
-    from oocyte_fe.sweep.cluster import dask_client
-    from oocyte_fe.sweep.run import run_sweep
-
-    with dask_client(scheduler, workers) as client:
-        return [run_sweep(case, out_root, client, notify) for case in cases]
-
-
-def _run_parallel(
-    cases: list[Case], out_root: Path, jobs: int, quick: bool, notify: Notify | None
-) -> list[CaseResult]:
-    ctx = multiprocessing.get_context("spawn")
-    results = []
-    with ctx.Manager() as manager:
-        queue = manager.Queue()
-        with ProcessPoolExecutor(
-            max_workers=min(jobs, os.cpu_count() or 1), mp_context=ctx
-        ) as pool:
-            futures = {
-                pool.submit(_run_in_worker, c.directory, out_root, quick, c.kind.module, queue): c
-                for c in cases
-            }
-            pending = set(futures)
-            while pending:
-                done, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
-                while not queue.empty():
-                    name, msg = queue.get()
-                    if notify:
-                        notify(name, msg)
-                for fut in done:
-                    case = futures[fut]
-                    try:
-                        results.append(fut.result())
-                    except Exception as exc:  # the worker itself died
-                        reason = f"{type(exc).__name__}: {exc}".splitlines()[0]
-                        results.append(
-                            CaseResult(case.name, case.kind.name, "ERROR", 0, 0, 0.0, reason)
-                        )
-    return results
+    order = {c.name: i for i, c in enumerate(run_plan.cases)}
+    return sorted(results, key=lambda r: (order.get(r.name, -1), r.name))

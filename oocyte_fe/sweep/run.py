@@ -22,8 +22,15 @@ import numpy as np
 from pydantic import ValidationError
 
 from oocyte_fe.runner.casefile import Case
-from oocyte_fe.runner.report import evaluate_checks, write_case_report, write_failure_report
-from oocyte_fe.runner.run import CaseResult, execute_case, partial_folder
+from oocyte_fe.runner.execute import execute_case, partial_folder
+from oocyte_fe.runner.progress import EventSink, ProgressEvent
+from oocyte_fe.runner.report import (
+    evaluate_checks,
+    misses,
+    write_case_report,
+    write_failure_report,
+)
+from oocyte_fe.runner.result import CaseResult
 from oocyte_fe.sweep.paths import PathError
 from oocyte_fe.sweep.report import SampleRow, aggregate
 from oocyte_fe.sweep.sampling import design
@@ -96,6 +103,7 @@ def run_samples(
     samples_dir: Path,
     client: Client,
     say: Callable[[str], None] = lambda _msg: None,
+    count: Callable[[int, int], None] = lambda _done, _total: None,
 ) -> dict[str, SampleRecord]:
     """Records of every sample key: finished ones read back, the others run on ``client``."""
     from distributed import as_completed
@@ -125,6 +133,7 @@ def run_samples(
         finished += 1
         failed += not records[key].ok
         say(f"{finished}/{len(todo)} samples run ({failed} failed), {reused} reused")
+        count(finished, len(todo))
     return records
 
 
@@ -142,8 +151,12 @@ def run_sweep(
     out_root: Path,
     client: Client,
     notify: Callable[[str, str], None] | None = None,
+    count: Callable[[int, int], None] = lambda _done, _total: None,
 ) -> CaseResult:
-    """Run the sweep of ``case`` into ``out_root/<case>/``; never raises for a case failure."""
+    """Run the sweep of ``case`` into ``out_root/<case>/``; never raises for a case failure.
+
+    ``notify(case, message)`` receives stage messages, ``count(done, total)`` the samples run.
+    """
     start = time.perf_counter()
     kind = case.kind.name
 
@@ -155,7 +168,7 @@ def run_sweep(
     tmp = partial_folder(out_root, case.name)
     try:
         planned = plan_samples(case)
-        records = run_samples(planned, samples_dir, client, say)
+        records = run_samples(planned, samples_dir, client, say, count)
         rows = [SampleRow(i, p.values, p.unit, records[p.key]) for i, p in enumerate(planned)]
         say("aggregating")
         names = list(case.spec.sweep.parameters)  # type: ignore[union-attr]
@@ -164,7 +177,7 @@ def run_sweep(
         seconds = time.perf_counter() - start
         status = write_case_report(case, outcome, checks, tmp, seconds)
         n_failed = int(outcome.metrics["n_failed"])  # type: ignore[arg-type]
-        reasons = [c.name for c in checks if not c.passed]
+        reasons = [c.name for c in checks if c.status == "FAIL"]
         reason = ("failed: " + ", ".join(reasons) + "; ") if reasons else ""
         if n_failed:
             reason += f"{n_failed} of {len(rows)} samples failed"
@@ -172,10 +185,11 @@ def run_sweep(
             case.name,
             kind,
             status,
-            sum(c.passed for c in checks),
+            sum(c.status == "PASS" for c in checks),
             len(checks),
             seconds,
             reason.removesuffix("; "),
+            misses(checks),
         )
     except Exception as exc:  # a sweep failure must never stop the other cases
         seconds = time.perf_counter() - start
@@ -185,5 +199,30 @@ def run_sweep(
         (tmp / "error.log").write_text(traceback.format_exc())
         write_failure_report(case.name, kind, reason, tmp)
         result = CaseResult(case.name, kind, "ERROR", 0, 0, seconds, reason)
+    result.write(tmp)
     _swap_keeping_samples(tmp, out_root / case.name)
     return result
+
+
+def run_sweeps(
+    cases: list[Case],
+    out_root: Path,
+    events: EventSink,
+    scheduler: str | None = None,
+    workers: int | None = None,
+) -> None:
+    """The case runner's batch runner for ``[sweep]`` cases: one Dask client for all of them."""
+    from oocyte_fe.sweep.cluster import dask_client
+
+    with dask_client(scheduler, workers) as client:
+        for case in cases:
+            events(ProgressEvent(case.name, "start", "planning samples"))
+
+            def say(_name: str, msg: str, name: str = case.name) -> None:
+                events(ProgressEvent(name, "stage", msg))
+
+            def count(done: int, total: int, name: str = case.name) -> None:
+                events(ProgressEvent(name, "count", "samples", done, total))
+
+            result = run_sweep(case, out_root, client, say, count)
+            events(ProgressEvent(case.name, "end", result.status, result=result))

@@ -1,0 +1,193 @@
+"""A kind's inputs as text: ``oocyte-fe kinds KIND`` and the case folder of ``oocyte-fe new``.
+
+Every input is read from the kind's pydantic model: its default (``required`` when it has
+none), its description and its unit (``json_schema_extra={"unit": ...}``). A data-file input
+(a ``Path``) gets a template file; ``json_schema_extra={"columns": [...]}`` gives its header.
+The new case has no ``[reference]``/``[tolerances]``: a user's case is judged only against
+what its author declares.
+"""
+
+from __future__ import annotations
+
+import json
+import types
+import typing
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import tomli_w
+from pydantic import BaseModel
+from pydantic.fields import FieldInfo
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.runner.casefile import CASE_FILE, DEFAULT_TIMEOUT_S
+from oocyte_fe.runner.registry import CaseKind
+
+
+@dataclass(frozen=True)
+class InputDoc:
+    """One input as the user sees it."""
+
+    name: str
+    required: bool
+    default: Any
+    description: str
+    unit: str
+    is_file: bool
+    columns: tuple[str, ...]
+    model: type[BaseModel] | None  # a nested table of inputs
+
+
+def _extra(field: FieldInfo) -> dict[str, Any]:
+    extra = field.json_schema_extra
+    return extra if isinstance(extra, dict) else {}
+
+
+def _types(annotation: Any) -> list[Any]:
+    origin = typing.get_origin(annotation)
+    if origin is typing.Annotated:
+        return _types(typing.get_args(annotation)[0])
+    if origin in (typing.Union, types.UnionType):
+        return [t for a in typing.get_args(annotation) for t in _types(a)]
+    return [annotation]
+
+
+def input_docs(model: type[BaseModel]) -> list[InputDoc]:
+    """The inputs of ``model`` in declaration order."""
+    docs = []
+    for name, field in model.model_fields.items():
+        kinds = _types(field.annotation)
+        nested = next((t for t in kinds if isinstance(t, type) and issubclass(t, BaseModel)), None)
+        required = field.is_required()
+        default = None if required else field.get_default(call_default_factory=True)
+        extra = _extra(field)
+        docs.append(
+            InputDoc(
+                name,
+                required,
+                default,
+                field.description or "",
+                str(extra.get("unit", "")),
+                Path in kinds,
+                tuple(extra.get("columns", ())),
+                nested,
+            )
+        )
+    return docs
+
+
+def _value_text(doc: InputDoc) -> str:
+    if doc.required:
+        return "required"
+    if isinstance(doc.default, BaseModel):
+        return "default: see below"
+    return f"default {json.dumps(doc.default, default=str)}"
+
+
+def describe_kind(kind: CaseKind) -> list[str]:
+    """Lines for ``oocyte-fe kinds KIND``: every input and metric."""
+    lines = [f"{kind.name}: {kind.description}", "", "inputs:"]
+
+    def add(model: type[BaseModel], prefix: str) -> None:
+        for doc in input_docs(model):
+            unit = f" [{doc.unit}]" if doc.unit else ""
+            text = f"  {prefix}{doc.name}{unit}: {doc.description or '(no description)'}"
+            lines.append(f"{text} ({_value_text(doc)})")
+            if doc.model is not None:
+                add(doc.model, f"{prefix}{doc.name}.")
+
+    add(kind.inputs, "")
+    lines += ["", "metrics:"]
+    lines += [f"  {name}: {desc}" for name, desc in kind.metrics.items()]
+    return lines
+
+
+def _toml_value(value: Any) -> str:
+    """A value as inline TOML (tables inline, so one input stays on one line)."""
+    if isinstance(value, BaseModel):
+        value = value.model_dump(mode="json")
+    if isinstance(value, dict):
+        items = ", ".join(f"{json.dumps(str(k))} = {_toml_value(v)}" for k, v in value.items())
+        return "{ " + items + " }" if items else "{}"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float):
+        return tomli_w.dumps({"x": value}).split("=", 1)[1].strip()
+    return json.dumps(str(value))
+
+
+def _comment(doc: InputDoc) -> str:
+    unit = f" [{doc.unit}]" if doc.unit else ""
+    return f"# {doc.description or doc.name}{unit}"
+
+
+def _table(
+    model: type[BaseModel], title: str, files: dict[str, InputDoc], values: dict | None = None
+) -> list[str]:
+    """``[title]`` with every input of ``model``; ``values`` (a default instance) fills in."""
+    lines = [f"[{title}]"]
+    nested = []
+    for doc in input_docs(model):
+        given = values is not None and doc.name in values
+        default = values[doc.name] if given else doc.default
+        if doc.model is not None and (doc.required or isinstance(default, BaseModel | dict)):
+            nested.append((doc, default))
+            continue
+        if doc.description or doc.unit:
+            lines.append(_comment(doc))
+        if doc.is_file:
+            files[doc.name] = doc
+            lines.append(f'{doc.name} = "{doc.name}.csv"   # template written beside this file')
+        elif doc.required and not given:
+            lines.append(f"# {doc.name} =    # REQUIRED: set a value")
+        elif default is None:
+            lines.append(f"# {doc.name} =    # optional, no default")
+        else:
+            lines.append(f"{doc.name} = {_toml_value(default)}")
+    for doc, default in nested:
+        sub = default.model_dump(mode="json") if isinstance(default, BaseModel) else default
+        assert doc.model is not None
+        lines += ["", _comment(doc), *_table(doc.model, f"{title}.{doc.name}", files, sub)]
+    return lines
+
+
+def new_case(kind: CaseKind, folder: Path) -> list[Path]:
+    """Write a case folder for ``kind``: ``case.toml`` and a template per data file.
+
+    Refuses a folder that already has a ``case.toml``. Returns the files written.
+    """
+    if (folder / CASE_FILE).exists():
+        raise InputError(folder / CASE_FILE, "", "a new folder (this case exists; not overwritten)")
+    files: dict[str, InputDoc] = {}
+    lines = [
+        f"# A {kind.name} case written by `oocyte-fe new`: edit the inputs, then",
+        f"#   oocyte-fe validate {folder}   and   oocyte-fe run {folder}",
+        "# Add [reference.METRIC] and [tolerances.METRIC] tables to judge metrics",
+        "# (docs/cases.md); the metrics of this kind:",
+        *[f"#   {name}: {desc}" for name, desc in kind.metrics.items()],
+        "",
+        f'kind = "{kind.name}"',
+        f'description = "My {kind.name} case"',
+        f"timeout_s = {DEFAULT_TIMEOUT_S:g}",
+        "",
+        *_table(kind.inputs, "inputs", files),
+        "",
+        "[quick]",
+        "# overrides of [inputs] for --quick (coarse settings)",
+        "",
+    ]
+    folder.mkdir(parents=True, exist_ok=True)
+    written = [folder / CASE_FILE]
+    written[0].write_text("\n".join(lines))
+    for name, doc in files.items():
+        path = folder / f"{name}.csv"
+        if path.exists():
+            continue
+        header = ",".join(doc.columns)
+        text = f"# template for input {name}: {doc.description}\n# replace with your data\n"
+        path.write_text(text + (header + "\n" if header else ""))
+        written.append(path)
+    return written

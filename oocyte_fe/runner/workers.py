@@ -1,0 +1,127 @@
+"""Cases in parallel, one process each: a process that dies costs only its own case.
+
+The parent starts up to ``jobs`` processes (``spawn``), each loading and running one case into
+a temporary folder the parent chose, and sending its progress events and its result through
+one queue. The parent moves finished folders into place. A process that ends without a result
+(killed, out of memory, a crash in compiled code) or overruns its case's ``timeout_s`` by
+:data:`GRACE_S` is reported ``ERROR`` with the cause; its temporary folder is removed and the
+other cases run on.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import queue as queue_mod
+import shutil
+import signal
+import time
+from dataclasses import dataclass
+from multiprocessing.process import BaseProcess
+from pathlib import Path
+
+from oocyte_fe.runner.casefile import Case, load_case
+from oocyte_fe.runner.execute import execute_case, failure_folder, partial_folder, place_result
+from oocyte_fe.runner.progress import EventSink, ProgressEvent
+from oocyte_fe.runner.result import CaseResult
+
+GRACE_S = 30.0
+"""How long past its ``timeout_s`` a case process may take before it is killed."""
+
+
+def _child(
+    directory: Path, tmp: Path, quick: bool, kind_module: str, verbose: bool, q: object
+) -> None:
+    """Process entry point: reload the case and run it into ``tmp``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    put = q.put  # type: ignore[attr-defined]
+    case = load_case(directory, quick=quick, kind_module=kind_module)
+    result = execute_case(case, tmp, quick, lambda ev: put(("event", ev)), verbose)
+    put(("result", result))
+
+
+@dataclass
+class _Running:
+    case: Case
+    process: BaseProcess
+    tmp: Path
+    started: float
+
+
+def _death(process: BaseProcess) -> str:
+    code = process.exitcode
+    if code is not None and code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        return f"its worker process was killed ({name}); no result"
+    return f"its worker process ended (exit code {code}) without a result"
+
+
+def run_in_processes(
+    cases: list[Case], out_root: Path, jobs: int, quick: bool, events: EventSink, verbose: bool
+) -> list[CaseResult]:
+    """Run ``cases``, ``jobs`` at a time, each in its own process; never raises for a case."""
+    mp = multiprocessing.get_context("spawn")
+    q = mp.Queue()
+    todo = list(cases)
+    running: dict[str, _Running] = {}
+    got: dict[str, CaseResult] = {}
+    results: list[CaseResult] = []
+
+    def drain(wait: float) -> None:
+        try:
+            while True:
+                what, payload = q.get(timeout=wait)
+                wait = 0.0
+                if what == "event":
+                    events(payload)
+                else:
+                    got[payload.name] = payload
+        except queue_mod.Empty:
+            return
+
+    def end(name: str, result: CaseResult) -> None:
+        results.append(result)
+        events(ProgressEvent(name, "end", result.status, result=result))
+
+    try:
+        while todo or running:
+            while todo and len(running) < jobs:
+                case = todo.pop(0)
+                tmp = partial_folder(out_root, case.name)
+                args = (case.directory, tmp, quick, case.kind.module, verbose, q)
+                process = mp.Process(target=_child, args=args, name=f"case-{case.name}")
+                process.start()
+                running[case.name] = _Running(case, process, tmp, time.monotonic())
+                events(ProgressEvent(case.name, "start", "started (quick)" if quick else "started"))
+            drain(0.2)
+            for name, run in list(running.items()):
+                limit = (run.case.spec.timeout_s or float("inf")) + GRACE_S
+                if run.process.is_alive() and time.monotonic() - run.started > limit:
+                    run.process.kill()
+                    run.process.join()
+                    got.pop(name, None)
+                    shutil.rmtree(run.tmp, ignore_errors=True)
+                    del running[name]
+                    reason = f"killed after {limit:g} s (timeout_s {run.case.spec.timeout_s:g} s)"
+                    end(name, failure_folder(out_root, name, run.case.kind.name, reason))
+                    continue
+                if run.process.is_alive():
+                    continue
+                run.process.join()
+                drain(0.0)  # a result sent just before the exit
+                del running[name]
+                if name in got:
+                    end(name, place_result(run.tmp, out_root / name, got.pop(name)))
+                else:
+                    shutil.rmtree(run.tmp, ignore_errors=True)
+                    reason = _death(run.process)
+                    end(name, failure_folder(out_root, name, run.case.kind.name, reason))
+    finally:  # interrupted (Ctrl-C): stop the workers, leave no temporary folders
+        for run in running.values():
+            run.process.kill()
+            run.process.join()
+            shutil.rmtree(run.tmp, ignore_errors=True)
+        q.close()
+    return results

@@ -1,0 +1,378 @@
+"""Case runner outcomes: known misses, the summary rebuilt from folders, faults that must cost
+only their own case (a killed worker, a failed rename, stale partial folders), progress events,
+the Python route and the HTML pages."""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+import tests.kinds_for_tests  # noqa: F401  (registers test_echo)
+from oocyte_fe.errors import InputError
+from oocyte_fe.runner import execute as execute_mod
+from oocyte_fe.runner.casefile import load_case
+from oocyte_fe.runner.progress import ProgressEvent
+from oocyte_fe.runner.run import plan, run_cases
+from tests.test_runner import GOOD, make_case
+
+# y = 2 x = 4 um; the goal max = 3 is missed by 1 um
+MISS = GOOD.replace(
+    "rel = 0.01", 'max = 3.0\nknown_miss = "the echo doubles"\nworst = WORST'
+).replace("[reference.y_um]", "[reference.y_um]")
+
+
+def test_known_miss_is_miss_within_worst_and_fail_beyond(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    make_case(cases, "missed", MISS.replace("WORST", "4.5"))
+    make_case(cases, "regressed", MISS.replace("WORST", "3.5"))
+    make_case(cases, "met", MISS.replace("WORST", "4.5").replace("x_um = 2.0", "x_um = 1.0"))
+    out = tmp_path / "out"
+    res = {r.name: r for r in run_cases(plan([cases]), out)}
+    assert res["missed"].status == "MISS" and res["missed"].ok
+    [line] = res["missed"].misses
+    assert "y_um = 4" in line and "1 above the goal <= 3" in line and "the echo doubles" in line
+    assert res["regressed"].status == "FAIL" and not res["regressed"].ok
+    assert res["met"].status == "PASS"
+    report = (out / "met" / "report.md").read_text()
+    assert "now passes: remove known_miss" in report
+    summary = (out / "summary.md").read_text()
+    assert "Documented misses" in summary and "the echo doubles" in summary
+    checks = json.loads((out / "missed" / "metrics.json").read_text())["checks"]
+    assert checks[0]["status"] == "MISS"
+
+
+@pytest.mark.parametrize(
+    ("tolerance", "fragment"),
+    [
+        ('max = 3.0\nknown_miss = "why"', "known_miss and worst together"),
+        ('max = 3.0\nknown_miss = "why"\nworst = 2.0', "worst above the goal max"),
+        ('min = 3.0\nknown_miss = "why"\nworst = 4.0', "worst below the goal min"),
+        ("min = 3.0\nmax = 2.0", "min <= max"),
+        ("max = nan", "finite numbers"),
+    ],
+)
+def test_impossible_tolerances_are_refused(tmp_path: Path, tolerance: str, fragment: str) -> None:
+    d = make_case(tmp_path, "case", GOOD.replace("rel = 0.01", tolerance))
+    with pytest.raises(InputError, match=fragment):
+        load_case(d)
+
+
+def test_summary_lists_cases_of_earlier_runs_into_the_same_folder(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    make_case(tmp_path / "a", "first", GOOD)
+    make_case(tmp_path / "b", "second", GOOD.replace("value = 4.0", "value = 9.0"))
+    run_cases(plan([tmp_path / "a"]), out)
+    run_cases(plan([tmp_path / "b"]), out)
+    summary = (out / "summary.md").read_text()
+    assert "[first](first/report.md) | test_echo | PASS" in summary
+    assert "[second](second/report.md) | test_echo | FAIL" in summary
+    assert 'class="PASS"' in (out / "index.html").read_text()
+    assert (out / "first" / "report.html").is_file()
+
+
+def test_stale_partial_folders_are_removed(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    dead = out / ".good.partial-999999999-abcdef12"  # no such process
+    alive = out / f".other.partial-{os.getpid()}-abcdef12"  # a live run's folder
+    dead.mkdir(parents=True)
+    alive.mkdir()
+    make_case(tmp_path / "cases", "good", GOOD)
+    run_cases(plan([tmp_path / "cases"]), out)
+    assert not dead.exists() and alive.exists()
+
+
+def test_failed_rename_costs_only_that_case(tmp_path: Path, monkeypatch) -> None:
+    cases = tmp_path / "cases"
+    make_case(cases, "a_stuck", GOOD)
+    make_case(cases, "b_good", GOOD)
+    real = execute_mod.swap_into_place
+
+    def swap(tmp: Path, final: Path) -> None:
+        if final.name == "a_stuck":
+            raise PermissionError(13, "Permission denied")
+        real(tmp, final)
+
+    monkeypatch.setattr(execute_mod, "swap_into_place", swap)
+    res = {r.name: r for r in run_cases(plan([cases]), tmp_path / "out")}
+    assert res["a_stuck"].status == "ERROR"
+    assert "could not be moved into place (Permission denied)" in res["a_stuck"].reason
+    assert res["b_good"].status == "PASS"
+    assert "a_stuck" in (tmp_path / "out" / "summary.md").read_text()
+
+
+def test_progress_counts_cross_the_process_boundary(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    for name in ("c1", "c2"):
+        make_case(cases, name, GOOD.replace("x_um = 2.0", "x_um = 2.0\nsteps = 30"))
+    events: list[ProgressEvent] = []
+    run_cases(plan([cases]), tmp_path / "out", jobs=2, events=events.append)
+    for name in ("c1", "c2"):
+        mine = [e for e in events if e.case == name]
+        assert [mine[0].what, mine[-1].what] == ["start", "end"]
+        counts = [e for e in mine if e.what == "count"]
+        assert counts and counts[-1].done == counts[-1].total == 30
+        assert counts[-1].stage == "counting"
+
+
+@pytest.mark.slow
+def test_killed_worker_costs_only_its_own_case(tmp_path: Path) -> None:
+    """Issue 18: kill one worker of a -j 2 run; every other case finishes whole."""
+    cases = tmp_path / "cases"
+    make_case(cases, "victim", GOOD.replace("x_um = 2.0", "x_um = 2.0\nsleep_s = 60"))
+    for i in range(3):
+        make_case(cases, f"case{i}", GOOD.replace("x_um = 2.0", "x_um = 2.0\nsleep_s = 1"))
+    out = tmp_path / "out"
+    results: list = []
+    runner = threading.Thread(target=lambda: results.extend(run_cases(plan([cases]), out, jobs=2)))
+    runner.start()
+    deadline = time.monotonic() + 60
+    victim = None
+    while victim is None and time.monotonic() < deadline:
+        found = [p for p in multiprocessing.active_children() if p.name == "case-victim"]
+        if found and (out / "case0" / "result.json").is_file():  # the others have begun
+            victim = found[0]
+        time.sleep(0.1)
+    assert victim is not None and victim.pid is not None
+    os.kill(victim.pid, 9)
+    runner.join(120)
+    assert not runner.is_alive()
+    res = {r.name: r for r in results}
+    assert res["victim"].status == "ERROR" and "killed (SIGKILL)" in res["victim"].reason
+    for i in range(3):
+        assert res[f"case{i}"].status == "PASS"
+        metrics = json.loads((out / f"case{i}" / "metrics.json").read_text())
+        assert metrics["metrics"]["y_um"] == pytest.approx(4.0)
+    assert "killed (SIGKILL)" in (out / "victim" / "report.md").read_text()
+    summary = (out / "summary.md").read_text()
+    assert all(f"[case{i}](case{i}/report.md)" in summary for i in range(3))
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_runner_does_not_import_the_sweep() -> None:
+    code = "import sys, oocyte_fe.cli; print('oocyte_fe.sweep.run' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_python_route_returns_metrics_and_checks_frame(tmp_path: Path) -> None:
+    from oocyte_fe.runner import run_case
+
+    d = make_case(tmp_path, "good", GOOD)
+    res = run_case(d, out=tmp_path / "out")
+    assert res.status == "PASS" and res.ok
+    assert res.metrics["y_um"] == pytest.approx(4.0)
+    assert res.scalars()["y_um"] == pytest.approx(4.0)
+    row = res.checks.set_index("check").loc["y_um"]
+    assert (row["value"], row["reference"], row["unit"], row["status"]) == (4.0, 4.0, "um", "PASS")
+
+
+# --- CLI -----------------------------------------------------------------------------------
+
+
+def test_cli_help_version_out_and_plain_progress(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from oocyte_fe import __version__
+    from oocyte_fe.cli import app
+
+    cli = CliRunner()
+    assert cli.invoke(app, ["--version"]).output.strip() == f"oocyte-fe {__version__}"
+    helped = cli.invoke(app, ["run", "-h"], terminal_width=120)
+    assert helped.exit_code == 0 and "[quick]" in helped.output and "[sweep]" in helped.output
+    assert "--scheduler" in helped.output and "--workers" in helped.output
+    make_case(tmp_path / "cases", "good", GOOD)
+    empty = cli.invoke(app, ["run", str(tmp_path / "cases"), "--out", ""])
+    assert empty.exit_code == 2 and "--out" in empty.output
+    res = cli.invoke(app, ["run", str(tmp_path / "cases"), "--out", str(tmp_path / "o"), "-j", "1"])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    assert any("good (" in ln and ln.endswith(": started") for ln in lines)  # not a terminal:
+    assert any("good (" in ln and ": PASS 1/1 checks" in ln for ln in lines)  # plain lines
+    assert "| good | test_echo | PASS | 1/1 |" in res.output.replace(
+        "[good](good/report.md)", "good"
+    )
+
+
+def test_cli_kinds_and_new_case_round_trip(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+
+    cli = CliRunner()
+    shown = cli.invoke(app, ["kinds", "test_echo"])
+    assert shown.exit_code == 0 and "PydanticUndefined" not in shown.output
+    assert "x_um: a positive length, um (required)" in shown.output
+    assert "nu: Poisson ratio (compressible) (default 0.3)" in shown.output
+    folder = tmp_path / "mine"
+    made = cli.invoke(app, ["new", "test_echo", str(folder)])
+    assert made.exit_code == 0, made.output
+    text = (folder / "case.toml").read_text()
+    assert "# x_um =    # REQUIRED" in text and "nu = 0.3" in text
+    assert not [ln for ln in text.splitlines() if ln.startswith(("[reference", "[tolerances"))]
+    assert (folder / "data.csv").is_file()  # a template for the data-file input
+    text = text.replace("# x_um =    # REQUIRED: set a value", "x_um = 1.5")
+    (folder / "case.toml").write_text(text)
+    (folder / "data.csv").write_text("a\nb\n")
+    ran = cli.invoke(app, ["run", str(folder), "--out", str(tmp_path / "o"), "-q"])
+    assert ran.exit_code == 0, ran.output
+    again = cli.invoke(app, ["new", "test_echo", str(folder)])
+    assert again.exit_code == 2 and "not overwritten" in again.output
+
+
+def test_library_loops_report_fe_steps_and_calibration_presses() -> None:
+    from nmsd.calibration import calibrate
+    from nmsd.press import press_setup
+    from nmsd.tableII import read_force_displacement
+    from oocyte_fe.progress import reporting
+    from oocyte_fe.verification import neo_hookean_inflation
+
+    seen: list[tuple[int, int, str]] = []
+    with reporting(lambda done, total, what: seen.append((done, total, what))):
+        neo_hookean_inflation(size_um=4.0)
+    assert seen == [(i, 8, "FE steps") for i in range(1, 9)]  # one per output time
+    table = Path(__file__).parent.parent / "cases/nmsd_calibration_tableII"
+    presses: list[tuple[int, int]] = []
+    data = read_force_displacement(table / "nmsd_force_displacement_tableII.csv")
+    calibrate(
+        press_setup(n_steps=4),
+        data,
+        "linear_msd",
+        n_starts=1,
+        max_evaluations=4,
+        on_press=lambda done, most: presses.append((done, most)),
+    )
+    assert presses and [d for d, _ in presses] == list(range(1, len(presses) + 1))
+    assert all(most == 4 for _, most in presses)
+
+
+def test_full_only_cases_run_with_full_only_or_by_folder(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    make_case(cases, "light", GOOD)
+    heavy = make_case(
+        cases, "heavy", GOOD.replace('description = "echo"', 'description = "e"\nfull = true')
+    )
+    assert [c.name for c in plan([cases]).cases] == ["light"]
+    assert plan([cases]).skipped == ["heavy"]
+    assert [c.name for c in plan([cases], full=True).cases] == ["heavy", "light"]
+    assert [c.name for c in plan([cases], only=["heavy"]).cases] == ["heavy"]
+    assert [c.name for c in plan([heavy]).cases] == ["heavy"]
+
+
+def test_vtk_warnings_kept_off_stderr_and_in_the_log_when_verbose(tmp_path: Path) -> None:
+    warn = (
+        "from vtkmodules.vtkCommonCore import vtkLogger;"
+        "vtkLogger.Log(vtkLogger.VERBOSITY_WARNING, 'f', 1, 'bad X server connection. DISPLAY=')"
+    )
+    quiet = (
+        "import sys; from pathlib import Path; from oocyte_fe.runner.execute import quiet_vtk;"
+        "quiet_vtk(Path(sys.argv[1]) if len(sys.argv) > 1 else None);"
+    )
+
+    def run(code: str, *args: str) -> str:
+        done = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        return done.stderr
+
+    assert "bad X server" in run(warn)  # VTK prints it by default
+    assert "X server" not in run(quiet + warn)
+    log = tmp_path / "vtk.log"
+    assert "X server" not in run(quiet + warn, str(log))
+    assert "bad X server" in log.read_text()
+
+
+def test_summary_never_cuts_case_names() -> None:
+    import io
+
+    from rich.console import Console
+
+    from oocyte_fe.runner.display import summary_table
+    from oocyte_fe.runner.result import CaseResult
+
+    long = "microchannel_deformation_with_a_long_name"
+    rows = [
+        CaseResult(
+            long, "microchannel_deformation", "MISS", 1, 2, 3.0, "documented miss: x", ("x",)
+        ),
+        CaseResult("short", "test_echo", "PASS", 1, 1, 0.1),
+    ]
+    for width in (50, 200):  # narrow: one block per case; wide: a table
+        buf = io.StringIO()
+        summary_table(rows, Console(file=buf, width=width, force_terminal=True, color_system=None))
+        text = buf.getvalue()
+        assert long in text and "microchannel_deformation" in text and "…" not in text
+    buf = io.StringIO()
+    summary_table(rows, Console(file=buf, width=80, force_terminal=False))  # a log: Markdown
+    assert f"| [{long}]({long}/report.md) | microchannel_deformation | MISS |" in buf.getvalue()
+
+
+def test_a_failing_display_never_loses_the_summary(tmp_path: Path) -> None:
+    cases = tmp_path / "cases"
+    for name in ("a", "b"):
+        make_case(cases, name, GOOD)
+
+    def broken(_event: ProgressEvent) -> None:
+        raise BrokenPipeError(32, "Broken pipe")  # the terminal went away
+
+    results = run_cases(plan([cases]), tmp_path / "out", events=broken)
+    assert [r.status for r in results] == ["PASS", "PASS"]
+    summary = (tmp_path / "out" / "summary.md").read_text()
+    assert "[a](a/report.md)" in summary and "[b](b/report.md)" in summary
+
+
+def test_new_case_of_every_kind_asks_only_for_required_inputs(tmp_path: Path) -> None:
+    from oocyte_fe.runner.registry import kinds
+    from oocyte_fe.runner.scaffold import new_case
+
+    for kind in kinds().values():
+        folder = tmp_path / kind.name
+        new_case(kind, folder)
+        try:
+            load_case(folder)  # valid as written, or missing only what has no default
+        except InputError as exc:
+            assert "it is required" in str(exc), f"{kind.name}: {exc}"
+            assert "# " in (folder / "case.toml").read_text()
+
+
+def test_cases_start_longest_first_by_their_last_run(tmp_path: Path) -> None:
+    from oocyte_fe.runner.result import CaseResult
+    from oocyte_fe.runner.run import longest_first
+
+    cases = tmp_path / "cases"
+    for name in ("a", "b", "c", "d"):
+        make_case(cases, name, GOOD)
+    out = tmp_path / "out"
+    for name, seconds in (("a", 1.0), ("b", 30.0), ("d", 5.0)):
+        (out / name).mkdir(parents=True)
+        CaseResult(name, "test_echo", "PASS", 1, 1, seconds).write(out / name)
+    order = [c.name for c in longest_first(plan([cases]).cases, out)]
+    assert order == ["c", "b", "d", "a"]  # never run first, then by last run time
+
+
+def test_kind_text_reads_units_and_data_file_columns(tmp_path: Path) -> None:
+    from pydantic import BaseModel, ConfigDict, Field
+
+    from oocyte_fe.runner.casefile import DataFile
+    from oocyte_fe.runner.registry import CaseKind
+    from oocyte_fe.runner.scaffold import describe_kind, new_case
+
+    class Inputs(BaseModel):
+        model_config = ConfigDict(extra="forbid")
+        E_kPa: float = Field(7.0, gt=0, description="modulus", json_schema_extra={"unit": "kPa"})
+        curve: DataFile = Field(
+            description="force curve", json_schema_extra={"columns": ["z_um", "force_nN"]}
+        )
+
+    kind = CaseKind("k", "a kind", Inputs, {"m": "a metric, 1"}, lambda ctx: None)  # type: ignore[arg-type]
+    text = "\n".join(describe_kind(kind))
+    assert "E_kPa [kPa]: modulus (default 7.0)" in text and "curve: force curve (required)" in text
+    new_case(kind, tmp_path / "c")
+    assert "# modulus [kPa]\nE_kPa = 7.0" in (tmp_path / "c" / "case.toml").read_text()
+    assert (tmp_path / "c" / "curve.csv").read_text().endswith("z_um,force_nN\n")
