@@ -42,12 +42,13 @@ class CurveFigure:
         (self.data,) = self.ax_f.plot([], [], ".", ms=2, c="C0", label="data")
         (self.model,) = self.ax_f.plot([], [], "-", lw=1.5, c="C1", label="fit")
         self.contact = self.ax_f.axvline(0.0, ls=":", c="grey", label="contact")
-        (self.pointwise,) = self.ax_e.plot([], [], ".", ms=2, c="C0")
-        self.mean = self.ax_e.axhline(0.0, ls="--", lw=1, c="C1")
+        (self.pointwise,) = self.ax_e.plot([], [], ".", ms=2, c="C0", label="E(delta)")
+        self.mean = self.ax_e.axhline(0.0, ls="--", lw=1, c="C1", label="fitted E")
         self.ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]")
         self.ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) [kPa]")
         self.ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
         self.legend = self.ax_f.legend(fontsize=7, loc="upper left")
+        self.ax_e.legend(fontsize=7, loc="upper right")
 
     def draw(self, fit: IndentationFit, path: str | Path, title: str = "") -> Path:
         step = max(1, fit.tip_position_um.size // MAX_PLOT_POINTS)
