@@ -161,9 +161,21 @@ def fit_window(
         if above.size:
             keep[above[0] :] = False
     keep[: contact_index + 1] = True
-    if np.count_nonzero(keep[contact_index + 1 :]) < MIN_CONTACT_POINTS:
+    in_contact = int(np.count_nonzero(keep[contact_index + 1 :]))
+    if in_contact < MIN_CONTACT_POINTS:
+        if x.size - contact_index - 1 < MIN_CONTACT_POINTS:  # the curve itself, not the range
+            raise AfmInputError(
+                source,
+                "force_nN",
+                f"a curve that reaches contact at least {MIN_CONTACT_POINTS} points before the "
+                "end of the approach (too few points to fit E)",
+                f"{x.size - contact_index - 1} points past the contact estimate",
+            )
         raise AfmInputError(
-            source, "fit range", f"at least {MIN_CONTACT_POINTS} points in contact inside it"
+            source,
+            "fit range",
+            f"at least {MIN_CONTACT_POINTS} points in contact inside it",
+            f"{in_contact} points",
         )
     return keep
 
