@@ -24,6 +24,8 @@ from afm.fit import IndentationFit
 MAX_PLOT_POINTS = 600
 DPI = 80
 MIN_JOBS_PER_WORKER = 10
+TICKS = 4
+"""At most this many tick intervals per axis (tick labels are most of a figure's drawing time)."""
 """Fewer plots than this per process are drawn in this process (start-up costs more)."""
 
 
@@ -49,6 +51,8 @@ class CurveFigure:
         self.ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
         self.legend = self.ax_f.legend(fontsize=7, loc="upper left")
         self.ax_e.legend(fontsize=7, loc="upper right")
+        for ax in (self.ax_f, self.ax_e):
+            ax.locator_params(nbins=TICKS)
 
     def draw(self, fit: IndentationFit, path: str | Path, title: str = "") -> Path:
         step = max(1, fit.tip_position_um.size // MAX_PLOT_POINTS)
