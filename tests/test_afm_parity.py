@@ -72,3 +72,16 @@ def test_default_analysis_differs_from_nanite_by_its_contact_weighting(name):
     for r in rows:
         assert r.default_quality == "good", r
         assert abs(r.default_unweighted_difference) < 0.01, r
+
+
+def test_ninefold_difference_from_nanite_is_its_contact_weighting():
+    # the shipped AFM-Workshop curve: nanite's weighted cone fit gives 8x our E (it settles on
+    # a contact point ~0.13 um up the rise); unweighted, nanite agrees with ours within 3 %
+    # (the rest: baseline line against nanite's constant offset, docs/afm.md)
+    pytest.importorskip("nanite", reason="nanite (the 'bench' extra) is not installed")
+    path = instrument_file("fmt-afm-workshop-fd_single_2018-08-01_13.06.09.csv")
+    rows = _benchmark().parity_rows(path, models=("sneddon_cone",))
+    [r] = rows
+    assert r.default_quality == "good"
+    assert r.E_nanite_kPa > 7 * r.E_default_kPa
+    assert abs(r.default_unweighted_difference) < 0.03, r
