@@ -183,9 +183,11 @@ def test_nanite_analysis_is_a_choice_of_the_user_route(tmp_path):
     [curve] = read_curves(single)
     expected = fit_nanite_default(curve, "sneddon_cone", {"half_angle_deg": 30.0}).E_kPa
     assert float(row["E_kPa"]) == pytest.approx(expected, rel=1e-5)  # CSV: 6 digits
-    # nanite's analysis fits the whole approach: a fit range with it is refused
-    (case / "case.toml").write_text(
-        f'kind = "afm_fit_files"\ndescription = "x"\n[inputs]\n{inputs}max_force_fraction = 0.5\n'
-    )
-    [result] = run_cases(plan([case], quick=True), tmp_path / "out2", quick=True)
-    assert result.status == "ERROR" and "inputs.analysis" in result.reason
+    # nanite's analysis fits the whole approach with x0 free: a fit range or the deviation
+    # contact with it is refused
+    for extra in ("max_force_fraction = 0.5", 'contact_method = "deviation"'):
+        (case / "case.toml").write_text(
+            f'kind = "afm_fit_files"\ndescription = "x"\n[inputs]\n{inputs}{extra}\n'
+        )
+        [result] = run_cases(plan([case], quick=True), tmp_path / "out2", quick=True)
+        assert result.status == "ERROR" and "inputs.analysis" in result.reason

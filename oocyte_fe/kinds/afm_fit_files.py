@@ -255,11 +255,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step(f"fitting {len(files)} files")
     fit_options: dict[str, object] = {"model": inp.model, "geometry": inp.geometry, "nu": inp.nu}
     if inp.analysis == "nanite":
-        if inp.max_indentation_um is not None or inp.max_force_fraction is not None:
+        fit_range = (inp.max_indentation_um, inp.max_force_fraction)
+        if fit_range != (None, None) or inp.contact_method != "fit":
             raise InputError(
                 case_dir / "case.toml",
                 "inputs.analysis",
-                'no fit range with analysis = "nanite" (it fits the whole approach)',
+                'no fit range and contact_method = "fit" with analysis = "nanite" (it fits '
+                "the whole approach, contact point free)",
                 inp.analysis,
             )
         fit_options["fit_function"] = fit_nanite_default
