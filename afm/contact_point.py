@@ -25,16 +25,27 @@ def deviation_index(
 ) -> int:
     """Index of the contact estimate: last point with F <= n_sigma * noise before F stays above.
 
-    Raises :class:`AfmInputError` when the curve never leaves the noise band (no contact).
+    Raises :class:`AfmInputError` when the curve never leaves the noise band (no contact),
+    saying why: the threshold, and the largest force or the last point against it.
     """
     force = np.asarray(force_nN, dtype=float)
     span = float(np.ptp(force))
     threshold = max(n_sigma * noise_nN, 1e-9 * max(span, 1e-12))
     inside = force <= threshold
     if not np.isfinite(threshold) or not inside.any() or inside[-1] or span <= 2 * threshold:
-        raise AfmInputError(
-            source, "force_nN", "a curve that reaches contact (force rising above the noise)"
+        expected = (
+            "a curve that reaches contact (force rising above the noise: above "
+            f"{n_sigma:g} noise SDs = {threshold:.3g} nN to the end of the approach)"
         )
+        if not np.isfinite(threshold):
+            got = "a noise level that is not a number"
+        elif not inside.any():
+            got = "no point within the noise band (no baseline before contact)"
+        elif inside[-1]:
+            got = f"no contact: the last point is {force[-1]:.3g} nN (largest {force.max():.3g} nN)"
+        else:
+            got = f"no contact: force range {span:.3g} nN, within twice the threshold"
+        raise AfmInputError(source, "force_nN", expected, got)
     return int(np.flatnonzero(inside)[-1])
 
 

@@ -24,6 +24,8 @@ from afm.fit import IndentationFit
 MAX_PLOT_POINTS = 600
 DPI = 80
 MIN_JOBS_PER_WORKER = 10
+TICKS = 4
+"""At most this many tick intervals per axis (tick labels are most of a figure's drawing time)."""
 """Fewer plots than this per process are drawn in this process (start-up costs more)."""
 
 
@@ -42,12 +44,15 @@ class CurveFigure:
         (self.data,) = self.ax_f.plot([], [], ".", ms=2, c="C0", label="data")
         (self.model,) = self.ax_f.plot([], [], "-", lw=1.5, c="C1", label="fit")
         self.contact = self.ax_f.axvline(0.0, ls=":", c="grey", label="contact")
-        (self.pointwise,) = self.ax_e.plot([], [], ".", ms=2, c="C0")
-        self.mean = self.ax_e.axhline(0.0, ls="--", lw=1, c="C1")
+        (self.pointwise,) = self.ax_e.plot([], [], ".", ms=2, c="C0", label="E(delta)")
+        self.mean = self.ax_e.axhline(0.0, ls="--", lw=1, c="C1", label="fitted E")
         self.ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]")
         self.ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) [kPa]")
         self.ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
         self.legend = self.ax_f.legend(fontsize=7, loc="upper left")
+        self.ax_e.legend(fontsize=7, loc="upper right")
+        for ax in (self.ax_f, self.ax_e):
+            ax.locator_params(nbins=TICKS)
 
     def draw(self, fit: IndentationFit, path: str | Path, title: str = "") -> Path:
         step = max(1, fit.tip_position_um.size // MAX_PLOT_POINTS)

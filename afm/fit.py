@@ -18,6 +18,11 @@ linear least-squares solution.
 The fit window keeps every point before contact and, in contact, the points up to
 ``max_indentation_um`` past the contact estimate or up to ``max_force_fraction`` of the maximum
 force (whichever ends first; all points when neither is given).
+
+Every point of the window counts equally; nanite (and :mod:`afm.nanite_pipeline`) weights the
+residuals near the contact point less and fits a constant baseline offset with the model,
+which on real curves changes E by up to 9x where its weighted fit takes another contact point
+(docs/afm.md, "The default analysis against nanite").
 """
 
 from __future__ import annotations
@@ -161,9 +166,21 @@ def fit_window(
         if above.size:
             keep[above[0] :] = False
     keep[: contact_index + 1] = True
-    if np.count_nonzero(keep[contact_index + 1 :]) < MIN_CONTACT_POINTS:
+    in_contact = int(np.count_nonzero(keep[contact_index + 1 :]))
+    if in_contact < MIN_CONTACT_POINTS:
+        if x.size - contact_index - 1 < MIN_CONTACT_POINTS:  # the curve itself, not the range
+            raise AfmInputError(
+                source,
+                "force_nN",
+                f"a curve that reaches contact at least {MIN_CONTACT_POINTS} points before the "
+                "end of the approach (too few points to fit E)",
+                f"{x.size - contact_index - 1} points past the contact estimate",
+            )
         raise AfmInputError(
-            source, "fit range", f"at least {MIN_CONTACT_POINTS} points in contact inside it"
+            source,
+            "fit range",
+            f"at least {MIN_CONTACT_POINTS} points in contact inside it",
+            f"{in_contact} points",
         )
     return keep
 

@@ -37,10 +37,15 @@ def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title
             lw=1.5,
             label=f"{label}: E = {fit.E_kPa:.3g} kPa",
         )
-        ax_f.axvline(fit.contact_point_um, ls=":", c="grey")
+        ax_f.axvline(
+            fit.contact_point_um,
+            ls=":",
+            c=fit_c,
+            label=f"{label} contact x0 = {fit.contact_point_um:.4g} um",
+        )
         delta, modulus = fit.pointwise_modulus(0.1 * float(fit.indentation_um.max()))
-        ax_e.plot(delta, modulus, ".", ms=2, c=data_c, label=label)
-        ax_e.axhline(fit.E_kPa, ls="--", lw=1, c=fit_c)
+        ax_e.plot(delta, modulus, ".", ms=2, c=data_c, label=f"{label} E(delta)")
+        ax_e.axhline(fit.E_kPa, ls="--", lw=1, c=fit_c, label=f"{label} fitted E")
     ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]", title=title)
     ax_f.legend(fontsize=7)
     ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) = F / shape(delta) [kPa]")

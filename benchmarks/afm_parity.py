@@ -18,7 +18,9 @@ rescaling E * 0.8887 / 0.7453.
 
 Files without the spring constant or sensitivity are read with the values afmformats' own
 tests pass for them (:data:`METADATA`). Prints a table: file, curve, model, E ours, E nanite,
-difference, contact point difference.
+difference, contact point difference; then this package's default analysis
+(``fit_indentation``, same model, whole approach) against nanite with and without its
+contact-point weighting (``weight_cp = 0``), and the default fit's quality or error.
 """
 
 from __future__ import annotations
@@ -62,10 +64,22 @@ class ParityRow:
     contact_diff_nm: float
     E_default_kPa: float = np.nan
     note: str = ""
+    E_nanite_unweighted_kPa: float = np.nan
+    default_quality: str = ""
 
     @property
     def difference(self) -> float:
         return self.E_ours_kPa / self.E_nanite_kPa - 1.0
+
+    @property
+    def default_difference(self) -> float:
+        """fit_indentation's E against nanite's (weighted, its default)."""
+        return self.E_default_kPa / self.E_nanite_kPa - 1.0
+
+    @property
+    def default_unweighted_difference(self) -> float:
+        """fit_indentation's E against nanite's without contact-point weighting."""
+        return self.E_default_kPa / self.E_nanite_unweighted_kPa - 1.0
 
 
 def metadata_for(path: Path) -> tuple[float | None, float | None]:
@@ -75,8 +89,12 @@ def metadata_for(path: Path) -> tuple[float | None, float | None]:
     return None, None
 
 
-def nanite_fit(idnt, model: str) -> tuple[float, float, float]:
+def nanite_fit(
+    idnt, model: str, weight_cp_m: float = NANITE_WEIGHT_CP_M
+) -> tuple[float, float, float]:
     """nanite's E [kPa] (rescaled to our tip model), contact point [um] and baseline [nN].
+
+    ``weight_cp_m = 0`` switches nanite's contact-point weighting off.
 
     The contact point is in nanite's tip position, turned to our sign (increasing towards the
     sample).
@@ -92,7 +110,7 @@ def nanite_fit(idnt, model: str) -> tuple[float, float, float]:
         params_initial=params,
         range_type="absolute",
         range_x=(0, 0),
-        weight_cp=NANITE_WEIGHT_CP_M,
+        weight_cp=weight_cp_m,
     )
     fitted = idnt.fit_properties["params_fitted"]
     e = fitted["E"].value * 1e-3 * factor
@@ -147,14 +165,25 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
             except AfmInputError as exc:
                 e_ours, z_ours, note = np.nan, np.nan, str(exc)
             try:
-                e_default = fit_indentation(curve, model, geometry, 0.5).E_kPa
-            except AfmInputError:
-                e_default = np.nan
+                default = fit_indentation(curve, model, geometry, 0.5)
+                e_default, quality = default.E_kPa, default.quality
+            except AfmInputError as exc:
+                e_default, quality = np.nan, f"error: {exc.field}: {exc.expected}"
+            e_unweighted = nanite_fit(idnt, model, weight_cp_m=0.0)[0]
             e_nan, x0_nan, baseline = nanite_fit(idnt, model)
             z_nan = x0_nan + shift + (offset + baseline) / k_um
             rows.append(
                 ParityRow(
-                    path.name, i, model, e_ours, e_nan, (z_ours - z_nan) * 1e3, e_default, note
+                    path.name,
+                    i,
+                    model,
+                    e_ours,
+                    e_nan,
+                    (z_ours - z_nan) * 1e3,
+                    e_default,
+                    note,
+                    e_unweighted,
+                    quality,
                 )
             )
     return rows
@@ -174,7 +203,8 @@ def main(folder: str | None = None) -> None:
     warnings.simplefilter("ignore")
     print(
         f"{'file':58s} {'curve':>5s} {'model':17s} {'E ours':>10s} {'E nanite':>10s} "
-        f"{'diff':>8s} {'x0 diff nm':>10s} {'E fit_indentation':>17s}"
+        f"{'diff':>8s} {'x0 diff nm':>10s} {'E default':>10s} {'vs nanite':>9s} "
+        f"{'E nanite w=0':>12s} {'vs w=0':>8s}  default quality"
     )
     for path in sorted(data.iterdir()):
         if "-fd" not in path.name:
@@ -183,7 +213,9 @@ def main(folder: str | None = None) -> None:
             print(
                 f"{r.file[:58]:58s} {r.curve:5d} {r.model:17s} {r.E_ours_kPa:10.4g} "
                 f"{r.E_nanite_kPa:10.4g} {r.difference:8.2%} {r.contact_diff_nm:10.2f} "
-                f"{r.E_default_kPa:17.4g} {r.note[:60]}"
+                f"{r.E_default_kPa:10.4g} {r.default_difference:9.1%} "
+                f"{r.E_nanite_unweighted_kPa:12.4g} {r.default_unweighted_difference:8.1%}  "
+                f"{r.default_quality[:70]} {r.note[:60]}"
             )
 
 

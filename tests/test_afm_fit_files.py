@@ -156,3 +156,38 @@ def test_creep_file_for_a_group_without_curves_is_refused(tmp_path):
     [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
     assert result.status == "ERROR" and "inputs.creep.ZP" in result.reason
     assert "cytoplasm, zp" in result.reason
+
+
+def test_nanite_analysis_is_a_choice_of_the_user_route(tmp_path):
+    # analysis = "nanite" fits with afm.nanite_pipeline.fit_nanite_default: the JPK curve's E
+    # is that function's, and the QI map's 4 noisy curves (no contact for the default
+    # analysis) get nanite's moduli
+    from afm.curve_io import read_curves
+    from afm.nanite_pipeline import fit_nanite_default
+
+    single = INSTRUMENT / "fmt-jpk-fd_spot3-0192.jpk-force"
+    qi = INSTRUMENT / "fmt-jpk-fd_2020.02.07-16.29.05.036.jpk-qi-data"
+    case = tmp_path / "nanite"
+    (case / "curves").mkdir(parents=True)
+    shutil.copy(single, case / "curves")
+    shutil.copy(qi, case / "curves")
+    inputs = 'curves = "curves"\ngeometry = { half_angle_deg = 30.0 }\nanalysis = "nanite"\n'
+    (case / "case.toml").write_text(
+        f'kind = "afm_fit_files"\ndescription = "nanite route"\n[inputs]\n{inputs}'
+    )
+    run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    rows = _rows(tmp_path / "out" / "nanite")
+    assert len(rows) == 5 and all(r["E_kPa"] and not r["error"] for r in rows)
+    assert {r["contact_method"] for r in rows} == {"nanite default"}
+    [row] = [r for r in rows if r["file"].endswith(".jpk-force")]
+    [curve] = read_curves(single)
+    expected = fit_nanite_default(curve, "sneddon_cone", {"half_angle_deg": 30.0}).E_kPa
+    assert float(row["E_kPa"]) == pytest.approx(expected, rel=1e-5)  # CSV: 6 digits
+    # nanite's analysis fits the whole approach with x0 free: a fit range or the deviation
+    # contact with it is refused
+    for extra in ("max_force_fraction = 0.5", 'contact_method = "deviation"'):
+        (case / "case.toml").write_text(
+            f'kind = "afm_fit_files"\ndescription = "x"\n[inputs]\n{inputs}{extra}\n'
+        )
+        [result] = run_cases(plan([case], quick=True), tmp_path / "out2", quick=True)
+        assert result.status == "ERROR" and "inputs.analysis" in result.reason

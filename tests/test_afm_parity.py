@@ -52,3 +52,36 @@ def test_same_modulus_and_contact_as_nanite(name):
     for r in rows:
         assert abs(r.difference) < 0.01, r
         assert abs(r.contact_diff_nm) < 10.0, r
+
+
+CLEAN = [
+    "fmt-jpk-fd_spot3-0192.jpk-force",
+    "fmt-igor-fd_U3_3_p10004.ibw",
+    "fmt-hdf5-fd_version_0.13.3.h5",
+    "fmt-tab-fd_version_0.13.3.tab",
+]
+
+
+@pytest.mark.parametrize("name", CLEAN)
+def test_default_analysis_differs_from_nanite_by_its_contact_weighting(name):
+    # fit_indentation (baseline line, unweighted) against nanite with its contact-point
+    # weighting switched off (weight_cp = 0): within 1 % on clean indentation curves; the
+    # larger difference from nanite's default (up to 10 % here) is that weighting
+    pytest.importorskip("nanite", reason="nanite (the 'bench' extra) is not installed")
+    rows = _benchmark().parity_rows(instrument_file(name))
+    for r in rows:
+        assert r.default_quality == "good", r
+        assert abs(r.default_unweighted_difference) < 0.01, r
+
+
+def test_ninefold_difference_from_nanite_is_its_contact_weighting():
+    # the shipped AFM-Workshop curve: nanite's weighted cone fit gives 8x our E (it settles on
+    # a contact point ~0.13 um up the rise); unweighted, nanite agrees with ours within 3 %
+    # (the rest: baseline line against nanite's constant offset, docs/afm.md)
+    pytest.importorskip("nanite", reason="nanite (the 'bench' extra) is not installed")
+    path = instrument_file("fmt-afm-workshop-fd_single_2018-08-01_13.06.09.csv")
+    rows = _benchmark().parity_rows(path, models=("sneddon_cone",))
+    [r] = rows
+    assert r.default_quality == "good"
+    assert r.E_nanite_kPa > 7 * r.E_default_kPa
+    assert abs(r.default_unweighted_difference) < 0.03, r

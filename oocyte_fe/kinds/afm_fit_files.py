@@ -31,6 +31,7 @@ from afm.fe_export import ansys_prony_block, febio_material
 from afm.fit import FitRange
 from afm.material_file import MaterialFile, write_material
 from afm.models import MODELS
+from afm.nanite_pipeline import fit_nanite_default
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
@@ -58,6 +59,12 @@ class FitFilesInputs(BaseModel):
     )
     contact_method: Literal["fit", "deviation"] = Field(
         "fit", description="contact point: a fit parameter, or the deviation estimate"
+    )
+    analysis: Literal["default", "nanite"] = Field(
+        "default",
+        description="default: afm.fit.fit_indentation (baseline line, unweighted fit); nanite: "
+        "afm.nanite_pipeline.fit_nanite_default (nanite's offset, contact weighting, free "
+        "baseline; whole approach, so no fit range)",
     )
     groups: dict[str, str] = Field(
         default_factory=dict,
@@ -246,13 +253,21 @@ def run(ctx: CaseContext) -> CaseOutcome:
         _inside(case_dir, Path(file), f"inputs.creep.{group}")
 
     ctx.step(f"fitting {len(files)} files")
-    fit_options: dict[str, object] = {
-        "model": inp.model,
-        "geometry": inp.geometry,
-        "nu": inp.nu,
-        "fit_range": FitRange(inp.max_indentation_um, inp.max_force_fraction),
-        "contact_method": inp.contact_method,
-    }
+    fit_options: dict[str, object] = {"model": inp.model, "geometry": inp.geometry, "nu": inp.nu}
+    if inp.analysis == "nanite":
+        fit_range = (inp.max_indentation_um, inp.max_force_fraction)
+        if fit_range != (None, None) or inp.contact_method != "fit":
+            raise InputError(
+                case_dir / "case.toml",
+                "inputs.analysis",
+                'no fit range and contact_method = "fit" with analysis = "nanite" (it fits '
+                "the whole approach, contact point free)",
+                inp.analysis,
+            )
+        fit_options["fit_function"] = fit_nanite_default
+    else:
+        fit_options["fit_range"] = FitRange(inp.max_indentation_um, inp.max_force_fraction)
+        fit_options["contact_method"] = inp.contact_method
     if inp.height_channel is not None:
         fit_options["read_options"] = {"height_channel": inp.height_channel}
     result = fit_batch(files, **fit_options)
@@ -333,11 +348,12 @@ def run(ctx: CaseContext) -> CaseOutcome:
         for r in good
         if plot_name(r) in plots
     )
+    contact = f", contact by {inp.contact_method}" if inp.analysis == "default" else ""
     sections = [
         (
             "Moduli per group (mean +- SD, kPa)",
             f"{len(good)} of {len(result.rows)} curves fitted ({inp.model}, nu = {inp.nu:g}, "
-            f"contact by {inp.contact_method}); every row is in `fits.csv`.\n\n"
+            f"{inp.analysis} analysis{contact}); every row is in `fits.csv`.\n\n"
             "| group | n | E [kPa] |\n|---|---|---|\n" + stats,
         ),
         ("Curves not fitted (skipped)", failed or "none"),
