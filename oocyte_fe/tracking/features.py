@@ -12,11 +12,14 @@ interpolation between the two nearest bin centres; votes are summed over each
 of its 3 x 3 cell neighbourhood, ``h / sqrt(sum_{3x3} |h|^2 + eps)``, and truncated at 0.2.
 Dividing by the local energy makes the map invariant to a global gain (illumination drift).
 
-Grayscale histogram: the patch is standardised, ``u = (I - mean I) / std I`` (invariant to
-gain and offset of the illumination), and each pixel votes with triangular weights into
-``n_bins`` intensity bins spread evenly over ``u in [-u_max, u_max]``; the map is the
-fraction of each cell's pixels in each bin. The birefringent spindle is brighter than the
-cytoplasm, so its cells fill the upper bins while a dark lipid droplet fills the lower ones.
+Grayscale histogram: the patch is taken relative to its own median, ``u = (I / median I - 1) /
+s`` (median over every other pixel) with ``s`` = 4 % (invariant to a global gain of the
+illumination, and the median is barely moved by a spindle or a droplet covering less than half
+the window), and each pixel votes with triangular weights into ``n_bins`` intensity bins spread
+evenly over ``u in [-u_max, u_max]`` (+-10 % of the median for the defaults); the map is the
+fraction of each cell's pixels in each bin. The birefringent spindle, a few % brighter than the
+cytoplasm, fills the upper bins; a dark lipid droplet or the pipette's glass fills the lowest
+one, so an occluder changes this map strongly (and the response falls).
 """
 
 from __future__ import annotations
@@ -92,12 +95,12 @@ def _gray_votes(
 
 
 def gray_histogram_cells(
-    patch: np.ndarray, cell: int = 4, n_bins: int = 8, u_max: float = 2.5
+    patch: np.ndarray, cell: int = 4, n_bins: int = 8, spread: float = 0.04, u_max: float = 2.5
 ) -> np.ndarray:
     """Grayscale-histogram map, shape ``(H // cell, W // cell, n_bins)`` (see module doc)."""
     img = _crop(np.asarray(patch, dtype=np.float64), cell)
-    std = img.std()
-    u = (img - img.mean()) / (std if std > 0 else 1.0)
+    level = float(np.median(img[::2, ::2]))
+    u = (img / (level if level > 0 else 1.0) - 1.0) / spread
     return _gray_votes(np.ascontiguousarray(u), cell, n_bins, u_max) / (cell * cell)
 
 

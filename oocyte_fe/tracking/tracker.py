@@ -20,6 +20,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import ndimage
 
 from oocyte_fe.tracking import kcf
 from oocyte_fe.tracking.features import FEATURES
@@ -35,6 +36,7 @@ class TrackerConfig:
     cell: HOG / histogram cell size, px.  padding: window = target x (1 + padding).
     label_sigma_factor: ``sigma_y = factor sqrt(w h) / cell``, cells.
     kernel_sigma, lam: Gaussian kernel width and ridge term of :mod:`.kcf`.
+    smooth_px: Gaussian smoothing of the window before the features, px (0: none).
     adaptive: APCE fusion weights, adaptive learning rate and re-detection (MFAKCF); False
         gives a fixed learning rate ``policy.eta0`` and equal weights.
     redetect_radius: k of the ``(2k+1)^2`` re-detection grid, windows.
@@ -47,6 +49,7 @@ class TrackerConfig:
     kernel_sigma: float = 0.5
     lam: float = 1e-4
     adaptive: bool = True
+    smooth_px: float = 0.0
     redetect_radius: int = 1
     policy: UpdatePolicy = field(default_factory=UpdatePolicy)
 
@@ -58,8 +61,9 @@ class TrackerConfig:
             raise ValueError("cell must be >= 1 px and padding >= 0")
 
 
-MFAKCF = TrackerConfig()
-"""The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update."""
+MFAKCF = TrackerConfig(smooth_px=1.0)
+"""The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update; the window
+is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients)."""
 
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
@@ -94,9 +98,13 @@ def cut_window(
     """
     top = int(round(centre[1] - shape[0] / 2))
     left = int(round(centre[0] - shape[1] / 2))
+    at = (left + shape[1] / 2, top + shape[0] / 2)
+    if top >= 0 and left >= 0 and top + shape[0] <= frame.shape[0]:
+        if left + shape[1] <= frame.shape[1]:
+            return frame[top : top + shape[0], left : left + shape[1]], at
     rows = np.clip(np.arange(shape[0]) + top, 0, frame.shape[0] - 1)
     cols = np.clip(np.arange(shape[1]) + left, 0, frame.shape[1] - 1)
-    return frame[rows[:, None], cols[None, :]], (left + shape[1] / 2, top + shape[0] / 2)
+    return frame[rows[:, None], cols[None, :]], at
 
 
 class Tracker:
@@ -125,17 +133,16 @@ class Tracker:
             kcf.KcfModel.fit(xf, self.yf, config.kernel_sigma, config.lam) for xf in feats
         ]
         self.history = ReliabilityHistory(config.policy)
-        responses = [m.respond(xf) for m, xf in zip(self.models, feats, strict=True)]
-        self.apce_ref = np.array([apce(r) for r in responses])
-        self.apce_n = 1
-        fused = fuse(responses, np.full(len(responses), 1.0 / len(responses)))
-        self.history.accept(float(fused.max()), apce(fused), 1.0)
+        self.apce_ref = np.zeros(len(feats))
+        self.apce_n = 0
 
     def _features(
         self, frame: np.ndarray, centre: tuple[float, float]
     ) -> tuple[list[np.ndarray], tuple[float, float]]:
         """Feature DFTs of the window about ``centre`` and the window's exact centre, px."""
         patch, at = cut_window(frame, centre, self.shape)
+        if self.config.smooth_px > 0:
+            patch = ndimage.gaussian_filter(patch, self.config.smooth_px)
         feats = [
             kcf.fft_features(FEATURES[name](patch, self.config.cell) * self.cos)
             for name in self.config.features
@@ -148,7 +155,8 @@ class Tracker:
         responses = [m.respond(zf) for m, zf in zip(self.models, feats, strict=True)]
         apces = np.array([apce(r) for r in responses])
         if self.config.adaptive:
-            weights = fusion_weights(apces, self.apce_ref / self.apce_n)
+            ref = self.apce_ref / self.apce_n if self.apce_n else apces
+            weights = fusion_weights(apces, ref)
         else:
             weights = np.full(len(responses), 1.0 / len(responses))
         fused = fuse(responses, weights)
@@ -189,10 +197,10 @@ class Tracker:
                 self.lost = False
                 self.centre = new
                 eta = self.history.learning_rate(r)
-                self.history.accept(peak, a, r)
-                if r >= 1.0:
+                if r >= 1.0 or self.history.n < cfg.policy.warmup:
                     self.apce_ref = self.apce_ref + apces
                     self.apce_n += 1
+                self.history.accept(peak, a, r)
         else:
             self.centre = new
             eta = cfg.policy.eta0

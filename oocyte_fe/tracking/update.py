@@ -37,6 +37,7 @@ class UpdatePolicy:
     r_stop: float = 0.6
     r_lost: float = 0.5
     r_found: float = 0.8
+    warmup: int = 5
 
     def __post_init__(self) -> None:
         if not 0 <= self.eta0 <= 1:
@@ -56,7 +57,7 @@ class ReliabilityHistory:
 
     def reliability(self, peak: float, apce_value: float) -> float:
         """``r`` of the module doc; 1 before any frame has been accepted."""
-        if self.n == 0:
+        if self.n < self.policy.warmup:
             return 1.0
         rp = peak * self.n / max(self.peak_sum, 1e-12) / self.policy.beta_peak
         ra = apce_value * self.n / max(self.apce_sum, 1e-12) / self.policy.beta_apce
@@ -68,8 +69,9 @@ class ReliabilityHistory:
         return p.eta0 * float(np.clip((r - p.r_stop) / (1.0 - p.r_stop), 0.0, 1.0))
 
     def accept(self, peak: float, apce_value: float, r: float) -> None:
-        """Add a frame to the running means if it is fully reliable (``r >= 1``)."""
-        if r >= 1.0:
+        """Add a frame to the running means if it is fully reliable (``r >= 1``); the first
+        ``policy.warmup`` frames are taken as they come (they set the reference)."""
+        if r >= 1.0 or self.n < self.policy.warmup:
             self.n += 1
             self.peak_sum += peak
             self.apce_sum += apce_value
