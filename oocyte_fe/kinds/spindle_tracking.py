@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.tracking import benchmark as bench
-from oocyte_fe.tracking.plots import plot_precision_success
+from oocyte_fe.tracking.plots import plot_precision_success, pooled
 from oocyte_fe.tracking.synthetic import benchmark_grid
 from oocyte_fe.tracking.tracker import MFAKCF, SINGLE_KCF
 
@@ -88,7 +88,9 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("speed test")
     fps = bench.fps_at_window(MFAKCF, inp.fps_window_px)
     fps_kcf = bench.fps_at_window(SINGLE_KCF, inp.fps_window_px)
-    plot_precision_success(ctx.output("precision_success.png"), result, f"{len(specs)} sequences")
+    plot_precision_success(
+        ctx.output("precision_success.png"), pooled(result), f"{len(specs)} sequences"
+    )
     m = {
         "precision_20px": ours["precision_20px"],
         "precision_2um": ours["precision_2um"],

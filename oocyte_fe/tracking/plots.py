@@ -14,13 +14,25 @@ from oocyte_fe.tracking import metrics
 from oocyte_fe.tracking.benchmark import BenchmarkResult
 
 
-def plot_precision_success(path: Path, result: BenchmarkResult, title: str = "") -> None:
-    """Precision-threshold curve (as seed 000, Fig. 11) and success plot, pooled frames."""
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+def pooled(result: BenchmarkResult) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Per tracker: centre errors (px) and overlaps of all frames of all sequences."""
+    out = {}
     for name in result.trackers:
         chosen = result.select(name)
-        e = np.concatenate([s.errors_px for s in chosen])
-        o = np.concatenate([s.overlaps for s in chosen])
+        out[name] = (
+            np.concatenate([s.errors_px for s in chosen]),
+            np.concatenate([s.overlaps for s in chosen]),
+        )
+    return out
+
+
+def plot_precision_success(
+    path: Path, curves: dict[str, tuple[np.ndarray, np.ndarray]], title: str = ""
+) -> None:
+    """Precision-threshold curve (as seed 000, Fig. 11) and success plot per tracker, from
+    its centre errors (px) and overlaps."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    for name, (e, o) in curves.items():
         p = metrics.precision_curve(e)
         s = metrics.success_curve(o)
         ax1.plot(metrics.PRECISION_THRESHOLDS_PX, p, label=f"{name} [{p[20]:.3f}]")
