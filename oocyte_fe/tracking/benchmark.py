@@ -124,6 +124,15 @@ def run_benchmark(
             for name in ("KCF", "CSRT"):
                 boxes, fps = track_opencv(name, seq.frames, box)
                 scores.append(_score(f"OpenCV {name}", seq, boxes, fps))
+        notify(
+            "  "
+            + "; ".join(
+                f"{s.tracker}: P20 {metrics.precision_at(s.errors_px):.3f}, "
+                f"S {metrics.success_rate(s.overlaps):.3f}, {s.fps:.0f} fps"
+                for s in scores
+                if s.sequence == spec.name
+            )
+        )
     return BenchmarkResult(scores, kept, api, names)
 
 
