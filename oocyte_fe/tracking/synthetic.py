@@ -106,10 +106,21 @@ class Sequence:
     frames: np.ndarray
     boxes: np.ndarray
     occluded: np.ndarray
+    field_centre_um: tuple[float, float] = (0.0, 0.0)
 
     @property
     def centres_px(self) -> np.ndarray:
         return self.boxes[:, :2] + 0.5 * self.boxes[:, 2:]
+
+    def to_paper_um(self, px: np.ndarray) -> np.ndarray:
+        """Image points (x, y) px to the paper frame of :mod:`nmsd.spindle`, um:
+        ``x_w = (x - W/2) p + c_x``, ``y_w = (H/2 - y) p + c_y``, ``X = R - x_w``, ``Y = y_w``."""
+        pts = np.atleast_2d(np.asarray(px, dtype=float))
+        h, w = self.spec.shape
+        p = self.spec.pixel_um
+        xw = (pts[:, 0] - w / 2) * p + self.field_centre_um[0]
+        yw = (h / 2 - pts[:, 1]) * p + self.field_centre_um[1]
+        return np.column_stack([CELL_DIAMETER_UM / 2 - xw, yw])
 
 
 @functools.lru_cache(maxsize=1)
@@ -227,14 +238,21 @@ def gt_box(centre_px: np.ndarray, theta: float, length_px: float, width_px: floa
     return np.array([centre_px[0] - ex, centre_px[1] - ey, 2 * ex, 2 * ey])
 
 
-def generate(spec: SequenceSpec) -> Sequence:
-    """Render a sequence (see the module doc for every assumption)."""
+def generate(spec: SequenceSpec, path: tuple[np.ndarray, np.ndarray] | None = None) -> Sequence:
+    """Render a sequence (see the module doc for every assumption).
+
+    ``path``: the spindle's own path as (advance fraction s (k,), points (k, 2) in the paper
+    frame, um), used as it is; default the cached NMSD path scaled to ``displacement_um``.
+    """
     rng = np.random.default_rng(spec.seed)
-    s_path, path = nmsd_spindle_path()
+    given = path is not None
+    s_path, points = path if given else nmsd_spindle_path()
+    points = np.asarray(points, dtype=float)
     radius = CELL_DIAMETER_UM / 2
-    start_paper = path[0]
-    scale = spec.displacement_um / max(float(np.linalg.norm(path[-1] - path[0])), 1e-9)
-    paper_path = start_paper + scale * (path - start_paper)
+    start_paper = points[0]
+    moved = max(float(np.linalg.norm(points[-1] - points[0])), 1e-9)
+    scale = 1.0 if given else spec.displacement_um / moved
+    paper_path = start_paper + scale * (points - start_paper)
     world_path = np.column_stack([radius - paper_path[:, 0], paper_path[:, 1]])
     start_world = world_path[0]
     end_world = world_path[-1]
@@ -293,7 +311,7 @@ def generate(spec: SequenceSpec) -> Sequence:
         c_px = scene.to_px(spindle_world[k])[0]
         # image rows point down: the angle flips sign
         boxes[k] = gt_box(c_px, -theta[k], length[k] / spec.pixel_um, width[k] / spec.pixel_um)
-    return Sequence(spec, frames, boxes, occluded)
+    return Sequence(spec, frames, boxes, occluded, (float(centre_world[0]), float(centre_world[1])))
 
 
 def _droplet_tracks(
