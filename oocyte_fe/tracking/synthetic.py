@@ -32,9 +32,9 @@ Assumptions (each a choice, documented in docs/tracking.md):
   seed 000, Section III.B reports 35 um on average in the tracking experiment). The pipette (20
   um outer width, 1.5 um dark glass walls, tip angle 45 deg) enters the field from the right
   over the first ``enter_frames`` frames, then advances from the puncture point over
-  ``approach_frames`` frames to 8 um short of the spindle's final position (the NMSD run stops
-  at the spindle's initial point; with the displacement scaled up the mouth follows the spindle
-  instead), then holds.
+  ``approach_frames`` frames to the spindle's initial point, as in the NMSD scenario of
+  :mod:`nmsd.spindle`, then holds (with the displacement scaled up, the spindle ends further
+  ahead of the mouth than the model's own push would put it).
 - Occlusion: ``n_occluders`` lipid droplets (radius 3.5-5.5 um, dark core at 0.55 B with a
   bright 0.6 um refractive rim) drift straight across the spindle, covering its centre for about
   ``occlusion_frames`` frames each; the droplet lies above the spindle (it replaces the image
@@ -63,8 +63,6 @@ SPINDLE_INITIAL_UM = (15.8718, 18.1392)
 ZP_THICKNESS_UM = 12.0
 PIPETTE_WIDTH_UM = 20.0
 PIPETTE_WALL_UM = 1.5
-MOUTH_GAP_UM = 8.0
-"""The mouth stops this far short of the spindle's final position, um."""
 
 
 @dataclass(frozen=True)
@@ -264,9 +262,7 @@ def generate(spec: SequenceSpec, path: tuple[np.ndarray, np.ndarray] | None = No
     s = np.clip((t - spec.enter_frames) / spec.approach_frames, 0.0, 1.0)
     spindle_world = np.column_stack([np.interp(s, s_path, world_path[:, k]) for k in range(2)])
     puncture = np.array([radius, 0.0])
-    ahead = end_world - puncture
-    mouth_end = end_world - MOUTH_GAP_UM * ahead / np.linalg.norm(ahead)
-    axis = mouth_end - puncture
+    axis = start_world - puncture
     travel = float(np.linalg.norm(axis))
     axis /= travel
     entry = np.clip(t / max(spec.enter_frames, 1), 0.0, 1.0)
