@@ -61,8 +61,9 @@ METRICS = {
     "success_gain_all_pct": "MFAKCF over KCF (HOG), success rate, all sequences, %",
     "precision_gain_occlusion_pct": "MFAKCF over KCF (HOG), precision, occlusion sequences, %",
     "precision_gain_light_pct": "MFAKCF over KCF (HOG), precision, light-drift sequences, %",
-    "fps_window": "MFAKCF frames per second at the speed-test window, one core, frames/s",
-    "kcf_fps_window": "KCF (HOG) frames per second at the speed-test window, frames/s",
+    "fps_window": "MFAKCF frames per CPU second at the speed-test window, one core, frames/s",
+    "fps_window_wall": "MFAKCF frames per wall-clock second at the speed-test window, frames/s",
+    "kcf_fps_window": "KCF (HOG) frames per CPU second at the speed-test window, frames/s",
 }
 
 
@@ -86,8 +87,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
     kcf = result.summary("KCF (HOG)")
     gains = bench.gains(result)
     ctx.step("speed test")
-    fps = bench.fps_at_window(MFAKCF, inp.fps_window_px)
-    fps_kcf = bench.fps_at_window(SINGLE_KCF, inp.fps_window_px)
+    fps, fps_wall = bench.fps_at_window(MFAKCF, inp.fps_window_px)
+    fps_kcf, _ = bench.fps_at_window(SINGLE_KCF, inp.fps_window_px)
     plot_precision_success(
         ctx.output("precision_success.png"), pooled(result), f"{len(specs)} sequences"
     )
@@ -99,6 +100,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "kcf_precision_20px": kcf["precision_20px"],
         "kcf_success_rate": kcf["success_rate"],
         "fps_window": fps,
+        "fps_window_wall": fps_wall,
         "kcf_fps_window": fps_kcf,
         **gains,
     }
@@ -142,7 +144,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 f"sequences: {', '.join(s.name for s in specs)}; {inp.n_frames} frames each; "
                 f"OpenCV: {result.opencv or 'not installed or not asked'}; "
                 f"1-min load average during the run {load:.1f} on {os.cpu_count()} cores "
-                "(fps are measured wall-clock and fall with the load).",
+                "(the speed goal is checked on frames per CPU second of the process; "
+                "the table's fps are wall-clock and fall with the load).",
             ),
         ],
         checks=checks,
