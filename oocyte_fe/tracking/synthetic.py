@@ -30,7 +30,7 @@ Assumptions (each a choice, documented in docs/tracking.md):
   across, :class:`nmsd.parameters.NmsdParameters` defaults) as a function of the pipette's
   advance; its displacement is scaled to ``displacement_um`` (the model's own is about 5 um;
   seed 000, Section III.B reports 35 um on average in the tracking experiment). The pipette (20
-  um outer width, 1.5 um dark glass walls, tip angle 45 deg) enters the field from the right
+  um outer width, 1.5 um dark glass walls, blunt mouth) enters the field from the right
   over the first ``enter_frames`` frames, then advances from the puncture point over
   ``approach_frames`` frames to the spindle's initial point, as in the NMSD scenario of
   :mod:`nmsd.spindle`, then holds (with the displacement scaled up, the spindle ends further
@@ -216,16 +216,16 @@ def _spindle(
 
 
 def _pipette(image: np.ndarray, scene: _Scene, mouth: np.ndarray, axis: np.ndarray) -> None:
-    """Darken the pipette's glass walls behind the mouth (axis points into the cell)."""
+    """Draw the pipette behind the mouth (axis points into the cell), in place: its glass
+    walls dark (0.45 B), the mouth's rim across the opening darkened by 20 %."""
     xi = -((scene.x - mouth[0]) * axis[0] + (scene.y - mouth[1]) * axis[1])
     eta = np.abs(-(scene.x - mouth[0]) * axis[1] + (scene.y - mouth[1]) * axis[0])
     half = 0.5 * PIPETTE_WIDTH_UM
-    taper = np.tan(np.radians(22.5))
-    wall = (eta <= half) & (eta >= half - PIPETTE_WALL_UM) & (xi >= -(half - eta) * 0)
-    bevel = (xi >= 0) & (xi <= (half - eta) * taper + PIPETTE_WALL_UM) & (eta <= half)
-    body = (xi >= 0) & wall
+    behind = xi >= 0
+    body = behind & (eta <= half) & (eta >= half - PIPETTE_WALL_UM)
+    rim = behind & (xi <= PIPETTE_WALL_UM) & (eta <= half) & ~body
     image[body] = 0.45
-    image[bevel & ~body & (xi <= PIPETTE_WALL_UM)] *= 0.8
+    image[rim] *= 0.8
 
 
 def gt_box(centre_px: np.ndarray, theta: float, length_px: float, width_px: float) -> np.ndarray:
