@@ -9,7 +9,7 @@ gradient ``g = (d I/dx, d I/dy)`` by central differences, magnitude ``|g|`` and 
 orientation ``theta = atan2(gy, gx) mod pi`` voted into ``n_orient`` bins with linear
 interpolation between the two nearest bin centres; votes are summed over each
 ``cell x cell`` block; each cell histogram ``h`` is divided by the root of the gradient energy
-of its 3 x 3 cell neighbourhood, ``h / sqrt(sum_{3x3} |h|^2 + eps)``, and truncated at 0.2.
+of its 3 x 3 cell neighbourhood, ``h / sqrt(mean_{3x3} |h|^2 + eps)``, and truncated at 0.2.
 Dividing by the local energy makes the map invariant to a global gain (illumination drift).
 
 Grayscale histogram: the patch is taken relative to its own median, ``u = (I / median I - 1) /
