@@ -16,10 +16,13 @@ Grayscale histogram: the patch is taken relative to its own median, ``u = (I / m
 s`` (median over every other pixel) with ``s`` = 4 % (invariant to a global gain of the
 illumination, and the median is barely moved by a spindle or a droplet covering less than half
 the window), and each pixel votes with triangular weights into ``n_bins`` intensity bins spread
-evenly over ``u in [-u_max, u_max]`` (+-10 % of the median for the defaults); the map is the
-fraction of each cell's pixels in each bin. The birefringent spindle, a few % brighter than the
-cytoplasm, fills the upper bins; a dark lipid droplet or the pipette's glass fills the lowest
-one, so an occluder changes this map strongly (and the response falls).
+evenly over ``u in [-u_max, u_max]`` (+-10 % of the median for the defaults); pixels outside
+that band do not vote. The map is the fraction of each cell's pixels in each bin. The
+birefringent spindle, a few % brighter than the cytoplasm, fills the upper bins; a dark lipid
+droplet, the pipette's glass or the bright zona fall outside the band and leave their cells
+empty, so they neither dominate the template (a first version clipped them into the end bins,
+and the tracker then stayed with a static droplet beside a faint spindle) nor look like the
+spindle, and an occluder empties the spindle's cells (the response falls).
 """
 
 from __future__ import annotations
@@ -86,7 +89,9 @@ def _gray_votes(
     scale = (n_bins - 1) / (2.0 * u_max)
     for i in range(h):
         for j in range(w):
-            pos = (min(max(u[i, j], -u_max), u_max) + u_max) * scale
+            if u[i, j] < -u_max or u[i, j] > u_max:
+                continue  # out of band: a droplet, the pipette's glass, the zona
+            pos = (u[i, j] + u_max) * scale
             lo = min(int(np.floor(pos)), n_bins - 2)
             frac = pos - lo
             hist[i // cell, j // cell, lo] += 1.0 - frac
