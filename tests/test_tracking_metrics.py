@@ -108,3 +108,22 @@ def test_spindle_tracking_rejects_unknown_sequence(tmp_path: Path) -> None:
     )
     with pytest.raises(InputError, match="inputs.sequences"):
         run(ctx)
+
+
+def test_benchmark_summary_pools_frames_and_gains() -> None:
+    """Two short sequences, our two trackers: the summary is the metric over the pooled
+    frames, the gain is 100 (a - b) / b, and the table has one row per tracker and group."""
+    from oocyte_fe.tracking import benchmark as bench
+
+    specs = [replace(SMALL, name="a", n_occluders=0, light_drift=0.0), replace(SMALL, name="b")]
+    result = bench.run_benchmark(specs, use_opencv=False)
+    chosen = result.select("MFAKCF")
+    errors = np.concatenate([s.errors_px for s in chosen])
+    summary = result.summary("MFAKCF")
+    assert summary["precision_20px"] == metrics.precision_at(errors, 20.0)
+    assert summary["n_frames"] == 2 * SMALL.n_frames
+    assert result.summary("MFAKCF", bench.is_occlusion)["n_frames"] == SMALL.n_frames
+    a, b = summary["precision_20px"], result.summary("KCF (HOG)")["precision_20px"]
+    assert bench.gains(result)["precision_gain_all_pct"] == pytest.approx(100 * (a - b) / b)
+    assert bench.gain_pct(0.5, 0.25) == pytest.approx(100.0)
+    assert bench.table(result).count("| MFAKCF |") == 3
