@@ -1,0 +1,65 @@
+"""Figures of the tracking benchmark: OTB precision and success plots, a trajectory (Agg)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from oocyte_fe.tracking import metrics
+from oocyte_fe.tracking.benchmark import BenchmarkResult
+
+
+def pooled(result: BenchmarkResult) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Per tracker: centre errors (px) and overlaps of all frames of all sequences."""
+    out = {}
+    for name in result.trackers:
+        chosen = result.select(name)
+        out[name] = (
+            np.concatenate([s.errors_px for s in chosen]),
+            np.concatenate([s.overlaps for s in chosen]),
+        )
+    return out
+
+
+def plot_precision_success(
+    path: Path, curves: dict[str, tuple[np.ndarray, np.ndarray]], title: str = ""
+) -> None:
+    """Precision-threshold curve (as seed 000, Fig. 11) and success plot per tracker, from
+    its centre errors (px) and overlaps."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    for name, (e, o) in curves.items():
+        p = metrics.precision_curve(e)
+        s = metrics.success_curve(o)
+        ax1.plot(metrics.PRECISION_THRESHOLDS_PX, p, label=f"{name} [{p[20]:.3f}]")
+        ax2.plot(metrics.SUCCESS_THRESHOLDS, s, label=f"{name} [AUC {np.mean(s):.3f}]")
+    ax1.axvline(20, color="0.7", lw=0.8)
+    ax1.set(xlabel="centre error threshold (px)", ylabel="precision", ylim=(0, 1.02))
+    ax2.set(xlabel="overlap threshold (IoU)", ylabel="success rate", ylim=(0, 1.02))
+    ax1.legend(fontsize=8)
+    ax2.legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_trajectory(
+    path: Path, centres_um: np.ndarray, truth_um: np.ndarray | None = None, label: str = ""
+) -> None:
+    """Tracked centre path (um, image axes: y down) and the ground truth if given."""
+    fig, ax = plt.subplots(figsize=(5, 5))
+    if truth_um is not None:
+        ax.plot(truth_um[:, 0], truth_um[:, 1], color="0.5", lw=2, label="ground truth")
+    ax.plot(centres_um[:, 0], centres_um[:, 1], color="C3", lw=1, label=label or "tracked")
+    ax.invert_yaxis()
+    ax.set(xlabel="x (um)", ylabel="y (um)", aspect="equal")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

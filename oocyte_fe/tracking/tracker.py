@@ -1,0 +1,268 @@
+"""The MFAKCF tracker (seed 000, Algorithm 1) and the single-feature KCF it is compared with.
+
+Per frame (Algorithm 1, lines 5-9): cut the search window (target box x (1 + padding)) at the
+last position, compute each feature map (:mod:`.features`) under the cosine window, answer
+each feature's filter (:mod:`.kcf`), fuse the responses with APCE weights (:mod:`.fusion`),
+move to the sub-cell peak, then cut the window again at the new position and update each
+filter with the adaptive learning rate (:mod:`.update`). When the reliability falls below
+``r_lost`` the target is lost: the position is held and each frame a grid of
+``(2 k + 1)^2`` windows, spaced half a window apart around the last position, is searched;
+the best candidate is taken back when its reliability reaches ``r_found``.
+
+With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
+seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
+size is fixed (no scale search), as in KCF.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage
+
+from oocyte_fe.tracking import kcf
+from oocyte_fe.tracking.features import FEATURES
+from oocyte_fe.tracking.fusion import apce, fuse, fusion_weights
+from oocyte_fe.tracking.update import ReliabilityHistory, UpdatePolicy
+
+
+@dataclass(frozen=True)
+class TrackerConfig:
+    """Tracker settings (lengths in pixels or cells; Henriques et al. 2015 HOG defaults).
+
+    features: feature names of :data:`.features.FEATURES`, each with its own filter.
+    cell: HOG / histogram cell size, px.  padding: window = target x (1 + padding).
+    label_sigma_factor: ``sigma_y = factor sqrt(w h) / cell``, cells.
+    kernel_sigma, lam: Gaussian kernel width and ridge term of :mod:`.kcf`.
+    smooth_px: Gaussian smoothing of the window before the features, px (0: none).
+    adaptive: APCE fusion weights, adaptive learning rate and re-detection (MFAKCF); False
+        gives a fixed learning rate ``policy.eta0`` and equal weights.
+    redetect_radius: k of the ``(2k+1)^2`` re-detection grid, windows.
+    """
+
+    features: tuple[str, ...] = ("hog", "gray")
+    cell: int = 4
+    padding: float = 1.5
+    label_sigma_factor: float = 0.1
+    kernel_sigma: float = 0.5
+    lam: float = 1e-4
+    adaptive: bool = True
+    smooth_px: float = 0.0
+    redetect_radius: int = 1
+    policy: UpdatePolicy = field(default_factory=UpdatePolicy)
+
+    def __post_init__(self) -> None:
+        unknown = [f for f in self.features if f not in FEATURES]
+        if unknown or not self.features:
+            raise ValueError(f"features must be among {sorted(FEATURES)}, got {self.features}")
+        if self.cell < 1 or self.padding < 0:
+            raise ValueError("cell must be >= 1 px and padding >= 0")
+
+
+MFAKCF = TrackerConfig(smooth_px=1.0)
+"""The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update; the window
+is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients)."""
+
+SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
+"""The seed's "original KCF": HOG only, fixed learning rate 0.02."""
+
+
+@dataclass(frozen=True)
+class FrameEstimate:
+    """What the tracker says about one frame (px; reliability r of :mod:`.update`)."""
+
+    centre: tuple[float, float]
+    box: tuple[float, float, float, float]
+    reliability: float
+    learning_rate: float
+    weights: tuple[float, ...]
+    lost: bool
+
+
+def window_shape(box_wh: tuple[float, float], padding: float, cell: int) -> tuple[int, int]:
+    """Search window (rows, cols) px: target x (1 + padding), a multiple of cell, >= 4 cells."""
+    w, h = box_wh
+    rows = max(4 * cell, int(round(h * (1 + padding) / cell)) * cell)
+    cols = max(4 * cell, int(round(w * (1 + padding) / cell)) * cell)
+    return rows, cols
+
+
+def cut_window(
+    frame: np.ndarray, centre: tuple[float, float], shape: tuple[int, int]
+) -> tuple[np.ndarray, tuple[float, float]]:
+    """Window of ``shape`` about (x, y) px on whole pixels, and its exact centre (x, y) px.
+
+    Pixels outside the frame repeat the edge.
+    """
+    top = int(round(centre[1] - shape[0] / 2))
+    left = int(round(centre[0] - shape[1] / 2))
+    at = (left + shape[1] / 2, top + shape[0] / 2)
+    if top >= 0 and left >= 0 and top + shape[0] <= frame.shape[0]:
+        if left + shape[1] <= frame.shape[1]:
+            return frame[top : top + shape[0], left : left + shape[1]], at
+    rows = np.clip(np.arange(shape[0]) + top, 0, frame.shape[0] - 1)
+    cols = np.clip(np.arange(shape[1]) + left, 0, frame.shape[1] - 1)
+    return frame[rows[:, None], cols[None, :]], at
+
+
+class Tracker:
+    """Single-target tracker (see module doc); ``Tracker(frame0, box0).step(frame)``."""
+
+    def __init__(
+        self,
+        frame: np.ndarray,
+        box: tuple[float, float, float, float],
+        config: TrackerConfig = MFAKCF,
+    ) -> None:
+        x, y, w, h = (float(v) for v in box)
+        if w <= 0 or h <= 0:
+            raise ValueError(f"box width and height must be > 0 px, got {box}")
+        self.config = config
+        self.size = (w, h)
+        self.centre = (x + w / 2, y + h / 2)
+        self.shape = window_shape(self.size, config.padding, config.cell)
+        grid = (self.shape[0] // config.cell, self.shape[1] // config.cell)
+        self.cos = kcf.cosine_window(grid)[..., None]
+        sigma_y = config.label_sigma_factor * np.sqrt(w * h) / config.cell
+        self.yf = np.fft.fft2(kcf.gaussian_labels(grid, sigma_y))
+        self.lost = False
+        feats, _ = self._features(np.asarray(frame, dtype=np.float64), self.centre)
+        self.models = [
+            kcf.KcfModel.fit(xf, self.yf, config.kernel_sigma, config.lam) for xf in feats
+        ]
+        self.history = ReliabilityHistory(config.policy)
+        self.apce_ref = np.zeros(len(feats))
+        self.apce_n = 0
+
+    def _features(
+        self, frame: np.ndarray, centre: tuple[float, float]
+    ) -> tuple[list[np.ndarray], tuple[float, float]]:
+        """Feature DFTs of the window about ``centre`` and the window's exact centre, px."""
+        patch, at = cut_window(frame, centre, self.shape)
+        if self.config.smooth_px > 0:
+            patch = ndimage.gaussian_filter(patch, self.config.smooth_px)
+        feats = [
+            kcf.fft_features(FEATURES[name](patch, self.config.cell) * self.cos)
+            for name in self.config.features
+        ]
+        return feats, at
+
+    def _detect(self, frame: np.ndarray, centre: tuple[float, float]):
+        """Fused response at ``centre``: (new centre, peak, APCE, r, weights, feature APCEs)."""
+        feats, at = self._features(frame, centre)
+        responses = [m.respond(zf) for m, zf in zip(self.models, feats, strict=True)]
+        apces = np.array([apce(r) for r in responses])
+        if self.config.adaptive:
+            ref = self.apce_ref / self.apce_n if self.apce_n else apces
+            weights = fusion_weights(apces, ref)
+        else:
+            weights = np.full(len(responses), 1.0 / len(responses))
+        fused = fuse(responses, weights)
+        dy, dx, peak = kcf.subpixel_peak(fused)
+        cell = self.config.cell
+        new = (at[0] + dx * cell, at[1] + dy * cell)
+        a = apce(fused)
+        return new, peak, a, self.history.reliability(peak, a), weights, apces
+
+    def _redetect(self, frame: np.ndarray):
+        """Best of the ``(2k+1)^2`` windows around the held position (module doc)."""
+        k = self.config.redetect_radius
+        step_y, step_x = self.shape[0] / 2, self.shape[1] / 2
+        best = None
+        for i in range(-k, k + 1):
+            for j in range(-k, k + 1):
+                c = (self.centre[0] + j * step_x, self.centre[1] + i * step_y)
+                cand = self._detect(frame, c)
+                if best is None or cand[3] > best[3]:
+                    best = cand
+        return best
+
+    def step(self, frame: np.ndarray) -> FrameEstimate:
+        """Track one frame (Algorithm 1, lines 5-9)."""
+        frame = np.asarray(frame, dtype=np.float64)
+        cfg = self.config
+        if self.lost:
+            new, peak, a, r, weights, apces = self._redetect(frame)
+        else:
+            new, peak, a, r, weights, apces = self._detect(frame, self.centre)
+        if cfg.adaptive:
+            if self.lost and r < cfg.policy.r_found:
+                eta = 0.0
+            elif r < cfg.policy.r_lost:
+                self.lost = True
+                eta = 0.0
+            else:
+                self.lost = False
+                self.centre = new
+                eta = self.history.learning_rate(r)
+                if r >= 1.0 or self.history.n < cfg.policy.warmup:
+                    self.apce_ref = self.apce_ref + apces
+                    self.apce_n += 1
+                self.history.accept(peak, a, r)
+        else:
+            self.centre = new
+            eta = cfg.policy.eta0
+        if eta > 0:
+            feats, _ = self._features(frame, self.centre)
+            for model, xf in zip(self.models, feats, strict=True):
+                model.update(xf, self.yf, eta)
+        w, h = self.size
+        box = (self.centre[0] - w / 2, self.centre[1] - h / 2, w, h)
+        return FrameEstimate(self.centre, box, r, eta, tuple(weights), self.lost)
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """A tracked sequence: boxes (T, 4) px as (x, y, w, h), per-frame reliability, rate."""
+
+    boxes: np.ndarray
+    reliability: np.ndarray
+    learning_rate: np.ndarray
+    weights: np.ndarray
+    lost: np.ndarray
+    seconds: float
+    cpu_seconds: float = 0.0
+
+    @property
+    def centres(self) -> np.ndarray:
+        """Box centres (T, 2) px as (x, y)."""
+        return self.boxes[:, :2] + 0.5 * self.boxes[:, 2:]
+
+    @property
+    def fps(self) -> float:
+        """Frames per wall-clock second of the tracking loop (frame 0 excluded)."""
+        n = len(self.boxes) - 1
+        return n / self.seconds if self.seconds > 0 else float("inf")
+
+    @property
+    def cpu_fps(self) -> float:
+        """Frames per second of this process's CPU time (what one core does, whatever else
+        the machine runs)."""
+        n = len(self.boxes) - 1
+        return n / self.cpu_seconds if self.cpu_seconds > 0 else float("inf")
+
+
+def track(
+    frames: np.ndarray, box: tuple[float, float, float, float], config: TrackerConfig = MFAKCF
+) -> TrackResult:
+    """Track a (T, H, W) sequence from the box (x, y, w, h) px on frame 0."""
+    tracker = Tracker(frames[0], box, config)
+    n_feat = len(config.features)
+    out = [FrameEstimate(tracker.centre, tuple(box), 1.0, 0.0, (1.0 / n_feat,) * n_feat, False)]
+    t0 = time.perf_counter()
+    c0 = time.process_time()
+    for frame in frames[1:]:
+        out.append(tracker.step(frame))
+    seconds = time.perf_counter() - t0
+    cpu_seconds = time.process_time() - c0
+    return TrackResult(
+        boxes=np.array([e.box for e in out], dtype=float),
+        reliability=np.array([e.reliability for e in out]),
+        learning_rate=np.array([e.learning_rate for e in out]),
+        weights=np.array([e.weights for e in out]),
+        lost=np.array([e.lost for e in out]),
+        seconds=seconds,
+        cpu_seconds=cpu_seconds,
+    )

@@ -1,0 +1,132 @@
+"""Frames in and out: TIFF stacks (tifffile), videos and GIFs (imageio), the pixel size and
+frame rate that turn pixel tracks into um and seconds, and the per-frame track CSV.
+
+Frames come in as a float64 array (T, H, W); colour frames are averaged over their channels.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from oocyte_fe.errors import InputError
+
+TIFF_SUFFIXES = (".tif", ".tiff")
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """Pixel size (um/px) and frame rate (frames/s) of a recording."""
+
+    pixel_um: float
+    fps: float
+
+    def __post_init__(self) -> None:
+        if not self.pixel_um > 0 or not self.fps > 0:
+            raise ValueError(f"pixel_um and fps must be > 0, got {self.pixel_um}, {self.fps}")
+
+    def to_um(self, px: np.ndarray) -> np.ndarray:
+        """Positions or lengths in px to um: ``x_um = x_px * pixel_um``."""
+        return np.asarray(px, dtype=float) * self.pixel_um
+
+    def times_s(self, n_frames: int) -> np.ndarray:
+        """Frame times ``t_k = k / fps``, s."""
+        return np.arange(n_frames) / self.fps
+
+
+def read_frames(path: str | Path) -> np.ndarray:
+    """A TIFF stack, a video or an animated GIF as a float (T, H, W) array."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "", "an existing TIFF stack, video or GIF file")
+    try:
+        if path.suffix.lower() in TIFF_SUFFIXES:
+            import tifffile
+
+            frames = tifffile.imread(path)
+        else:
+            import imageio.v3 as iio
+
+            frames = iio.imread(path, index=None)
+    except Exception as exc:  # the readers raise many types for unreadable files
+        raise InputError(path, "", "a readable TIFF stack, video or GIF", str(exc)) from None
+    frames = np.asarray(frames, dtype=np.float64)
+    if frames.ndim == 4:
+        frames = frames[..., :3].mean(axis=-1)
+    if frames.ndim != 3 or frames.shape[0] < 2:
+        raise InputError(path, "", "at least 2 grayscale or colour frames", frames.shape)
+    return frames
+
+
+def write_tiff(path: str | Path, frames: np.ndarray) -> None:
+    """Write a (T, H, W) stack as 16-bit TIFF (values clipped to 0..65535)."""
+    import tifffile
+
+    data = np.clip(np.round(frames), 0, 65535).astype(np.uint16)
+    tifffile.imwrite(path, data, photometric="minisblack")
+
+
+def write_track_csv(
+    path: str | Path,
+    boxes_px: np.ndarray,
+    confidence: np.ndarray,
+    calibration: Calibration,
+) -> None:
+    """One row per frame: time (s), box x, y, w, h (px), centre (px and um), confidence."""
+    centres = boxes_px[:, :2] + 0.5 * boxes_px[:, 2:]
+    centres_um = calibration.to_um(centres)
+    times = calibration.times_s(len(boxes_px))
+    with open(path, "w", newline="") as fh:
+        out = csv.writer(fh)
+        out.writerow(
+            ["frame", "time_s", "x_px", "y_px", "w_px", "h_px", "cx_px", "cy_px", "cx_um",
+             "cy_um", "confidence"]
+        )  # fmt: skip
+        for k, (box, c, c_um, conf) in enumerate(
+            zip(boxes_px, centres, centres_um, confidence, strict=True)
+        ):
+            out.writerow(
+                [k, f"{times[k]:.6g}", *(f"{v:.3f}" for v in box), f"{c[0]:.3f}",
+                 f"{c[1]:.3f}", f"{c_um[0]:.4f}", f"{c_um[1]:.4f}", f"{conf:.4f}"]
+            )  # fmt: skip
+
+
+def read_boxes_csv(path: str | Path) -> np.ndarray:
+    """Boxes (T, 4) px from a CSV with columns x_px, y_px, w_px, h_px (a track or truth file)."""
+    path = Path(path)
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+        return np.array([[float(r[k]) for k in ("x_px", "y_px", "w_px", "h_px")] for r in rows])
+    except (OSError, KeyError, ValueError) as exc:
+        raise InputError(
+            path, "x_px, y_px, w_px, h_px", "a CSV with these columns", str(exc)
+        ) from None
+
+
+def write_overlay_gif(
+    path: str | Path, frames: np.ndarray, boxes_px: np.ndarray, every: int = 1, fps: float = 10.0
+) -> None:
+    """Animated GIF of the frames (8-bit, one fixed scale) with the tracked box drawn white."""
+    import imageio.v3 as iio
+
+    lo, hi = np.percentile(frames[0], [1, 99.5])
+    images = []
+    for frame, box in zip(frames[::every], boxes_px[::every], strict=True):
+        img = (255 * np.clip((frame - lo) / max(hi - lo, 1e-12), 0, 1)).astype(np.uint8)
+        x0, y0, w, h = (int(round(v)) for v in box)
+        x1, y1 = x0 + w, y0 + h
+        rows, cols = img.shape
+        xs = slice(max(x0, 0), min(x1 + 1, cols))
+        ys = slice(max(y0, 0), min(y1 + 1, rows))
+        for r in (y0, y1):
+            if 0 <= r < rows:
+                img[r, xs] = 255
+        for c in (x0, x1):
+            if 0 <= c < cols:
+                img[ys, c] = 255
+        images.append(img)
+    iio.imwrite(path, np.array(images), duration=1000.0 / fps * every, loop=0)
