@@ -1,5 +1,5 @@
 """The ``oocyte-fe`` command line: thin wrappers over :mod:`oocyte_fe.runner`, one function
-per command (``run``, ``validate``, ``kinds``, ``new``).
+per command (``run``, ``validate``, ``kinds``, ``new``, ``track``).
 
 Bad input is one line on stderr naming the file, the field and the expectation, exit code 2
 (``--debug`` shows the traceback). ``run`` exits 0 when every case passes or misses only
@@ -196,6 +196,30 @@ def new(
     for path in written:
         console.print(f"wrote {path}", highlight=False)
     console.print(f"Edit {folder / 'case.toml'}, then: oocyte-fe run {folder}", highlight=False)
+
+
+@app.command()
+def track(
+    video: Path = typer.Argument(..., help="A TIFF stack, video or GIF of the oocyte."),
+    box: str = typer.Option(..., "--box", help="The spindle on frame 0: X,Y,W,H in px."),
+    out: Path = typer.Option(Path("track"), "--out", help="Folder for the outputs."),
+    pixel_um: float = typer.Option(0.227, "--pixel-um", help="Pixel size in um."),
+    fps: float = typer.Option(10.0, "--fps", help="Frame rate of the recording (frames/s)."),
+    truth: Path = typer.Option(
+        None, "--truth", help="Ground-truth boxes CSV (x_px, y_px, w_px, h_px): adds OTB plots."
+    ),
+    debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
+) -> None:
+    """Follow the spindle with MFAKCF: track.csv, overlay.gif, trajectory.png (docs/tracking.md)."""
+    from oocyte_fe.tracking.cli_track import track_video  # the tracker loads only when used
+
+    try:
+        summary = track_video(video, box, out, pixel_um=pixel_um, fps=fps, truth=truth)
+    except InputError as exc:
+        raise _fail(exc, debug) from None
+    for key, value in summary.items():
+        console.print(f"{key} = {value:.4g}", highlight=False)
+    console.print(f"wrote {out}/track.csv, overlay.gif, trajectory.png", highlight=False)
 
 
 def main() -> None:

@@ -69,3 +69,27 @@ def test_track_video_follows_a_clear_spindle(tmp_path: Path) -> None:
     rows = np.genfromtxt(out / "track.csv", delimiter=",", names=True)
     np.testing.assert_allclose(rows["cx_um"], rows["cx_px"] * CLEAR.pixel_um, atol=1e-3)
     assert len(read_frames(out / "overlay.gif")) == len(seq.frames)
+
+
+def test_track_command_writes_the_outputs_and_refuses_a_bad_box(tmp_path: Path) -> None:
+    """``oocyte-fe track``: the same tracking from the command line (exit 0, outputs, the
+    precision at 2 um printed); a malformed box is one line and exit 2."""
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+
+    seq = generate(CLEAR)
+    write_tiff(tmp_path / "v.tif", seq.frames)
+    cal = Calibration(CLEAR.pixel_um, CLEAR.fps)
+    write_track_csv(tmp_path / "truth.csv", seq.boxes, np.ones(len(seq.boxes)), cal)
+    box = ",".join(f"{v:.2f}" for v in seq.boxes[0])
+    out = tmp_path / "out"
+    args = ["track", str(tmp_path / "v.tif"), "--box", box, "--out", str(out)]
+    args += ["--pixel-um", str(CLEAR.pixel_um), "--truth", str(tmp_path / "truth.csv")]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "precision_2um = 1" in result.output
+    assert (out / "track.csv").is_file() and (out / "trajectory.png").is_file()
+    bad = CliRunner().invoke(app, ["track", str(tmp_path / "v.tif"), "--box", "1,2"])
+    assert bad.exit_code == 2
+    assert "X,Y,W,H" in bad.output

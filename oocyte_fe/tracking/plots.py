@@ -37,7 +37,7 @@ def plot_precision_success(
         s = metrics.success_curve(o)
         ax1.plot(metrics.PRECISION_THRESHOLDS_PX, p, label=f"{name} [{p[20]:.3f}]")
         ax2.plot(metrics.SUCCESS_THRESHOLDS, s, label=f"{name} [AUC {np.mean(s):.3f}]")
-    ax1.axvline(20, color="0.7", lw=0.8)
+    ax1.axvline(20, color="0.7", lw=0.8, label="20 px threshold")
     ax1.set(xlabel="centre error threshold (px)", ylabel="precision", ylim=(0, 1.02))
     ax2.set(xlabel="overlap threshold (IoU)", ylabel="success rate", ylim=(0, 1.02))
     ax1.legend(fontsize=8)
@@ -59,6 +59,24 @@ def plot_trajectory(
     ax.plot(centres_um[:, 0], centres_um[:, 1], color="C3", lw=1, label=label or "tracked")
     ax.invert_yaxis()
     ax.set(xlabel="x (um)", ylabel="y (um)", aspect="equal")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_loop_distances(path: Path, distances_um: dict[str, list[float]]) -> None:
+    """Final tip-to-spindle distance (um) per removal method: each virtual cell as a point,
+    the mean as a bar (seed 000, Section III.D)."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    names = list(distances_um)
+    for i, name in enumerate(names):
+        values = np.asarray(distances_um[name], dtype=float)
+        ax.bar(i, values.mean(), color="C0", alpha=0.4, label="mean" if i == 0 else "_nolegend_")
+        ax.plot(np.full(values.size, i), values, "o", color="C3", ms=4,
+                label="virtual cell" if i == 0 else "_nolegend_")  # fmt: skip
+    ax.set_xticks(range(len(names)), [n.replace("_", " ") for n in names])
+    ax.set(xlabel="removal method", ylabel="tip-to-spindle distance (um)")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
