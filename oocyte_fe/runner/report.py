@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
@@ -11,6 +10,7 @@ import tomli_w
 
 from oocyte_fe.runner.casefile import Case
 from oocyte_fe.runner.registry import CaseOutcome, Check
+from oocyte_fe.runner.strict_json import strict_dumps
 
 
 def _fmt(value: float | None) -> str:
@@ -65,7 +65,7 @@ def write_case_report(
     """Write ``report.md`` and ``metrics.json`` into ``out_dir``; return the status."""
     status = "PASS" if all(c.passed for c in checks) else "FAIL"
     (out_dir / "metrics.json").write_text(
-        json.dumps(
+        strict_dumps(
             {
                 "case": case.name,
                 "kind": case.kind.name,
@@ -84,8 +84,6 @@ def write_case_report(
                     for c in checks
                 ],
             },
-            indent=2,
-            default=float,
         )
     )
     lines = [
