@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from nmsd import checks
 from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import Lattice, circular_lattice
@@ -171,6 +172,10 @@ def touching_start(lattice: Lattice, pipette: Pipette) -> Pipette:
     return replace(pipette, start=tuple(np.asarray(pipette.start) + shift * a))
 
 
+MAX_STEPS = 1_000_000
+"""Most backward-Euler steps one press may ask for."""
+
+
 def simulate_press(
     lattice: Lattice,
     params: NmsdParameters,
@@ -193,8 +198,13 @@ def simulate_press(
     every (sub)step and return df/dp (:class:`nmsd.sensitivity.PressSensitivity`; starts
     from rest, S_0 = 0).
     """
-    if speed_um_s <= 0 or travel_um <= 0 or n_steps < 1:
-        raise NmsdInputError("simulate_press", "speed/travel/n_steps", "positive values")
+    speed_um_s = checks.number("simulate_press", "speed_um_s", speed_um_s, gt=0, le=1e9)
+    travel_um = checks.number("simulate_press", "travel_um", travel_um, gt=0, le=1e6)
+    n_steps = int(
+        checks.number("simulate_press", "n_steps", n_steps, ge=1, le=MAX_STEPS, integer=True)
+    )
+    for value in record_um:
+        checks.number("simulate_press", "record_um", value, ge=0)
     x = lattice.nodes.copy() if initial_positions is None else np.array(initial_positions)
     if pipette.contains(x, 0.0).any():
         raise NmsdInputError(

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from oocyte_fe.checks import number, numbers_array
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
@@ -48,6 +49,12 @@ class JunctionCell:
     modulus: float
     rheology: Rheology
 
+    def __post_init__(self) -> None:
+        number("JunctionCell", "diameter", self.diameter, gt=0, le=1e9)
+        number("JunctionCell", "modulus", self.modulus, gt=0, le=1e12)
+        if not isinstance(self.rheology, Rheology):
+            raise InputError("JunctionCell", "rheology", "a Rheology", got=type(self.rheology))
+
 
 @dataclass(frozen=True)
 class JunctionParameters:
@@ -56,11 +63,16 @@ class JunctionParameters:
     load_factor: float
     junction_length: float
 
+    def __post_init__(self) -> None:
+        number("JunctionParameters", "load_factor", self.load_factor, ge=0, le=1e12)
+        number("JunctionParameters", "junction_length", self.junction_length, gt=0, le=1e12)
+
 
 def junction_deformation(
     channel: Channel, cell: JunctionCell, params: JunctionParameters, pressure: np.ndarray
 ) -> np.ndarray:
     """Taylor deformation D (1) at driving pressures ``pressure`` (kPa); see module docstring."""
+    pressure = numbers_array("junction_deformation", "pressure", pressure, gt=0)
     velocity = channel.mean_velocity(pressure)
     stress = (
         params.load_factor * 8.0 * channel.viscosity * velocity * cell.diameter / channel.radius**2

@@ -27,7 +27,17 @@ from typing import Literal
 
 import numpy as np
 
+from oocyte_fe.checks import number
+from oocyte_fe.errors import InputError
+
 Geometry = Literal["pipe", "slit"]
+GEOMETRIES = ("pipe", "slit")
+
+
+def check_geometry(where: str, geometry: object) -> None:
+    """Refuse a geometry other than ``"pipe"`` or ``"slit"`` (never read one as the other)."""
+    if geometry not in GEOMETRIES:
+        raise InputError(where, "geometry", "'pipe' or 'slit'", got=geometry)
 
 
 @dataclass(frozen=True)
@@ -38,6 +48,12 @@ class PoiseuilleFlow:
     size: float
     pressure_gradient: float
     viscosity: float
+
+    def __post_init__(self) -> None:
+        check_geometry("PoiseuilleFlow", self.geometry)
+        number("PoiseuilleFlow", "size", self.size, gt=0, le=1e9)
+        number("PoiseuilleFlow", "pressure_gradient", self.pressure_gradient, ge=0, le=1e12)
+        number("PoiseuilleFlow", "viscosity", self.viscosity, gt=0, le=1e12)
 
     @property
     def wall_shear_stress(self) -> float:
@@ -77,6 +93,11 @@ def pressure_gradient_for_mean_velocity(
 ) -> float:
     """``G`` (kPa/um) driving Newtonian flow at ``mean_velocity``: ``8 mu U / R^2`` (pipe),
     ``3 mu U / h^2`` (slit)."""
+    where = "pressure_gradient_for_mean_velocity"
+    check_geometry(where, geometry)
+    number(where, "size", size, gt=0, le=1e9)
+    number(where, "mean_velocity", mean_velocity, ge=0, le=1e12)
+    number(where, "viscosity", viscosity, gt=0, le=1e12)
     factor = 8.0 if geometry == "pipe" else 3.0
     return factor * viscosity * mean_velocity / size**2
 
@@ -85,6 +106,12 @@ def power_law_flow_rate(
     geometry: Geometry, size: float, wall_shear_stress: float, consistency: float, n: float
 ) -> float:
     """Closed-form power-law flow rate (see the module docstring)."""
+    where = "power_law_flow_rate"
+    check_geometry(where, geometry)
+    number(where, "size", size, gt=0, le=1e9)
+    number(where, "wall_shear_stress", wall_shear_stress, ge=0, le=1e12)
+    number(where, "consistency", consistency, gt=0, le=1e12)
+    number(where, "n", n, ge=0.05, le=5)
     rate = (wall_shear_stress / consistency) ** (1.0 / n)
     if geometry == "pipe":
         return math.pi * size**3 * n / (3.0 * n + 1.0) * rate
@@ -101,6 +128,12 @@ def rectangular_duct_flow_rate(
     with ``h <= w`` the shorter side (Bruus, Theoretical Microfluidics, 2008, eq. 4.47). The
     series is summed over ``terms`` odd k; the truncation error is below ``terms^-4``.
     """
+    where = "rectangular_duct_flow_rate"
+    number(where, "width", width, gt=0, le=1e9)
+    number(where, "height", height, gt=0, le=1e9)
+    number(where, "pressure_gradient", pressure_gradient, ge=0, le=1e12)
+    number(where, "viscosity", viscosity, gt=0, le=1e12)
+    number(where, "terms", terms, ge=1, le=100_000, integer=True)
     h, w = sorted((height, width))
     k = 2.0 * np.arange(terms) + 1.0
     series = np.sum(np.tanh(k * math.pi * w / (2.0 * h)) / k**5)
