@@ -144,7 +144,7 @@ def circular_lattice(
     term, :mod:`nmsd.area`): every grid square with all four corners inside, and the
     triangle of the three corners inside where one is missing (all their sides are links).
     """
-    diameter_um = checks.number("circular_lattice", "diameter_um", diameter_um, gt=0, le=1e6)
+    diameter_um = checks.number("circular_lattice", "diameter_um", diameter_um, ge=1e-3, le=1e6)
     spacings_across = int(
         checks.number(
             "circular_lattice", "spacings_across", spacings_across, ge=2, le=400, integer=True

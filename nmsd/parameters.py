@@ -86,7 +86,7 @@ def node_mass_for(diameter_um: float, n_nodes: int, density: float = WATER_DENSI
 
     ``m = density pi d^3 / 6 / n_nodes``.
     """
-    diameter_um = checks.number("node_mass_for", "diameter_um", diameter_um, gt=0, le=1e6)
+    diameter_um = checks.number("node_mass_for", "diameter_um", diameter_um, ge=1e-3, le=1e6)
     n_nodes = int(checks.number("node_mass_for", "n_nodes", n_nodes, ge=1, integer=True))
-    density = checks.number("node_mass_for", "density", density, gt=0)
+    density = checks.number("node_mass_for", "density", density, ge=1e-30, le=1e6)
     return density * math.pi * diameter_um**3 / 6.0 / n_nodes

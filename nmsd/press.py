@@ -134,8 +134,13 @@ def press_setup(
     ``symmetric``: follow the mirror-symmetric branch (:mod:`nmsd.symmetry`; the lattice,
     pipette and holder must be symmetric about the pipette axis).
     """
-    if gap_um < 0:
-        raise NmsdInputError("press_setup", "gap_um", ">= 0 (a pipette starting outside)", gap_um)
+    gap_um = checks.number("press_setup", "gap_um", gap_um, ge=0, le=1e6)
+    hold_half_width_um = checks.number(
+        "press_setup", "hold_half_width_um", hold_half_width_um, gt=0, le=1e6
+    )
+    checks.number("press_setup", "speed_um_s", speed_um_s, gt=0, le=1e9)
+    checks.number("press_setup", "travel_um", travel_um, gt=0, le=1e6)
+    checks.number("press_setup", "n_steps", n_steps, ge=1, le=MAX_STEPS, integer=True)
     lattice = circular_lattice() if lattice is None else lattice
     far = (2.0 * lattice.radius, 0.0)
     probe = Pipette(width_um, tip_angle_deg, far, (-1.0, 0.0), contact_stiffness)

@@ -102,3 +102,15 @@ def numeric_fields(obj: object, where: str, max_abs: float = 1e12) -> None:
         if f.type in ("float", "int", float, int):
             integer = f.type in ("int", int)
             number(where, f.name, getattr(obj, f.name), ge=-max_abs, le=max_abs, integer=integer)
+
+
+TINY = 1e-30
+HUGE = 1e30
+"""Range of a positive physical quantity in internal units (um, nN, kPa, s and their products):
+wide enough for every real one (water's density is 1e-15 nN s^2/um^4), narrow enough that the
+closed forms' products of a few of them stay finite."""
+
+
+def positive(where: str, name: str, value: object) -> float:
+    """``value`` if a real number in [:data:`TINY`, :data:`HUGE`] (see :func:`number`)."""
+    return number(where, name, value, ge=TINY, le=HUGE)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from oocyte_fe.checks import number
+from oocyte_fe.checks import positive
 from oocyte_fe.errors import InputError
 
 LAMINAR_LIMIT = 2000.0
@@ -54,7 +54,7 @@ class Channel:
 
     def __post_init__(self) -> None:
         for name in ("diameter", "density", "viscosity", "reynolds_ref", "pressure_ref"):
-            number("Channel", name, getattr(self, name), gt=0, le=1e12)
+            positive("Channel", name, getattr(self, name))
 
     @property
     def radius(self) -> float:

@@ -38,7 +38,7 @@ from skfem import (
 )
 from skfem.helpers import dot, grad
 
-from oocyte_fe.checks import number
+from oocyte_fe.checks import number, positive
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.microchannel.viscosity import Rheology
 
@@ -48,8 +48,8 @@ MAX_CELLS = 400
 
 def rectangle_mesh(width: float, height: float, cells: int) -> MeshTri:
     """Triangles on [0, width] x [0, height] with ``cells`` divisions along the shorter side."""
-    number("rectangle_mesh", "width", width, gt=0, le=1e9)
-    number("rectangle_mesh", "height", height, gt=0, le=1e9)
+    positive("rectangle_mesh", "width", width)
+    positive("rectangle_mesh", "height", height)
     number("rectangle_mesh", "cells", cells, ge=1, le=MAX_CELLS, integer=True)
     if max(width, height) / min(width, height) * cells > 50 * MAX_CELLS:
         raise InputError("rectangle_mesh", "width/height", "an aspect ratio of at most 50")
@@ -61,7 +61,7 @@ def rectangle_mesh(width: float, height: float, cells: int) -> MeshTri:
 
 def radial_mesh(radius: float, cells: int) -> MeshLine:
     """The radius 0 <= r <= R in ``cells`` equal segments (axisymmetric pipe section)."""
-    number("radial_mesh", "radius", radius, gt=0, le=1e9)
+    positive("radial_mesh", "radius", radius)
     number("radial_mesh", "cells", cells, ge=1, le=100 * MAX_CELLS, integer=True)
     return MeshLine(np.linspace(0.0, radius, cells + 1))
 
@@ -206,7 +206,7 @@ def solve_duct_flow(
         raise InputError(
             where, "axisymmetric", "True with a MeshLine radius, False with a MeshTri section"
         )
-    number(where, "pressure_gradient", pressure_gradient, gt=0, le=1e12)
+    positive(where, "pressure_gradient", pressure_gradient)
     number(where, "steps", steps, ge=1, le=50, integer=True)
     number(where, "rtol", rtol, gt=0, lt=1)
     number(where, "xtol", xtol, gt=0, lt=1)

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from oocyte_fe.checks import number, numbers_array
+from oocyte_fe.checks import HUGE, number, numbers_array, positive
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
@@ -50,8 +50,8 @@ class JunctionCell:
     rheology: Rheology
 
     def __post_init__(self) -> None:
-        number("JunctionCell", "diameter", self.diameter, gt=0, le=1e9)
-        number("JunctionCell", "modulus", self.modulus, gt=0, le=1e12)
+        positive("JunctionCell", "diameter", self.diameter)
+        positive("JunctionCell", "modulus", self.modulus)
         if not isinstance(self.rheology, Rheology):
             raise InputError("JunctionCell", "rheology", "a Rheology", got=type(self.rheology))
 
@@ -64,8 +64,8 @@ class JunctionParameters:
     junction_length: float
 
     def __post_init__(self) -> None:
-        number("JunctionParameters", "load_factor", self.load_factor, ge=0, le=1e12)
-        number("JunctionParameters", "junction_length", self.junction_length, gt=0, le=1e12)
+        number("JunctionParameters", "load_factor", self.load_factor, ge=0, le=HUGE)
+        positive("JunctionParameters", "junction_length", self.junction_length)
 
 
 def junction_deformation(

@@ -27,7 +27,7 @@ from typing import Literal
 
 import numpy as np
 
-from oocyte_fe.checks import number
+from oocyte_fe.checks import HUGE, number, positive
 from oocyte_fe.errors import InputError
 
 Geometry = Literal["pipe", "slit"]
@@ -51,9 +51,9 @@ class PoiseuilleFlow:
 
     def __post_init__(self) -> None:
         check_geometry("PoiseuilleFlow", self.geometry)
-        number("PoiseuilleFlow", "size", self.size, gt=0, le=1e9)
-        number("PoiseuilleFlow", "pressure_gradient", self.pressure_gradient, ge=0, le=1e12)
-        number("PoiseuilleFlow", "viscosity", self.viscosity, gt=0, le=1e12)
+        positive("PoiseuilleFlow", "size", self.size)
+        number("PoiseuilleFlow", "pressure_gradient", self.pressure_gradient, ge=0, le=HUGE)
+        positive("PoiseuilleFlow", "viscosity", self.viscosity)
 
     @property
     def wall_shear_stress(self) -> float:
@@ -95,9 +95,9 @@ def pressure_gradient_for_mean_velocity(
     ``3 mu U / h^2`` (slit)."""
     where = "pressure_gradient_for_mean_velocity"
     check_geometry(where, geometry)
-    number(where, "size", size, gt=0, le=1e9)
-    number(where, "mean_velocity", mean_velocity, ge=0, le=1e12)
-    number(where, "viscosity", viscosity, gt=0, le=1e12)
+    positive(where, "size", size)
+    number(where, "mean_velocity", mean_velocity, ge=0, le=HUGE)
+    positive(where, "viscosity", viscosity)
     factor = 8.0 if geometry == "pipe" else 3.0
     return factor * viscosity * mean_velocity / size**2
 
@@ -108,11 +108,21 @@ def power_law_flow_rate(
     """Closed-form power-law flow rate (see the module docstring)."""
     where = "power_law_flow_rate"
     check_geometry(where, geometry)
-    number(where, "size", size, gt=0, le=1e9)
-    number(where, "wall_shear_stress", wall_shear_stress, ge=0, le=1e12)
-    number(where, "consistency", consistency, gt=0, le=1e12)
+    positive(where, "size", size)
+    number(where, "wall_shear_stress", wall_shear_stress, ge=0, le=HUGE)
+    positive(where, "consistency", consistency)
     number(where, "n", n, ge=0.05, le=5)
-    rate = (wall_shear_stress / consistency) ** (1.0 / n)
+    try:
+        rate = (wall_shear_stress / consistency) ** (1.0 / n)
+    except OverflowError:
+        rate = math.inf
+    if not rate < HUGE:
+        raise InputError(
+            where,
+            "wall_shear_stress/consistency/n",
+            f"(tau_w / K)^(1/n) below {HUGE:g} (a finite flow rate)",
+            got=(wall_shear_stress, consistency, n),
+        )
     if geometry == "pipe":
         return math.pi * size**3 * n / (3.0 * n + 1.0) * rate
     return 2.0 * size**2 * n / (2.0 * n + 1.0) * rate
@@ -129,10 +139,10 @@ def rectangular_duct_flow_rate(
     series is summed over ``terms`` odd k; the truncation error is below ``terms^-4``.
     """
     where = "rectangular_duct_flow_rate"
-    number(where, "width", width, gt=0, le=1e9)
-    number(where, "height", height, gt=0, le=1e9)
-    number(where, "pressure_gradient", pressure_gradient, ge=0, le=1e12)
-    number(where, "viscosity", viscosity, gt=0, le=1e12)
+    positive(where, "width", width)
+    positive(where, "height", height)
+    number(where, "pressure_gradient", pressure_gradient, ge=0, le=HUGE)
+    positive(where, "viscosity", viscosity)
     number(where, "terms", terms, ge=1, le=100_000, integer=True)
     h, w = sorted((height, width))
     k = 2.0 * np.arange(terms) + 1.0

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import quad
 
-from oocyte_fe.checks import number
+from oocyte_fe.checks import positive
 from oocyte_fe.microchannel.poiseuille import Geometry, check_geometry
 from oocyte_fe.microchannel.viscosity import Rheology
 
@@ -65,8 +65,8 @@ def fully_developed_flow(
 ) -> GeneralizedFlow:
     """Flow rate and wall quantities for ``rheology`` in a pipe (R = size) or slit (h = size)."""
     check_geometry("fully_developed_flow", geometry)
-    number("fully_developed_flow", "size", size, gt=0, le=1e9)
-    number("fully_developed_flow", "pressure_gradient", pressure_gradient, gt=0, le=1e12)
+    positive("fully_developed_flow", "size", size)
+    positive("fully_developed_flow", "pressure_gradient", pressure_gradient)
     gamma = rheology.shear_rate
     if geometry == "pipe":
         tau_w = 0.5 * pressure_gradient * size

@@ -165,7 +165,8 @@ def raise_validation_error(
 
     ``model`` (the validated class) lets an unknown key get a "did you mean" suggestion.
     """
-    first = err.errors()[0]
+    errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")  # typos first
+    first = errors[0]
     loc = tuple(first["loc"])
     field = prefix + _loc(loc) if loc or not prefix else prefix.rstrip(".")
     kind = first["type"]
@@ -177,7 +178,7 @@ def raise_validation_error(
     msg = first["msg"].removeprefix("Value error, ").removeprefix("Input should be ")
     if msg.startswith(("greater", "less")):
         msg = "a value " + msg
-    more = len(err.errors()) - 1
+    more = len(errors) - 1
     expected = msg[0].lower() + msg[1:] if msg else "a valid value"
     if more:
         expected += f" (and {more} more error{'s' if more > 1 else ''})"
