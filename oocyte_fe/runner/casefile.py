@@ -254,6 +254,8 @@ def check_data_files(file: Path, inputs: BaseModel) -> None:
     """
     for name, reader in readers_of(type(inputs)).items():
         path = getattr(inputs, name)
+        if path is None:
+            continue
         try:
             reader(path)
         except ValueError as exc:  # InputError, AfmInputError, NmsdInputError are ValueErrors

@@ -125,10 +125,16 @@ class DataReader:
 
 
 def readers_of(model: type[BaseModel]) -> dict[str, Callable[[Path], object]]:
-    """Field name -> reader of the data-file fields of ``model`` (see :class:`DataReader`)."""
+    """Field name -> reader of the data-file fields of ``model`` (see :class:`DataReader`).
+
+    Optional data files (``Annotated[DataFile, DataReader(f)] | None``) are found too.
+    """
     found = {}
     for name, info in model.model_fields.items():
-        for meta in info.metadata:
+        metadata = list(info.metadata)
+        for option in typing.get_args(info.annotation):
+            metadata += list(getattr(option, "__metadata__", ()))
+        for meta in metadata:
             if isinstance(meta, DataReader):
                 found[name] = meta.reader
     return found
