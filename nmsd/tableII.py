@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import csv
 import difflib
-import io
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,7 +32,10 @@ class ForceDisplacement:
 def read_force_displacement(path: str | Path) -> ForceDisplacement:
     """Read the CSV; raise :class:`NmsdInputError` naming file and column on bad content."""
     path = Path(path)
-    rows = list(csv.DictReader(io.StringIO(read_text(path))))
+    try:
+        rows = list(csv.DictReader(read_text(path).splitlines()))
+    except csv.Error as exc:
+        raise NmsdInputError(str(path), "", f"a comma-separated table ({exc})") from None
     header = set(rows[0]) if rows else set()
     for column in ("displacement_um", "force_experiment_uN"):
         if column not in header:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import csv
 import difflib
-import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +27,10 @@ def read_columns(path: Path) -> dict[str, np.ndarray]:
     every cell must be a finite number.
     """
     text = files.read_text(path)
-    rows = list(csv.reader(io.StringIO(text)))
+    try:
+        rows = list(csv.reader(text.splitlines()))
+    except csv.Error as exc:
+        raise InputError(path, "", f"a comma-separated table ({exc})") from None
     rows = [r for r in rows if r and any(c.strip() for c in r) and not r[0].startswith("#")]
     if len(rows) < 2:
         raise InputError(path, "", "a header row and at least one data row")

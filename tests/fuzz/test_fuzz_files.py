@@ -75,6 +75,24 @@ CONTENTS = st.one_of(
 )
 
 
+def _perturb(original: bytes, data: st.DataObject) -> bytes:
+    """The real table with one cell, one header name or one line changed."""
+    lines = original.decode().splitlines()
+    body = [i for i, line in enumerate(lines) if line and not line.startswith("#")]
+    i = data.draw(st.sampled_from(body), label="line")
+    cells = lines[i].split(",")
+    j = data.draw(st.integers(0, len(cells) - 1), label="cell")
+    how = data.draw(st.sampled_from(["cell", "cell", "drop line", "drop column"]), label="how")
+    if how == "cell":
+        cells[j] = data.draw(st.one_of(CELLS, st.sampled_from(COLUMNS)), label="new cell")
+        lines[i] = ",".join(cells)
+    elif how == "drop line":
+        del lines[i]
+    else:
+        lines = [",".join(c for k, c in enumerate(x.split(",")) if k != j) for x in lines]
+    return "\n".join(lines).encode()
+
+
 def _data_fields(kind: str) -> list[tuple[str, ...]]:
     model = builtin_kinds()[kind].inputs
     fields = [(name,) for name in readers_of(model)]
@@ -102,7 +120,10 @@ def test_data_file_contents(bases: dict, data: st.DataObject) -> None:  # noqa: 
     (folder / "case.toml").write_text(tomli_w.dumps(raw))
     target = folder / inputs
     original = target.read_bytes()
-    target.write_bytes(data.draw(CONTENTS, label="content"))
+    if data.draw(st.booleans(), label="perturb the real table"):
+        target.write_bytes(_perturb(original, data))
+    else:
+        target.write_bytes(data.draw(CONTENTS, label="content"))
     try:
         check_outcome(f"data files ({kind})", lambda: load_case(folder), names=target.name)
     finally:
