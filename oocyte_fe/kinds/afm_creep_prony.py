@@ -18,8 +18,8 @@ from afm.synthetic import creep_indentation
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.runner.schema import CaseInputs
 
-PositiveFloat = Annotated[float, Field(gt=0)]
-Fraction = Annotated[float, Field(gt=0, lt=1)]
+RelaxationTime = Annotated[float, Field(ge=1e-4, le=1e4)]
+Fraction = Annotated[float, Field(ge=1e-6, lt=1)]
 
 
 class CreepInputs(CaseInputs):
@@ -31,11 +31,13 @@ class CreepInputs(CaseInputs):
     nu: float = Field(gt=-1, le=0.5, description="Poisson ratio", json_schema_extra={"unit": "1"})
     prony_g: list[Fraction] = Field(
         min_length=1,
-        description="normalised relaxation terms g_i, each in (0, 1), summing below 1",
+        description="normalised relaxation terms g_i, each in [1e-6, 1), summing below 1",
         json_schema_extra={"unit": "1"},
     )
-    prony_tau_s: list[PositiveFloat] = Field(
-        min_length=1, description="relaxation times tau_i", json_schema_extra={"unit": "s"}
+    prony_tau_s: list[RelaxationTime] = Field(
+        min_length=1,
+        description="relaxation times tau_i, each in [1e-4, 1e4] s",
+        json_schema_extra={"unit": "s"},
     )
     half_angle_deg: float = Field(
         gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}

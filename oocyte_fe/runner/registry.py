@@ -10,6 +10,7 @@ they call the plain library functions of those packages (``afm`` and ``nmsd`` ne
 
 from __future__ import annotations
 
+import difflib
 import importlib
 import logging
 from collections.abc import Callable, Mapping
@@ -154,5 +155,7 @@ def get_kind(name: str, file: str | Path = "case.toml", module: str | None = Non
         importlib.import_module(module)
     known = kinds()
     if name not in known:
-        raise InputError(file, "kind", f"one of {', '.join(sorted(known))}", got=name)
+        close = difflib.get_close_matches(str(name), list(known), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(file, "kind", f"one of {', '.join(sorted(known))}{hint}", got=name)
     return known[name]

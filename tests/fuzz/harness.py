@@ -34,7 +34,11 @@ INPUT_ERRORS = (InputError, NmsdInputError, AfmInputError)
 PROJECT_ERRORS = (*INPUT_ERRORS, NmsdDivergence, SolverError)
 """Input errors, and solver errors that name the step and a remedy (never a bare exception)."""
 FULL = os.environ.get("OOCYTE_FUZZ_FULL", "") not in ("", "0")
-HANG_S = 20.0 if FULL else 10.0
+HANG_S = 10.0
+"""CPU seconds one fuzzed call may take (a loop that never ends burns CPU)."""
+BLOCK_S = 120.0
+"""Wall seconds one fuzzed call may take (a call blocked on a FIFO burns none; the machine may
+be shared, so this is generous)."""
 TALLY: Counter[tuple[str, str]] = Counter()
 """(test label, "refused" | "accepted") -> count, printed at the end of the session."""
 
@@ -60,17 +64,22 @@ class Hang(Exception):
 
 
 @contextmanager
-def hang_guard(seconds: float = HANG_S) -> Iterator[None]:
-    def fire(_signum: int, _frame: object) -> None:
-        raise Hang(f"no answer within {seconds:g} s (a hang)")
+def hang_guard(seconds: float = HANG_S, wall_seconds: float = BLOCK_S) -> Iterator[None]:
+    """Raise :class:`Hang` after ``seconds`` of CPU time or ``wall_seconds`` of wall time."""
 
-    previous = signal.signal(signal.SIGALRM, fire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    def fire(_signum: int, _frame: object) -> None:
+        raise Hang(f"no answer within {seconds:g} CPU s or {wall_seconds:g} s (a hang)")
+
+    previous = {sig: signal.signal(sig, fire) for sig in (signal.SIGALRM, signal.SIGPROF)}
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    signal.setitimer(signal.ITIMER_REAL, wall_seconds)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def all_finite(value: Any, depth: int = 0) -> bool:
@@ -94,8 +103,13 @@ def all_finite(value: Any, depth: int = 0) -> bool:
     return True
 
 
-def check_outcome(label: str, call: Callable[[], Any], names: str | None = None) -> Any:
+def check_outcome(
+    label: str, call: Callable[[], Any], names: str | None = None, own_file: bool = False
+) -> Any:
     """Run ``call``: the project's error (one line; ``names`` in it, if given) or a finite result.
+
+    ``own_file``: an input error must name a real file, not ``<input>`` (a library's
+    placeholder, which tells a case's user nothing).
 
     Returns the result, or ``None`` when the call was refused.
     """
@@ -107,6 +121,8 @@ def check_outcome(label: str, call: Callable[[], Any], names: str | None = None)
             assert "\n" not in message, f"error message of more than one line: {message!r}"
             if isinstance(exc, INPUT_ERRORS):
                 assert exc.expected, f"error message without an expectation: {message!r}"
+            if own_file:
+                assert not message.startswith("<input>"), f"misnamed error: {message}"
             if names is not None:
                 assert names in message, f"error does not name {names!r}: {message}"
             TALLY[label, "refused"] += 1
