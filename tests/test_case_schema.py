@@ -145,7 +145,7 @@ def test_fit_pressures_must_be_in_the_table(tmp_path: Path) -> None:
     at = raw.index("fit_pressures_hPa = ")
     raw = raw[:at] + "fit_pressures_hPa = [1.2345, 2.0]" + raw[raw.index("\n", at) :]
     (case / "case.toml").write_text(raw)
-    with pytest.raises(InputError, match="among the table's pressures"):
+    with pytest.raises(InputError, match="among the pressures of table4_deformation.csv"):
         load_case(case)
 
 

@@ -58,7 +58,7 @@ class DeformationInputs(CaseInputs):
         for p in self.fit_pressures_hPa:
             if not np.any(np.isclose(listed, p, rtol=1e-9, atol=1e-12)):
                 raise ValueError(
-                    f"fit_pressures_hPa among the table's pressures "
+                    f"fit_pressures_hPa among the pressures of {self.deformation_data.name} "
                     f"({', '.join(f'{v:g}' for v in listed)} hPa), not {p:g}"
                 )
         if len(set(self.fit_pressures_hPa)) != len(self.fit_pressures_hPa):

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from oocyte_fe.checks import HUGE, number, numbers_array, positive
+from oocyte_fe.checks import HUGE, TINY, number, numbers_array, positive
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
@@ -72,7 +72,7 @@ def junction_deformation(
     channel: Channel, cell: JunctionCell, params: JunctionParameters, pressure: np.ndarray
 ) -> np.ndarray:
     """Taylor deformation D (1) at driving pressures ``pressure`` (kPa); see module docstring."""
-    pressure = numbers_array("junction_deformation", "pressure", pressure, gt=0)
+    pressure = numbers_array("junction_deformation", "pressure", pressure, ge=TINY, le=HUGE)
     velocity = channel.mean_velocity(pressure)
     stress = (
         params.load_factor * 8.0 * channel.viscosity * velocity * cell.diameter / channel.radius**2

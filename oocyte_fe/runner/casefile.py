@@ -309,13 +309,17 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
         key = sorted(unknown_quick)[0]
         hint = did_you_mean(key, list(kind.inputs.model_fields))
         raise InputError(file, f"quick.{key}", f"a key of [inputs] to override{hint}")
-    data = {**spec.inputs, **spec.quick} if quick else dict(spec.inputs)
-    try:
-        inputs = kind.inputs.model_validate(data, context={"case_dir": directory})
-    except ValidationError as exc:
-        loc = exc.errors()[0]["loc"]
-        table = "quick." if quick and loc and str(loc[0]) in spec.quick else "inputs."
-        raise_validation_error(file, exc, prefix=table, model=kind.inputs)
+    merged = {**spec.inputs, **spec.quick}
+    tables = [merged] if quick else [dict(spec.inputs)] + ([merged] if spec.quick else [])
+    validated = []
+    for data in tables:  # [quick] is checked without --quick too: `validate` sees it
+        try:
+            validated.append(kind.inputs.model_validate(data, context={"case_dir": directory}))
+        except ValidationError as exc:
+            loc = exc.errors()[0]["loc"]
+            table = "quick." if data is merged and loc and str(loc[0]) in spec.quick else "inputs."
+            raise_validation_error(file, exc, prefix=table, model=kind.inputs)
+    inputs = validated[0]
     check_data_files(file, inputs)
     if spec.sweep:
         check_sweep(
