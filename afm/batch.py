@@ -1,37 +1,44 @@
 """Batch fitting: a folder of curves -> one row per curve, and mean +- SD per group.
 
-A curve that cannot be read or fitted is recorded with its one-line error and skipped; the
-batch goes on. Groups come from each curve's ``group`` (the file's ``# group =`` metadata, or
-its folder name). Statistics: arithmetic mean and sample SD (ddof = 1) over the good fits.
+A file that cannot be read, or a curve that cannot be fitted, is recorded with its one-line
+error and skipped; the batch goes on. A force map gives one row per curve, with its index and
+map position. Every row names the height channel its tip position came from. Groups come from
+each curve's ``group`` (the file's ``# group =`` metadata, or its folder name). Statistics:
+arithmetic mean and sample SD (ddof = 1) over the good fits.
 """
 
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from afm.curve import ForceCurve
-from afm.curve_io import TEXT_SUFFIXES, read_curve
+from afm.curve_io import TEXT_SUFFIXES, read_curves
 from afm.errors import AfmInputError, MissingExtraError
 from afm.fit import IndentationFit, fit_indentation
+from afm.instrument_io import INSTRUMENT_SUFFIXES
 from afm.pierce import PierceFit, fit_pierce
-
-INSTRUMENT_SUFFIXES = {".jpk-force", ".ibw", ".jpk-force-map", ".jpk-qi-data", ".h5"}
 
 
 @dataclass(frozen=True)
 class BatchRow:
-    """One curve of a batch: its fitted moduli (``zp`` only for plain curves) or its error."""
+    """One curve of a batch: its fitted moduli (``zp`` only for plain curves) or its error.
+
+    ``curve_index`` and ``map_position_um`` (x, y) are set for the curves of a force map.
+    """
 
     file: str
     group: str
     fit: IndentationFit | None = None
     cytoplasm: IndentationFit | None = None
     error: str = ""
+    height_channel: str = ""
+    curve_index: int | None = None
+    map_position_um: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -54,6 +61,10 @@ class BatchResult:
     @property
     def failures(self) -> list[BatchRow]:
         return [r for r in self.rows if r.error]
+
+    def map_rows(self, file: str | Path) -> list[BatchRow]:
+        """The rows of one force-map file that carry a map position (fitted or not)."""
+        return [r for r in self.rows if r.file == str(file) and r.map_position_um is not None]
 
     def stats(self) -> list[GroupStats]:
         """Mean +- SD of E (and of the cytoplasm's E for pierce curves) per group."""
@@ -80,41 +91,70 @@ def curve_files(folder: str | Path) -> list[Path]:
     return files
 
 
+def _fit_row(
+    file: Path,
+    curve: ForceCurve,
+    pierce: bool,
+    fit_function: Callable[..., IndentationFit],
+    fit_options: Mapping[str, object],
+) -> BatchRow:
+    where = {
+        "height_channel": curve.height_channel,
+        "curve_index": curve.curve_index,
+        "map_position_um": curve.map_position_um,
+    }
+    group = curve.group or file.parent.name
+    try:
+        if pierce:
+            both: PierceFit = fit_pierce(curve, **fit_options)
+            return BatchRow(str(file), group, both.zp, both.cytoplasm, **where)
+        return BatchRow(str(file), group, fit_function(curve, **fit_options), **where)
+    except (AfmInputError, ValueError, FloatingPointError) as exc:
+        return BatchRow(str(file), group, error=str(exc).splitlines()[0], **where)
+
+
 def fit_batch(
     files: Sequence[str | Path],
     pierce: bool = False,
-    reader: Callable[[Path], ForceCurve] = read_curve,
+    reader: Callable[..., ForceCurve | Sequence[ForceCurve]] = read_curves,
+    read_options: Mapping[str, object] | None = None,
+    fit_function: Callable[..., IndentationFit] = fit_indentation,
     **fit_options: object,
 ) -> BatchResult:
-    """Fit every file (``fit_pierce`` when ``pierce``, else ``fit_indentation``).
+    """Fit every curve of every file (``fit_pierce`` when ``pierce``, else ``fit_function``:
+    :func:`afm.fit.fit_indentation`, or :func:`afm.nanite_pipeline.fit_nanite_default` for
+    nanite's analysis).
 
-    ``fit_options`` go to the fit function (model, geometry, nu, fit range, contact method).
-    A missing optional extra (instrument files without afmformats) is not a curve error and
-    is raised.
+    ``reader(file, **read_options)`` returns one curve or a list (a force map: one row per
+    curve); the default :func:`afm.curve_io.read_curves` takes ``spring_constant_N_per_m``,
+    ``sensitivity_nm_per_V`` and ``height_channel``. ``fit_options`` go to the fit function
+    (model, geometry, nu, fit range, contact method). A file that cannot be read is one error
+    row; a missing optional dependency is not a curve error and is raised.
     """
     result = BatchResult()
+    options = dict(read_options or {})
     for file in map(Path, files):
-        group = file.parent.name
         try:
-            curve = reader(file)
-            group = curve.group or group
-            if pierce:
-                both: PierceFit = fit_pierce(curve, **fit_options)
-                row = BatchRow(str(file), group, both.zp, both.cytoplasm)
-            else:
-                row = BatchRow(str(file), group, fit_indentation(curve, **fit_options))
+            read = reader(file, **options)
         except MissingExtraError:
             raise
         except (AfmInputError, ValueError, FloatingPointError) as exc:
-            row = BatchRow(str(file), group, error=str(exc).splitlines()[0])
-        result.rows.append(row)
+            result.rows.append(
+                BatchRow(str(file), file.parent.name, error=str(exc).splitlines()[0])
+            )
+            continue
+        curves = [read] if isinstance(read, ForceCurve) else list(read)
+        result.rows.extend(
+            _fit_row(file, curve, pierce, fit_function, fit_options) for curve in curves
+        )
     return result
 
 
 def write_batch_table(
     result: BatchResult, path: str | Path, relative_to: str | Path | None = None
 ) -> Path:
-    """One CSV row per curve: moduli, contact points, R^2, residual, quality, error.
+    """One CSV row per curve: moduli, contact points, R^2, residual, quality, height channel,
+    map index and position, error.
 
     File names are written relative to ``relative_to`` when given.
     """
@@ -131,13 +171,17 @@ def write_batch_table(
         "cytoplasm_contact_um",
         "cytoplasm_r_squared",
         "contact_method",
+        "height_channel",
+        "curve_index",
+        "map_x_um",
+        "map_y_um",
         "error",
     ]
     with path.open("w", newline="") as fh:
         writer = csv.writer(fh)
         writer.writerow(header)
         for r in result.rows:
-            f, c = r.fit, r.cytoplasm
+            f, c, pos = r.fit, r.cytoplasm, r.map_position_um
             name = Path(r.file).relative_to(relative_to) if relative_to else r.file
             writer.writerow(
                 [
@@ -152,6 +196,10 @@ def write_batch_table(
                     f"{c.contact_point_um:.6g}" if c else "",
                     f"{c.r_squared:.6f}" if c else "",
                     f.contact_method if f else "",
+                    r.height_channel,
+                    "" if r.curve_index is None else r.curve_index,
+                    f"{pos[0]:.6g}" if pos else "",
+                    f"{pos[1]:.6g}" if pos else "",
                     r.error,
                 ]
             )

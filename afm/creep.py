@@ -29,12 +29,10 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
-from afm.errors import AfmInputError
+from afm.creep_data import CreepData
+from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
 from afm.prony_series import CreepProny, RelaxationProny, relaxation_from_creep
-
-FORCE_CLAMP_TOLERANCE = 0.05
-"""Largest relative spread (SD / mean) of the force during the hold accepted as clamped."""
 
 
 def _cone_factor(half_angle_deg: float, nu: float) -> float:
@@ -56,51 +54,6 @@ def indentation_from_compliance(
     """delta(t) = sqrt(pi (1 - nu) F0 J(t) / (4 tan(alpha))), um (Lee-Radok, cone)."""
     j = np.asarray(compliance_per_kPa, dtype=float)
     return np.sqrt(_cone_factor(half_angle_deg, nu) * force_nN * j)
-
-
-@dataclass(frozen=True)
-class CreepData:
-    """A force-clamp hold: time [s] from the start of the hold, force [nN], indentation [um]."""
-
-    time_s: np.ndarray
-    force_nN: np.ndarray
-    indentation_um: np.ndarray
-    source: str = "<input>"
-
-    def __post_init__(self) -> None:
-        src = self.source
-        t = np.asarray(self.time_s, dtype=float)
-        f = np.asarray(self.force_nN, dtype=float)
-        d = np.asarray(self.indentation_um, dtype=float)
-        if t.ndim != 1 or f.shape != t.shape or d.shape != t.shape:
-            raise AfmInputError(src, "time_s", "equal-length 1-D columns time, force, indentation")
-        if t.size < 10:
-            raise AfmInputError(src, "time_s", "at least 10 samples", t.size)
-        for name, values in (("time_s", t), ("force_nN", f), ("indentation_um", d)):
-            bad = np.flatnonzero(~np.isfinite(values))
-            if bad.size:
-                raise AfmInputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
-        if np.any(np.diff(t) <= 0):
-            raise AfmInputError(src, "time_s", "strictly increasing time")
-        if np.any(d <= 0):
-            raise AfmInputError(src, "indentation_um", "positive indentation during the hold")
-        mean = float(np.mean(f))
-        spread = float(np.std(f)) / mean if mean > 0 else math.inf
-        if not spread <= FORCE_CLAMP_TOLERANCE:
-            raise AfmInputError(
-                src,
-                "force_nN",
-                f"a clamped force (SD/mean <= {FORCE_CLAMP_TOLERANCE:g} over the hold)",
-                f"SD/mean = {spread:.3g}",
-            )
-        object.__setattr__(self, "time_s", t - t[0])
-        object.__setattr__(self, "force_nN", f)
-        object.__setattr__(self, "indentation_um", d)
-
-    @property
-    def clamp_force_nN(self) -> float:
-        """Mean force over the hold, nN (the F0 of Lee-Radok)."""
-        return float(np.mean(self.force_nN))
 
 
 @dataclass(frozen=True)
@@ -225,8 +178,6 @@ def material_from_creep_csv(
 
     Write it with :func:`afm.material_file.write_material`.
     """
-    from afm.curve_io import read_creep
-
     data = read_creep(path)
     fit = fit_creep(data, half_angle_deg, nu, per_decade)
     source = (

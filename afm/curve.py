@@ -10,13 +10,15 @@ tip-sample separation follows from the cantilever deflection ``force / k``::
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from afm.errors import AfmInputError
 
 MIN_POINTS = 10
+MAX_JITTER_FRACTION = 0.02
+"""Largest step back of the piezo/height (as a fraction of its travel) taken as sensor jitter."""
 
 
 @dataclass(frozen=True)
@@ -24,6 +26,14 @@ class ForceCurve:
     """Approach force curve: piezo travel [um], force [nN], spring constant k [nN/um].
 
     (k in N/m times 1000 is k in nN/um.) ``source`` names the file it came from, for errors.
+    ``height_channel`` names the recorded column the piezo travel came from (for instrument
+    files ``height (measured)``, ``height (piezo)`` or ``tip position``; ``piezo`` for text
+    tables); ``map_position_um`` is the (x, y) position of the curve on a force map and
+    ``curve_index`` its index in the file (``None`` for single curves).
+
+    The travel is kept as recorded: a measured height jitters, so steps back of up to
+    :data:`MAX_JITTER_FRACTION` of the travel are accepted (no step of the fit needs the data
+    sorted); a larger step back means approach and retract are mixed and is refused.
     """
 
     piezo_um: np.ndarray
@@ -32,6 +42,9 @@ class ForceCurve:
     source: str = "<input>"
     group: str = ""
     time_s: np.ndarray | None = field(default=None, compare=False)
+    height_channel: str = "piezo"
+    map_position_um: tuple[float, float] | None = None
+    curve_index: int | None = None
 
     def __post_init__(self) -> None:
         piezo = np.asarray(self.piezo_um, dtype=float)
@@ -45,13 +58,16 @@ class ForceCurve:
             bad = np.flatnonzero(~np.isfinite(values))
             if bad.size:
                 raise AfmInputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
-        step = np.diff(piezo)
-        if np.any(step < 0) or piezo[-1] <= piezo[0]:
+        travel = float(piezo[-1] - piezo[0])
+        step_back = np.maximum.accumulate(piezo) - piezo
+        if not travel > 0 or float(step_back.max()) > MAX_JITTER_FRACTION * travel:
+            row = int(np.argmax(step_back)) if travel > 0 else None
             raise AfmInputError(
                 src,
                 "piezo_um",
-                "a monotonic approach (piezo travel non-decreasing towards the sample)",
-                f"decreases at row {int(np.argmax(step < 0)) + 1}" if np.any(step < 0) else None,
+                "a monotonic approach (travel towards the sample; steps back up to "
+                f"{100 * MAX_JITTER_FRACTION:g} % of the travel are taken as sensor jitter)",
+                None if row is None else f"a step back of {step_back[row]:.3g} um at row {row}",
             )
         k = float(self.spring_constant_nN_per_um)
         if not (np.isfinite(k) and k > 0):
@@ -67,25 +83,16 @@ class ForceCurve:
 
     def with_force(self, force_nN: np.ndarray) -> ForceCurve:
         """The same curve with another force column (for example baseline-corrected)."""
-        return ForceCurve(
-            self.piezo_um,
-            force_nN,
-            self.spring_constant_nN_per_um,
-            self.source,
-            self.group,
-            self.time_s,
-        )
+        return replace(self, force_nN=force_nN)
 
     def slice(self, start: int, stop: int) -> ForceCurve:
         """Points ``start:stop`` as a new curve."""
         time = None if self.time_s is None else self.time_s[start:stop]
-        return ForceCurve(
-            self.piezo_um[start:stop],
-            self.force_nN[start:stop],
-            self.spring_constant_nN_per_um,
-            self.source,
-            self.group,
-            time,
+        return replace(
+            self,
+            piezo_um=self.piezo_um[start:stop],
+            force_nN=self.force_nN[start:stop],
+            time_s=time,
         )
 
 

@@ -15,21 +15,29 @@ Creep records (:func:`read_creep`): ``time_s``, a force column, and ``indentatio
 ``indentation_nm``), or a piezo/height column with metadata ``contact_point_um``; the
 indentation is then ``height - contact_point - F/k``.
 
-Instrument files (JPK ``.jpk-force``, Asylum ``.ibw`` and the other formats afmformats reads)
-go through the optional ``afmformats`` package (``pip install oocyte-fe[afm]``).
+Instrument files (JPK ``.jpk-force``, Asylum ``.ibw``, AFM-Workshop ``.csv``, NT-MDT ``.txt``
+and the other formats afmformats reads) go to :mod:`afm.instrument_io`: every file whose
+suffix only afmformats reads, and every ``.csv``/``.txt`` that one of afmformats' format
+recipes recognises, unless its header row names one of the columns above (afmformats accepts
+any ``.csv`` as AFM-Workshop's).
 """
 
 from __future__ import annotations
 
-import importlib
 import re
 from pathlib import Path
 
 import numpy as np
 
-from afm.creep import CreepData
+from afm.creep_data import CreepData
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
-from afm.errors import AfmInputError, MissingExtraError
+from afm.errors import AfmInputError
+from afm.instrument_io import (
+    read_instrument_creep,
+    read_instrument_curves,
+    read_instrument_file,
+    recognises,
+)
 
 TEXT_SUFFIXES = {".csv", ".tsv", ".txt"}
 PIEZO_COLUMNS = {"piezo_um": 1.0, "piezo_nm": 1e-3, "height_um": 1.0, "height_nm": 1e-3}
@@ -112,18 +120,79 @@ def _force(
     raise AfmInputError(path, "header", f"a force column: one of {', '.join(names)}")
 
 
+OWN_COLUMNS = {
+    *PIEZO_COLUMNS,
+    *FORCE_COLUMNS,
+    *DEFLECTION_COLUMNS,
+    *INDENTATION_COLUMNS,
+    "deflection_V",
+    "time_s",
+}
+
+
+def _is_own_table(path: Path) -> bool:
+    """True when the first row that is not a ``#`` comment names one of this module's columns."""
+    try:
+        with path.open(errors="replace") as fh:
+            for line in fh:
+                stripped = line.strip()
+                if stripped and not stripped.startswith("#"):
+                    return bool(OWN_COLUMNS & {n.strip() for n in re.split(r"[,\t\s]+", stripped)})
+    except OSError:
+        return True
+    return True
+
+
+def is_instrument_file(path: str | Path) -> bool:
+    """True when ``path`` goes to afmformats (module docstring), False for a plain table."""
+    path = Path(path)
+    if path.suffix.lower() not in TEXT_SUFFIXES:
+        return True
+    return not _is_own_table(path) and recognises(path)
+
+
+def read_curves(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+) -> list[ForceCurve]:
+    """Every approach curve of a file: one for a table or single curve, all of a force map.
+
+    Arguments override the file's metadata; ``height_channel`` applies to instrument files
+    (:mod:`afm.instrument_io`).
+    """
+    if is_instrument_file(path):
+        return read_instrument_curves(
+            path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
+        )
+    return [read_curve(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel)]
+
+
 def read_curve(
     path: str | Path,
     spring_constant_N_per_m: float | None = None,
     sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
 ) -> ForceCurve:
-    """Read one approach curve (text table or, with afmformats, an instrument file).
+    """Read one approach curve (the first of a force map); see :func:`read_curves`.
 
-    Arguments override the file's metadata.
+    A text table has one travel column (``height_channel`` ``"auto"`` or ``"piezo"``).
     """
-    path = Path(path)
-    if path.suffix.lower() not in TEXT_SUFFIXES:
-        return read_instrument_file(path, spring_constant_N_per_m)
+    if is_instrument_file(path):
+        return read_instrument_file(
+            path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
+        )
+    if height_channel not in ("auto", "piezo"):
+        raise AfmInputError(
+            path, "height_channel", "auto or piezo for a text table", height_channel
+        )
+    return _read_table_curve(Path(path), spring_constant_N_per_m, sensitivity_nm_per_V)
+
+
+def _read_table_curve(
+    path: Path, spring_constant_N_per_m: float | None, sensitivity_nm_per_V: float | None
+) -> ForceCurve:
     columns, meta = read_table(path)
     k = _meta_float(meta, "spring_constant_N_per_m", spring_constant_N_per_m, path)
     if k is None:
@@ -152,9 +221,20 @@ def write_curve(curve: ForceCurve, path: str | Path) -> Path:
     return path
 
 
-def read_creep(path: str | Path) -> CreepData:
-    """Read a force-clamp hold (module docstring) as :class:`afm.creep.CreepData`."""
+def read_creep(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    height_channel: str = "auto",
+) -> CreepData:
+    """Read a force-clamp hold as :class:`afm.creep_data.CreepData`.
+
+    A creep table (module docstring), or an instrument force-clamp file
+    (:func:`afm.instrument_io.read_instrument_creep`; ``spring_constant_N_per_m`` and
+    ``height_channel`` apply to those).
+    """
     path = Path(path)
+    if is_instrument_file(path):
+        return read_instrument_creep(path, spring_constant_N_per_m, None, height_channel)
     columns, meta = read_table(path)
     if "time_s" not in columns:
         raise AfmInputError(path, "header", "a time_s column")
@@ -196,38 +276,3 @@ def write_creep(
         fh.write("\n".join(lines) + "\n")
         np.savetxt(fh, np.column_stack([time_s, force_nN, height_um]), delimiter=",", fmt="%.10g")
     return path
-
-
-def _afmformats():
-    try:
-        return importlib.import_module("afmformats")
-    except ImportError:
-        raise MissingExtraError(
-            "reading instrument files needs the optional extra 'afm' "
-            "(pip install 'oocyte-fe[afm]', which installs afmformats)"
-        ) from None
-
-
-def read_instrument_file(
-    path: str | Path, spring_constant_N_per_m: float | None = None
-) -> ForceCurve:
-    """First force-distance curve of an instrument file via afmformats (SI -> um, nN)."""
-    path = Path(path)
-    afmformats = _afmformats()
-    try:
-        records = afmformats.load_data(path)
-    # afmformats raises many types for unreadable files; its own derive from BaseException
-    except (Exception, afmformats.errors.AFMFileFormatError) as exc:
-        raise AfmInputError(path, "", f"a file afmformats can read ({exc})") from None
-    if not records:
-        raise AfmInputError(path, "", "at least one force curve")
-    fd = records[0]
-    height_key = "height (piezo)" if "height (piezo)" in fd else "height (measured)"
-    # afmformats: SI units, height decreasing towards the sample
-    piezo = -np.asarray(fd.appr[height_key]) * 1e6
-    force = np.asarray(fd.appr["force"]) * 1e9
-    k = spring_constant_N_per_m or fd.metadata.get("spring constant")
-    if k is None:
-        raise AfmInputError(path, "spring_constant_N_per_m", "the spring constant")
-    k_internal = spring_constant_nN_per_um(k, str(path))
-    return ForceCurve(piezo, force, k_internal, str(path), path.parent.name)

@@ -69,6 +69,8 @@ class IndentationFit:
     tip_position_um: np.ndarray
     force_nN: np.ndarray
     offset_nN: float = 0.0
+    height_channel: str = ""
+    """Recorded column the tip position came from (:attr:`afm.curve.ForceCurve.height_channel`)."""
 
     @property
     def indentation_um(self) -> np.ndarray:
@@ -235,4 +237,5 @@ def fit_indentation(
         baseline=baseline,
         tip_position_um=xw,
         force_nN=fw,
+        height_channel=curve.height_channel,
     )

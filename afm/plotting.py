@@ -51,7 +51,8 @@ def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title
 
 def plot_batch(result: BatchResult, folder: str | Path) -> list[Path]:
     """One figure per fitted curve of a batch (:func:`plot_fit`), ``<curve name>.png`` in
-    ``folder``; curves that failed have no figure (their error is in the batch table)."""
+    ``folder`` (``<file>_curve<i>.png`` for force-map curves); curves that failed have no
+    figure (their error is in the batch table)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
@@ -60,8 +61,39 @@ def plot_batch(result: BatchResult, folder: str | Path) -> list[Path]:
             continue
         fits = [("ZP", row.fit)] + ([("cytoplasm", row.cytoplasm)] if row.cytoplasm else [])
         name = Path(row.file).stem
-        paths.append(plot_fit(fits, folder / f"{name}.png", title=Path(row.file).name))
+        title = Path(row.file).name
+        if row.curve_index is not None:
+            name += f"_curve{row.curve_index:04d}"
+            title += f" curve {row.curve_index}"
+        paths.append(plot_fit(fits, folder / f"{name}.png", title=title))
     return paths
+
+
+def plot_modulus_map(result: BatchResult, file: str | Path, path: str | Path) -> Path:
+    """Young's modulus at each map position of one force-map file (log colour scale, kPa).
+
+    Curves without a fit are drawn as grey crosses; positions are the instrument's (um).
+    """
+    rows = result.map_rows(file)
+    if not rows:
+        raise ValueError(f"{file}: no force-map curves in this batch")
+    xy = np.array([r.map_position_um for r in rows])
+    fitted = np.array([r.fit is not None for r in rows])
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    if fitted.any():
+        moduli = np.array([r.fit.E_kPa for r in rows if r.fit is not None])
+        positive = moduli[moduli > 0]
+        norm = matplotlib.colors.LogNorm(positive.min(), positive.max()) if positive.size else None
+        points = ax.scatter(
+            xy[fitted, 0], xy[fitted, 1], c=moduli, s=120, marker="s", cmap="viridis", norm=norm
+        )
+        fig.colorbar(points, ax=ax, label="E [kPa]")
+    if (~fitted).any():
+        ax.scatter(xy[~fitted, 0], xy[~fitted, 1], c="grey", marker="x", s=60, label="no fit")
+        ax.legend(fontsize=7)
+    ax.set(xlabel="x [um]", ylabel="y [um]", title=f"{Path(file).name}: modulus map")
+    ax.set_aspect("equal", adjustable="datalim")
+    return _save(fig, path)
 
 
 def plot_histogram(

@@ -9,6 +9,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import Normalize
 
 from nmsd.lattice import Lattice
 from nmsd.pipette import Pipette
@@ -36,24 +37,30 @@ def plot_force_curves(
 def plot_snapshots(
     path: Path, lattice: Lattice, pipette: Pipette, snapshots: dict[float, np.ndarray]
 ) -> None:
-    """Lattice at several advances, links drawn, nodes coloured by displacement (um)."""
+    """Lattice at several pipette advances (um), links drawn, nodes coloured by their
+    displacement magnitude |u| (um) on one colour scale shared by every panel (0 to the
+    largest |u| of all panels; 0 to 1 um when nothing has moved yet)."""
     keys = sorted(snapshots)
-    fig, axes = plt.subplots(1, len(keys), figsize=(3.2 * len(keys), 3.4))
-    for ax, key in zip(np.atleast_1d(axes), keys, strict=True):
+    moved = {k: np.linalg.norm(snapshots[k] - lattice.nodes, axis=1) for k in keys}
+    top = max(float(u.max()) for u in moved.values())
+    norm = Normalize(vmin=0.0, vmax=top if top > 0 else 1.0)
+    fig, axes = plt.subplots(
+        1, len(keys), figsize=(3.2 * len(keys) + 1.0, 3.6), squeeze=False, sharey=True
+    )
+    for ax, key in zip(axes[0], keys, strict=True):
         x = snapshots[key]
         seg = x[lattice.edges]
         ax.plot(seg[:, :, 0].T, seg[:, :, 1].T, color="0.75", lw=0.5)
-        u = np.linalg.norm(x - lattice.nodes, axis=1)
-        sc = ax.scatter(x[:, 0], x[:, 1], c=u, s=8, cmap="viridis", vmin=0)
+        sc = ax.scatter(x[:, 0], x[:, 1], c=moved[key], s=8, cmap="viridis", norm=norm)
         ax.fill(*pipette.outline(key).T, color="tab:red", alpha=0.4)
-        ax.set_title(f"{key:g} um")
+        ax.set_title(f"pipette advance {key:.3g} µm", fontsize=9)
         ax.set_aspect("equal")
         ax.set_xlim(-1.2 * lattice.radius, 1.5 * lattice.radius)
         ax.set_ylim(-1.2 * lattice.radius, 1.2 * lattice.radius)
-        ax.axis("off")
-        fig.colorbar(sc, ax=ax, shrink=0.6, label="|u| (um)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
+        ax.set_xlabel("x (µm)")
+    axes[0, 0].set_ylabel("y (µm)")
+    fig.colorbar(sc, ax=list(axes[0]), shrink=0.8, label="|u| (µm), one scale for all panels")
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
 
 

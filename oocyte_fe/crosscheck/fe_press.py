@@ -29,6 +29,7 @@ from oocyte_fe.crosscheck.zp_material import LayerMaterials
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.fields import stress_fields
 from oocyte_fe.fe.loads import Prescribed
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem
@@ -85,8 +86,9 @@ class FePress:
     """FE press history at the output advances (the first entry is the rest state).
 
     ``advance_um`` (k,), ``force_nN_per_um`` (k,), ``point_displacement_um`` (k, p, 2) at the
-    reference ``points_um`` (p, 2), ``vertex_displacement_um`` (k, 2, nverts), maximum
-    penetration (k,) um, solver steps, cutbacks, Newton iterations and wall time (s).
+    reference ``points_um`` (p, 2), ``vertex_displacement_um`` (k, 2, nverts),
+    ``vertex_pressure_kPa`` (k, nverts) = ``-tr(sigma)/3``, maximum penetration (k,) um,
+    solver steps, cutbacks, Newton iterations and wall time (s).
     """
 
     mesh: skfem.Mesh
@@ -96,6 +98,7 @@ class FePress:
     points_um: np.ndarray
     point_displacement_um: np.ndarray
     vertex_displacement_um: np.ndarray
+    vertex_pressure_kPa: np.ndarray
     penetration_um: np.ndarray
     steps: int
     cutbacks: int
@@ -197,11 +200,13 @@ def run_fe_press(
     n_p = len(points_um)
     u_pts = [np.zeros((n_p, 2))]
     u_vert = [np.zeros((2, mesh.nvertices))]
+    p_vert = [np.zeros(mesh.nvertices)]
     force, pen = [0.0], [0.0]
     for f in frames:
         u = body.displacement(f.x)
         u_pts.append((probes @ u).reshape(2, n_p).T)
         u_vert.append(body.vertex_displacement(f.x))
+        p_vert.append(-stress_fields(problem, f.x)["mean_stress"])
         force.append(float(f.obstacle_forces[PIPETTE][0]))
         pen.append(float(f.contact_pressure[PIPETTE].max()) / penalty)
     return FePress(
@@ -212,6 +217,7 @@ def run_fe_press(
         points_um=np.asarray(points_um, dtype=float),
         point_displacement_um=np.array(u_pts),
         vertex_displacement_um=np.array(u_vert),
+        vertex_pressure_kPa=np.array(p_vert),
         penetration_um=np.array(pen),
         steps=len(solved.steps),
         cutbacks=solved.cutbacks,

@@ -61,7 +61,13 @@ def plot_displacement_arrows(
     circle = np.linspace(0, 2 * np.pi, 200)
     for ax, a in zip(axes[:-1], advances_um, strict=True):
         k = int(np.argmin(np.abs(agreement.advance_um - a)))
-        ax.plot(radius_um * np.cos(circle), radius_um * np.sin(circle), color="0.6", lw=0.8)
+        ax.plot(
+            radius_um * np.cos(circle),
+            radius_um * np.sin(circle),
+            color="0.6",
+            lw=0.8,
+            label="cell at rest",
+        )
         for u, colour, label in ((u_fe_um[k], "tab:blue", "FE"), (u_nmsd_um[k], "tab:red", "NMSD")):
             ax.quiver(
                 points_um[:, 0], points_um[:, 1], u[:, 0], u[:, 1], color=colour,
@@ -75,7 +81,7 @@ def plot_displacement_arrows(
         ax.set_xlim(-1.15 * radius_um, 1.6 * radius_um)
         ax.set_ylim(-1.15 * radius_um, 1.15 * radius_um)
         ax.set_xlabel("x (um)")
-    axes[0].set_ylabel("y (um)")
+        ax.set_ylabel("y (um)")
     axes[0].legend(fontsize=8, loc="lower left")
     ax = axes[-1]
     ax.plot(agreement.advance_um, np.linalg.norm(agreement.spindle_fe_um, axis=1), "b.-",
@@ -86,7 +92,7 @@ def plot_displacement_arrows(
     ax.plot(agreement.advance_um, agreement.spindle_tolerance_um, "k--", label="goal")
     ax.plot(agreement.advance_um, agreement.error_um.max(axis=1), "m:", label="max error, grid")
     ax.set_xlabel("pipette advance (um)")
-    ax.set_ylabel("um")
+    ax.set_ylabel("displacement, error (um)")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)

@@ -245,11 +245,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
     def keep(result: PassageResult, frame) -> None:
         if inp.vtu:
             body = result.problem.body
+            fields = stress_fields(result.problem, frame.x)
             series.append(
                 (
                     frame.t,
                     body.vertex_displacement(frame.x),
-                    stress_fields(result.problem, frame.x)["von_mises"],
+                    -fields["mean_stress"],
+                    fields["von_mises"],
                     contact_pressure_at_vertices(result.problem, frame),
                 )
             )
@@ -260,9 +262,12 @@ def run(ctx: CaseContext) -> CaseOutcome:
     _require(main, "viscoelastic passage")
     body = main.problem.body
     if inp.vtu:
-        with FieldSeriesWriter(ctx.output("fields"), body.mesh, "neck") as vtu:
-            for t, u, vm, cp in series:
-                vtu.write(t, u, von_mises=vm, contact_pressure=cp)
+        wall = np.asarray(main.pipette.profile(), dtype=float)  # fixed in the lab frame
+        with FieldSeriesWriter(ctx.output("fields"), body.mesh, "neck", axisymmetric=True) as vtu:
+            for t, u, p, vm, cp in series:
+                vtu.write(
+                    t, u, pressure=p, von_mises=vm, contact_pressure=cp, obstacles={"pipette": wall}
+                )
 
     ctx.step("outputs")
     h = main.history

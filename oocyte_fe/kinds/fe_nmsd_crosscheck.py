@@ -35,7 +35,7 @@ from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_o
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
 from oocyte_fe.errors import InputError
-from oocyte_fe.io import write_history_csv
+from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.kinds.nmsd_cases import build_press
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
@@ -478,8 +478,16 @@ def run(ctx: CaseContext) -> CaseOutcome:
         fe.mesh,
         fe.vertex_displacement_um[-1],
         obstacles=[np.asarray(end.points)],
-        title=f"FE at {fe.advance_um[-1]:g} um advance, |u| (um)",
+        title=f"FE at {fe.advance_um[-1]:g} um advance, displacement magnitude",
     )
+    with FieldSeriesWriter(ctx.output("fields"), fe.mesh, "press") as series:
+        for k, advance in enumerate(fe.advance_um):
+            series.write(
+                advance / scenario.speed_um_s,  # s
+                fe.vertex_displacement_um[k],
+                pressure=fe.vertex_pressure_kPa[k],
+                obstacles={"pipette": np.asarray(pipette_at(scenario, advance).points)},
+            )
     write_history_csv(
         ctx.output("force_history.csv"),
         {

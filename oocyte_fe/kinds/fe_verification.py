@@ -60,7 +60,24 @@ METRICS = {
 def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
     prob, res = v.problem, v.result
     mesh = prob.body.mesh
-    with FieldSeriesWriter(ctx.output("fields/hertz"), mesh, name="hertz") as writer:
+    contact = prob.contacts[0][0]
+    sphere = contact.obstacle
+    theta = np.linspace(-np.pi / 2, 0.0, 60)
+
+    def circle(t: float) -> np.ndarray:
+        """The sphere's section (its lower right quarter, um) at time ``t``."""
+        cx, cy = np.asarray(sphere.center) + np.asarray(contact.motion(t))
+        return np.column_stack(
+            [cx + sphere.radius * np.cos(theta), cy + sphere.radius * np.sin(theta)]
+        )
+
+    depth = abs(contact.motion(res.frames[-1].t)[1])
+    a = np.sqrt(sphere.radius * depth)  # contact radius of the final indentation, um
+    top = float(mesh.doflocs[1].max())
+    window = (-5 * a, 5 * a, top - 6 * a, top + 1.5 * a)  # the contact zone, um
+    with FieldSeriesWriter(
+        ctx.output("fields/hertz"), mesh, name="hertz", axisymmetric=True, view_window=window
+    ) as writer:
         for frame in res.frames:
             fields = stress_fields(prob, frame.x)
             writer.write(
@@ -69,6 +86,7 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
                 pressure=-fields["mean_stress"],
                 von_mises=fields["von_mises"],
                 contact_pressure=contact_pressure_at_vertices(prob, frame),
+                obstacles={"sphere": circle(frame.t)},
             )
     force = np.array([f.obstacle_forces["contact"][1] for f in res.frames])
     write_history_csv(
@@ -77,23 +95,22 @@ def _write_hertz_outputs(ctx: CaseContext, v: Verification) -> list[Figure]:
         {"time": "s", "force": "nN", "volume": "um3"},
     )
     last = res.frames[-1]
-    contact = prob.contacts[0][0]
-    sphere = contact.obstacle
-    shift = contact.motion(last.t)
-    theta = np.linspace(-np.pi / 2, 0.0, 60)
-    cx, cy = sphere.center[0] + shift[0], sphere.center[1] + shift[1]
-    circle = np.column_stack(
-        [cx + sphere.radius * np.cos(theta), cy + sphere.radius * np.sin(theta)]
-    )
     plot_section(
         ctx.output("hertz_section.png"),
         mesh,
         prob.body.vertex_displacement(last.x),
         mirror=True,
-        obstacles=[circle],
-        title="Hertz: rigid sphere on a half-space, displacement magnitude (um)",
+        obstacles=[circle(last.t)],
+        title=f"Hertz contact zone (contact radius a = {a:.2f} um), displacement magnitude",
+        window=window,
     )
-    return [Figure("hertz_section.png", "Hertz contact, deformed section coloured by |u| (um)")]
+    return [
+        Figure(
+            "hertz_section.png",
+            f"Hertz contact, the section within 5 a of the contact (a = {a:.2f} um, the "
+            "half-space is 80 a wide), coloured by |u| (um)",
+        )
+    ]
 
 
 @case_kind("fe_verification", inputs=FeVerificationInputs, metrics=METRICS)

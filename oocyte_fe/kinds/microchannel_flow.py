@@ -200,7 +200,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
             plot_duct_velocity(
                 fe_rect,
                 ctx.output("duct_velocity.png"),
-                f"Carreau flow, {w:g} x {h:g} um duct, Q = {fe_rect.flow_rate:.4g} um^3/s",
+                f"Carreau flow, {w:g} x {h:g} µm duct, Q = {fe_rect.flow_rate:.4g} µm³/s",
             ).name,
             "FE velocity of the Carreau fluid in the rectangular duct (pyvista, off-screen)",
         ),

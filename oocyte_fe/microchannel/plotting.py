@@ -93,7 +93,8 @@ def plot_junction_ratio(
 
 
 def plot_duct_velocity(flow: DuctFlow, file: Path, title: str) -> Path:
-    """The FE velocity on a plane section, warped by its value, rendered off-screen (pyvista)."""
+    """The FE velocity (um/s) on a plane section, warped by its value, rendered off-screen
+    (pyvista); the colour bar stands at the right, clear of the drawing."""
     import pyvista as pv
 
     mesh = flow.mesh
@@ -101,20 +102,34 @@ def plot_duct_velocity(flow: DuctFlow, file: Path, title: str) -> Path:
     points = np.column_stack([mesh.p[0], mesh.p[1], np.zeros(mesh.p.shape[1])])
     faces = np.column_stack([np.full(mesh.t.shape[1], 3), mesh.t.T]).ravel()
     grid = pv.PolyData(points, faces)
-    grid["u (um/s)"] = u
+    label = "axial velocity (µm/s)"
+    grid[label] = u
     span = max(np.ptp(mesh.p[0]), np.ptp(mesh.p[1]))
-    warped = grid.warp_by_scalar("u (um/s)", factor=0.4 * span / max(u.max(), 1e-300))
+    warped = grid.warp_by_scalar(label, factor=0.4 * span / max(u.max(), 1e-300))
     plotter = pv.Plotter(off_screen=True, window_size=(900, 600))
+    plotter.set_background("white")
     plotter.add_mesh(
         warped,
-        scalars="u (um/s)",
+        scalars=label,
         cmap="viridis",
         show_edges=True,
         edge_color="gray",
         line_width=0.3,
+        scalar_bar_args={
+            "title": label,
+            "vertical": True,
+            "position_x": 0.82,
+            "position_y": 0.15,
+            "height": 0.65,
+            "fmt": "%.3g",
+            "color": "black",
+            "title_font_size": 14,
+            "label_font_size": 12,
+        },
     )
-    plotter.add_text(title, font_size=10)
+    plotter.add_text(title, position="upper_edge", font_size=10, color="black")
     plotter.view_isometric()
+    plotter.camera.zoom(0.9)
     plotter.screenshot(str(file))
     plotter.close()
     return file

@@ -23,8 +23,12 @@ def plot_history(result: PassageResult, path: Path, reference_kPa: float) -> Pat
     ax[0].plot(t, result.series("front_pole_um"), "--", label="front pole")
     ax[0].set(xlabel="time (s)", ylabel="advance (um)", title="aspiration advance")
     ax[0].legend()
-    ax[1].plot(result.series("centroid_advance_um"), 1e3 * result.series("suction_kPa"))
-    ax[1].axhline(1e3 * reference_kPa, color="k", ls=":", label=f"{1e3 * reference_kPa:g} Pa")
+    ax[1].plot(
+        result.series("centroid_advance_um"),
+        1e3 * result.series("suction_kPa"),
+        label="quasi-static passage",
+    )
+    ax[1].axhline(1e3 * reference_kPa, color="k", ls=":", label=f"seed: {1e3 * reference_kPa:g} Pa")
     ax[1].set(xlabel="centroid advance (um)", ylabel="suction (Pa)", title="suction needed")
     ax[1].legend()
     w = result.series("centroid_advance_um")
@@ -54,7 +58,12 @@ def plot_wall_pressure(result: PassageResult, path: Path, frames: list[int]) -> 
             z[order][on], 1e3 * lam[order][on], ".", ms=3, label=f"t = {result.frames[k].t:.2f} s"
         )
     ax.axvline(result.pipette.z_neck_um, color="k", ls=":", label="neck start")
-    ax.axvline(result.pipette.z_neck_um - result.pipette.taper_length_um, color="grey", ls=":")
+    ax.axvline(
+        result.pipette.z_neck_um - result.pipette.taper_length_um,
+        color="grey",
+        ls=":",
+        label="taper start",
+    )
     ax.set(xlabel="Z along the pipette (um)", ylabel="contact pressure (Pa)")
     ax.legend()
     fig.tight_layout()

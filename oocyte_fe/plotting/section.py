@@ -4,11 +4,16 @@ The section is drawn in the current configuration ``x + scale * u`` (um). An axi
 half-section (x = r >= 0) can be mirrored about the axis x = 0 for display. Rigid obstacles
 (pipette walls, plates, indenter profiles) are drawn as polylines given by their points in
 the same plane, in um. Quadratic triangles are split into four linear ones for drawing.
-No display is needed: rendering is off-screen.
+``window`` = (x_min, x_max, y_min, y_max) um, in the drawn (mirrored) plane, cuts the
+drawing to that rectangle and fits the view to it (a contact zone that is a
+small part of a large mesh). Titles and the colour-bar label print the unit as "µm" (VTK's
+text renderer has no mathtext; "|u|" would draw its bars as a raised "u", so the title
+should say "displacement magnitude"). No display is needed: rendering is off-screen.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -32,11 +37,23 @@ def _triangles(mesh: skfem.Mesh) -> np.ndarray:
     return nodes[:, _P2_SPLIT].reshape(-1, 3)
 
 
+SCALARS = "displacement (µm)"
+
+Window = tuple[float, float, float, float]
+
+
+def _clip(item: pv.DataSet, window: Window | None) -> pv.DataSet:
+    """``item`` cut to the rectangle ``window`` (um), or unchanged if None."""
+    if window is None:
+        return item
+    return item.clip_box((*window, -1.0, 1.0), invert=False)
+
+
 def _surface(points_xy: np.ndarray, triangles: np.ndarray, scalars: np.ndarray) -> pv.PolyData:
     points = np.column_stack([points_xy, np.zeros(len(points_xy))])
     faces = np.column_stack([np.full(len(triangles), 3), triangles]).ravel()
     surface = pv.PolyData(points, faces)
-    surface.point_data["displacement (um)"] = scalars
+    surface.point_data[SCALARS] = scalars
     return surface
 
 
@@ -73,11 +90,13 @@ def plot_section(
     obstacles: Sequence[np.ndarray] = (),
     show_edges: bool = True,
     title: str | None = None,
+    window: Window | None = None,
     window_size: tuple[int, int] = (1200, 900),
 ) -> Path:
     """Write a PNG of ``mesh`` deformed by ``scale * displacement`` (um, nodal, 2
     components), coloured by ``|u|``; ``mirror`` adds the reflection about x = 0 (for an
-    axisymmetric half-section, also applied to the obstacles). Returns ``path``."""
+    axisymmetric half-section, also applied to the obstacles); ``window`` (um) draws only
+    that part of the section. Returns ``path``."""
     path = Path(path)
     xy = mesh.doflocs.T
     u = (
@@ -89,15 +108,22 @@ def plot_section(
     current = xy + scale * u
     tri = _triangles(mesh)
     flips = [np.array([1.0, 1.0])] + ([np.array([-1.0, 1.0])] if mirror else [])
-    pieces = [_surface(current * flip, tri, magnitude) for flip in flips]
-    edges = [_edges(current * flip, mesh) for flip in flips] if show_edges else []
-    lines = [_polyline(np.asarray(o, dtype=float) * flip) for flip in flips for o in obstacles]
+    pieces = [_clip(_surface(current * flip, tri, magnitude), window) for flip in flips]
+    if any(p.n_cells == 0 for p in pieces):
+        raise ValueError(f"plot_section: no element inside the window {window} um")
+    edges = [_clip(_edges(current * flip, mesh), window) for flip in flips] if show_edges else []
+    lines = [
+        _clip(_polyline(np.asarray(o, dtype=float) * flip), window)
+        for flip in flips
+        for o in obstacles
+    ]
+    lines = [line for line in lines if line.n_cells]
 
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     try:
         plotter.set_background("white")
         bar = {
-            "title": "displacement (um)",
+            "title": SCALARS,
             "color": "black",
             "vertical": True,
             "fmt": "%.3g",
@@ -105,11 +131,12 @@ def plot_section(
             "title_font_size": 14,
             "label_font_size": 12,
         }
-        limits = [0.0, max(float(magnitude.max()), 1e-12)]
+        shown = max(float(np.max(p.point_data[SCALARS])) for p in pieces)
+        limits = [0.0, max(shown, 1e-12)]
         for piece in pieces:
             plotter.add_mesh(
                 piece,
-                scalars="displacement (um)",
+                scalars=SCALARS,
                 cmap="viridis",
                 clim=limits,
                 scalar_bar_args=bar,
@@ -119,12 +146,13 @@ def plot_section(
         for line in lines:
             plotter.add_mesh(line, color="black", line_width=3)
         if title:
-            plotter.add_text(title, font_size=12, color="black")
+            text = re.sub(r"\bum\b", "µm", title)
+            plotter.add_text(text, position="upper_edge", font_size=12, color="black")
         plotter.view_xy()
         plotter.enable_parallel_projection()
         plotter.reset_camera()
         # fit the drawing into the left 75 % of the window, the colour bar on the right
-        xmin, xmax, ymin, ymax = _bounds(pieces + lines)
+        xmin, xmax, ymin, ymax = window if window is not None else _bounds(pieces + lines)
         aspect = window_size[0] / window_size[1]
         half_height = 0.55 * max(ymax - ymin, (xmax - xmin) / (0.75 * aspect))
         shift = 0.2 * half_height * aspect  # drawing centred at 40 % of the width

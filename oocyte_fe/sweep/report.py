@@ -14,7 +14,15 @@ import numpy as np
 from oocyte_fe.runner.casefile import Case
 from oocyte_fe.runner.registry import CaseOutcome, Figure
 from oocyte_fe.sweep.plotting import plot_histograms, plot_scatter, plot_sensitivity
-from oocyte_fe.sweep.statistics import Sensitivity, Summary, sensitivity, summarize
+from oocyte_fe.sweep.statistics import (
+    BOOTSTRAP,
+    MIN_SAMPLES,
+    RECOMMENDED,
+    Sensitivity,
+    Summary,
+    sensitivity,
+    summarize,
+)
 from oocyte_fe.sweep.store import SampleRecord
 
 TABLE = "samples.csv"
@@ -86,6 +94,7 @@ def aggregate(case: Case, rows: list[SampleRow], names: list[str], out_dir: Path
             indices[m] = s
     out: dict[str, float | list[float]] = {"n_ok": float(len(ok))}
     out["n_failed"] = float(len(rows) - len(ok))
+    out["ok_fraction"] = len(ok) / len(rows) if rows else math.nan
     for m, s in summaries.items():
         out.update({f"{m}.{k}": v for k, v in s.as_dict().items()})
     figures = []
@@ -99,7 +108,13 @@ def aggregate(case: Case, rows: list[SampleRow], names: list[str], out_dir: Path
         ]
     if indices:
         plot_sensitivity(out_dir / "sensitivity.png", indices, names)
-        figures.append(Figure("sensitivity.png", f"{sweep.sensitivity} indices, 95 % intervals"))
+        figures.append(
+            Figure(
+                "sensitivity.png",
+                f"{sweep.sensitivity} indices with 95 % intervals; hatched: the interval "
+                "reaches zero",
+            )
+        )
     sections = [
         ("Sweep", _settings(case, len(rows), names)),
         ("Statistics over the finished samples", _stats_table(summaries, case)),
@@ -148,22 +163,43 @@ def _sensitivity_table(
         return 'Not computed (`sensitivity = "none"`).'
     if not indices:
         return (
-            f"Not computed: {n_ok} finished samples are too few for `{method}` "
-            "(or every metric was constant)."
+            f"Not computed: {n_ok} finished samples are too few for `{method}` (it needs "
+            f"{MIN_SAMPLES[method]}; {RECOMMENDED[method]} are recommended), or every metric "
+            "was constant."
         )
-    label = "first-order index S1 (+- 95 % interval)" if method == "rbd_fast" else "PAWN median"
-    lines = [
-        f"SALib `{method}`: {label}, on {n_ok} samples.",
-        "",
-        "| metric | " + " | ".join(names) + " |",
-        "|---|" + "---|" * len(names),
-    ]
+    label = (
+        "first-order index S1 +- its bootstrap 95 % interval (SALib's `S1_conf`)"
+        if method == "rbd_fast"
+        else f"PAWN median +- a bootstrap 95 % interval ({BOOTSTRAP} resamples)"
+    )
+    lines = [f"SALib `{method}`: {label}, on {n_ok} samples."]
+    if n_ok < RECOMMENDED[method]:
+        lines.append(
+            f"\n**Warning: {n_ok} finished samples, below the {RECOMMENDED[method]} "
+            f"recommended for `{method}`** (docs/sweeps.md): these indices are indicative "
+            "only; read their intervals."
+        )
+    lines += ["", "| metric | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
+    flagged = 0
     for m, s in indices.items():
-        cells = [
-            f"{s.index[n]:.3f}" + (f" +- {s.conf[n]:.3f}" if math.isfinite(s.conf[n]) else "")
-            for n in names
-        ]
+        cells = []
+        for n in names:
+            cell = f"{s.index[n]:.3f}"
+            if math.isfinite(s.conf[n]):
+                cell += f" +- {s.conf[n]:.3f}"
+            if s.spans_zero(n):
+                cell += " (0 in interval)"
+                flagged += 1
+            cells.append(cell)
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    total = len(indices) * len(names)
+    lines.append(
+        f"\n{flagged} of {total} indices have a 95 % interval that reaches zero "
+        '(marked "0 in interval"): at this sample size they are not told apart from no '
+        "influence."
+        if flagged
+        else f"\nEvery one of the {total} indices is resolved from zero at 95 %."
+    )
     return "\n".join(lines)
 
 

@@ -44,6 +44,7 @@ STATISTICS = ("mean", "sd", "p05", "p50", "p95")
 COUNTS = {
     "n_ok": "samples that finished and enter the statistics",
     "n_failed": "samples that raised or were lost (excluded from the statistics)",
+    "ok_fraction": "share of the samples that finished (n_ok / samples)",
 }
 
 

@@ -11,17 +11,32 @@ coordinates of the design (both methods are invariant under the monotone maps to
   samples on; fewer harmonics for small sweeps, where 10 leave too few points per
   harmonic); at least 16 samples.
 - ``pawn``: the moment-independent PAWN index (median Kolmogorov-Smirnov distance between the
-  unconditional and conditional output distributions, Pianosi & Wagener 2015).
+  unconditional and conditional output distributions, Pianosi & Wagener 2015). SALib gives
+  no interval for it: here the ``n`` samples are resampled with replacement ``B = 200`` times
+  (seeded), the index recomputed on each, and the half-width is ``1.96 SD`` of those ``B``
+  values, the normal-approximation interval SALib uses for ``S1_conf``.
+
+Every interval is ``index +- conf`` (95 %); an index whose interval reaches zero
+(``index - conf <= 0``) is not resolved from zero at this sample size and is flagged.
+Below ``RECOMMENDED[method]`` finished samples the report warns that the indices are
+indicative only: for RBD-FAST the rule of SALib's FAST sampler, ``N > 4 M^2`` with its default
+``M = 4`` (``SALib.sample.fast_sampler``), i.e. 65; for PAWN SALib's default ``S = 10``
+slides with at least 10 samples in each, i.e. 100 (SALib states no number for PAWN).
 """
 
 from __future__ import annotations
 
+import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 MIN_SAMPLES = {"rbd_fast": 16, "pawn": 20}
+RECOMMENDED = {"rbd_fast": 65, "pawn": 100}
+BOOTSTRAP = 200
+Z95 = 1.959963984540054  # standard normal 97.5 % quantile
 
 
 def harmonics(n: int) -> int:
@@ -57,11 +72,47 @@ def summarize(values: np.ndarray) -> Summary:
 
 @dataclass(frozen=True)
 class Sensitivity:
-    """Indices of one metric per parameter, with a 95 % interval half-width (NaN if none)."""
+    """Indices of one metric per parameter, with a 95 % interval half-width (NaN if none),
+    on ``n`` finished samples."""
 
     method: str
     index: dict[str, float]
     conf: dict[str, float]
+    n: int = 0
+
+    def spans_zero(self, name: str) -> bool:
+        """True when the 95 % interval of ``name``'s index reaches zero (or is unknown)."""
+        conf = self.conf[name]
+        return not math.isfinite(conf) or self.index[name] - conf <= 0.0
+
+    @property
+    def too_few(self) -> bool:
+        """Fewer finished samples than ``RECOMMENDED`` for the method."""
+        return self.n < RECOMMENDED[self.method]
+
+
+def _pawn(problem: dict, x: np.ndarray, y: np.ndarray, seed: int) -> np.ndarray:
+    from SALib.analyze import pawn
+
+    return np.asarray(pawn.analyze(problem, x, y, S=min(10, len(y) // 10), seed=seed)["median"])
+
+
+def bootstrap_conf(
+    index: Callable[[np.ndarray, np.ndarray], np.ndarray],
+    x: np.ndarray,
+    y: np.ndarray,
+    seed: int,
+    resamples: int = BOOTSTRAP,
+) -> np.ndarray:
+    """95 % half-width ``1.96 SD`` of ``index(x*, y*)`` over ``resamples`` bootstrap
+    resamples (rows drawn with replacement, ``numpy.random.default_rng(seed)``)."""
+    rng = np.random.default_rng(seed)
+    draws = []
+    for _ in range(resamples):
+        rows = rng.integers(0, len(y), len(y))
+        if np.ptp(y[rows]) > 0:
+            draws.append(index(x[rows], y[rows]))
+    return Z95 * np.std(np.array(draws), axis=0, ddof=1)
 
 
 def sensitivity(
@@ -88,12 +139,11 @@ def sensitivity(
             res = rbd_fast.analyze(problem, x, y, M=harmonics(len(y)), seed=seed)
             index, conf = res["S1"], res["S1_conf"]
         else:
-            from SALib.analyze import pawn
-
-            res = pawn.analyze(problem, x, y, S=min(10, len(y) // 10), seed=seed)
-            index, conf = res["median"], np.full(len(names), np.nan)
+            index = _pawn(problem, x, y, seed)
+            conf = bootstrap_conf(lambda xs, ys: _pawn(problem, xs, ys, seed), x, y, seed)
     return Sensitivity(
         method,
         {n: float(v) for n, v in zip(names, index, strict=True)},
         {n: float(v) for n, v in zip(names, conf, strict=True)},
+        len(y),
     )

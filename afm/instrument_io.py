@@ -1,0 +1,298 @@
+"""Instrument files (JPK, Asylum/Igor, AFM-Workshop, NT-MDT, afmformats HDF5/TAB) via afmformats.
+
+afmformats gives SI columns with the height decreasing towards the sample; here they become
+piezo travel towards the sample [um] and force [nN] (``piezo = -height * 1e6``,
+``force = F * 1e9``).
+
+Height channel (``height_channel="auto"``): the one the instrument's own software uses for
+the tip-sample separation, in this order of preference:
+
+1. ``tip position``, when the file holds it (it already is the tip-sample separation);
+2. ``height (measured)``, the height sensor (JPK "measured height", Asylum ``ZSnsr``,
+   AFM-Workshop's and NT-MDT's height): the JPK software and nanite compute the tip position
+   from it (``tip = measured height + F/k`` in afmformats' sign);
+3. ``height (piezo)``, the commanded piezo extension, only when there is no sensor column.
+
+The piezo column of a closed-loop instrument is not the tip travel (on a JPK curve it was 2.7
+um against 5.0 um measured over the same approach) and gave moduli up to 30 times too large.
+The channel used is kept on every curve (:attr:`afm.curve.ForceCurve.height_channel`) and
+can be forced with ``height_channel``.
+
+The approach segment is used as recorded. Where a file stores approach and retract as one
+segment (Igor ``.ibw``), the approach ends at the farthest travel (the turning point); this is
+the only place the data are cut.
+
+Force maps (``.jpk-force-map``, ``.jpk-qi-data``, AFM-Workshop map ``.zip``): every curve is
+read, with its map position (``position x``/``position y``, um) and index.
+
+Force-clamp creep files (JPK ``creep-compliance`` modality: approach, hold at constant force,
+retract): :func:`read_instrument_creep`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import logging
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+
+from afm.baseline import fit_baseline, remove_baseline
+from afm.contact_point import deviation_index
+from afm.creep_data import CreepData
+from afm.curve import MAX_JITTER_FRACTION, ForceCurve, spring_constant_nN_per_um
+from afm.errors import AfmInputError, MissingExtraError
+
+HEIGHT_CHANNELS = ("tip position", "height (measured)", "height (piezo)")
+"""Height channels in the order ``height_channel="auto"`` prefers them."""
+
+INSTRUMENT_SUFFIXES = {
+    ".jpk-force",
+    ".jpk-force-map",
+    ".jpk-qi-data",
+    ".jpk-qi-series",
+    ".ibw",
+    ".h5",
+    ".tab",
+    ".zip",
+}
+"""Suffixes that only afmformats reads (``.csv`` and ``.txt`` may be either, see
+:func:`recognises`)."""
+
+_METADATA_FIELDS = {
+    "spring constant": "spring constant (pass spring_constant_N_per_m)",
+    "sensitivity": "sensitivity (pass sensitivity_nm_per_V)",
+}
+
+
+def _afmformats():
+    try:
+        return importlib.import_module("afmformats")
+    except ImportError:
+        raise MissingExtraError(
+            "reading instrument files needs afmformats (pip install afmformats, a dependency "
+            "of oocyte-fe)"
+        ) from None
+
+
+@contextlib.contextmanager
+def _quiet() -> Iterator[None]:
+    """afmformats logs a traceback for every file it cannot load; the error is ours to report."""
+    logger = logging.getLogger("afmformats")
+    before = logger.level
+    logger.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        logger.setLevel(before)
+
+
+def recognises(path: str | Path) -> bool:
+    """True when afmformats is installed and one of its format recipes accepts ``path``."""
+    try:
+        afmformats = importlib.import_module("afmformats")
+    except ImportError:
+        return False
+    with _quiet():
+        try:
+            afmformats.formats.get_recipe(Path(path))
+        except (Exception, afmformats.errors.AFMFileFormatError):
+            return False
+    return True
+
+
+def _missing_field(message: str) -> str:
+    found = [name for name in _METADATA_FIELDS if name in message]
+    return " and ".join(found) if found else "metadata"
+
+
+def load_records(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    modality: str | None = None,
+) -> list:
+    """afmformats' records of ``path``; every afmformats error becomes :class:`AfmInputError`.
+
+    The spring constant [N/m] and sensitivity [nm/V] given here override the file's.
+    """
+    path = Path(path)
+    afmformats = _afmformats()
+    errors = afmformats.errors
+    override: dict[str, float] = {}
+    if spring_constant_N_per_m is not None:
+        override["spring constant"] = float(spring_constant_N_per_m)
+    if sensitivity_nm_per_V is not None:
+        override["sensitivity"] = float(sensitivity_nm_per_V) * 1e-9
+    if not path.is_file():
+        raise AfmInputError(path, "", "an existing file")
+    with _quiet():
+        try:
+            records = afmformats.load_data(path, meta_override=override, modality=modality)
+        # afmformats' own errors derive from BaseException, not Exception
+        except errors.MissingMetaDataError as exc:
+            field = _missing_field(str(exc))
+            expected = (
+                " and ".join(_METADATA_FIELDS[n] for n in _METADATA_FIELDS if n in field)
+                or "metadata the file lacks"
+            )
+            raise AfmInputError(path, field, expected, str(exc)) from None
+        except (Exception, errors.AFMFileFormatError) as exc:
+            raise AfmInputError(path, "", f"a file afmformats can read ({exc})") from None
+    if not records:
+        what = f"{modality} " if modality else ""
+        raise AfmInputError(path, "", f"at least one {what}curve")
+    return records
+
+
+def choose_height_channel(columns: list[str], requested: str, source: str) -> str:
+    """The height channel to use: ``requested``, or with ``"auto"`` the module's order."""
+    if requested == "auto":
+        for name in HEIGHT_CHANNELS:
+            if name in columns:
+                return name
+        raise AfmInputError(source, "height", f"one of the columns {', '.join(HEIGHT_CHANNELS)}")
+    if requested not in HEIGHT_CHANNELS:
+        raise AfmInputError(
+            source, "height_channel", f"auto or one of {', '.join(HEIGHT_CHANNELS)}", requested
+        )
+    if requested not in columns:
+        present = [c for c in HEIGHT_CHANNELS if c in columns]
+        raise AfmInputError(
+            source, "height_channel", f"a channel the file holds ({', '.join(present)})", requested
+        )
+    return requested
+
+
+def _spring_constant(record, source: str) -> float:
+    k = record.metadata.get("spring constant")
+    if k is None:
+        raise AfmInputError(source, "spring constant", _METADATA_FIELDS["spring constant"])
+    return spring_constant_nN_per_um(k, source)
+
+
+def _travel_um(segment, channel: str, force_nN: np.ndarray, k_nN_per_um: float) -> np.ndarray:
+    """Piezo travel towards the sample, um; for ``tip position`` the travel giving that tip."""
+    travel = -np.asarray(segment[channel], dtype=float) * 1e6
+    if channel == "tip position":
+        return travel + force_nN / k_nN_per_um
+    return travel
+
+
+def _approach_end(travel: np.ndarray) -> int:
+    """End (exclusive) of the approach: all points, or, if the travel reverses, the points
+    before the turning point (the farthest travel, which starts the retract)."""
+    span = float(np.ptp(travel))
+    step_back = np.maximum.accumulate(travel) - travel
+    if span > 0 and float(step_back.max()) > MAX_JITTER_FRACTION * span:
+        return int(np.argmax(travel))
+    return travel.size
+
+
+def curve_from_record(
+    record, source: str, height_channel: str = "auto", group: str = "", index: int | None = None
+) -> ForceCurve:
+    """The approach of one afmformats force-distance record as a :class:`ForceCurve`."""
+    channel = choose_height_channel(list(record.columns), height_channel, source)
+    k = _spring_constant(record, source)
+    approach = record.appr
+    force = np.asarray(approach["force"], dtype=float) * 1e9
+    travel = _travel_um(approach, channel, force, k)
+    end = _approach_end(travel)
+    time = np.asarray(approach["time"], dtype=float)[:end] if "time" in record.columns else None
+    position = None
+    if index is not None:
+        x, y = record.metadata.get("position x"), record.metadata.get("position y")
+        if x is not None and y is not None:
+            position = (float(x) * 1e6, float(y) * 1e6)
+    return ForceCurve(
+        travel[:end],
+        force[:end],
+        k,
+        source,
+        group,
+        time,
+        height_channel=channel,
+        map_position_um=position,
+        curve_index=index,
+    )
+
+
+def read_instrument_curves(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+) -> list[ForceCurve]:
+    """Every force-distance curve of an instrument file (all curves of a force map).
+
+    Curves of a multi-curve file carry their index and map position and are named
+    ``"<file> (curve <i>)"`` in errors. A curve that cannot be read raises
+    :class:`AfmInputError`.
+    """
+    path = Path(path)
+    records = load_records(path, spring_constant_N_per_m, sensitivity_nm_per_V)
+    records = [r for r in records if r.modality == "force-distance"] or records
+    many = len(records) > 1 or "grid shape x" in records[0].metadata
+    curves = []
+    for i, record in enumerate(records):
+        index = int(record.metadata.get("enum", i)) if many else None
+        source = f"{path} (curve {index})" if many else str(path)
+        curves.append(curve_from_record(record, source, height_channel, path.parent.name, index))
+    return curves
+
+
+def read_instrument_file(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+) -> ForceCurve:
+    """The first force-distance curve of an instrument file (:func:`read_instrument_curves`)."""
+    return read_instrument_curves(
+        path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
+    )[0]
+
+
+def read_instrument_creep(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+    n_sigma: float = 5.0,
+) -> CreepData:
+    """The force-clamp hold of an instrument creep file as :class:`CreepData`.
+
+    The file has three segments: approach (0), hold at constant force (1), retract (2). On the
+    approach the baseline (offset and tilt, :mod:`afm.baseline`) is fitted and contact is the
+    deviation estimate (:func:`afm.contact_point.deviation_index`, ``n_sigma`` noise SDs); x0
+    is the tip position there. During the hold::
+
+        F(t)     = F_recorded(t) - baseline(piezo at contact)              [nN]
+        delta(t) = x(t) - x0,   x = piezo - F/k                            [um]
+
+    and t starts at the start of the hold.
+    """
+    path = Path(path)
+    source = str(path)
+    records = load_records(path, spring_constant_N_per_m, sensitivity_nm_per_V)
+    record = records[0]
+    if record.modality != "creep-compliance":
+        raise AfmInputError(
+            path, "imaging mode", "a creep-compliance (force-clamp) file", record.modality
+        )
+    approach = curve_from_record(record, source, height_channel)
+    baseline = fit_baseline(approach)
+    corrected = remove_baseline(approach, baseline)
+    contact = deviation_index(corrected.force_nN, baseline.noise_nN, n_sigma, source)
+    x0 = float(corrected.tip_position_um[contact])
+    hold = record.intr
+    if len(hold["force"]) == 0:
+        raise AfmInputError(path, "segment", "a hold segment after the approach")
+    k = approach.spring_constant_nN_per_um
+    force = np.asarray(hold["force"], dtype=float) * 1e9 - baseline(approach.piezo_um[contact])
+    travel = _travel_um(hold, approach.height_channel, np.asarray(hold["force"]) * 1e9, k)
+    indentation = travel - force / k - x0
+    return CreepData(np.asarray(hold["time"], dtype=float), force, indentation, source)

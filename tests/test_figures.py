@@ -1,0 +1,237 @@
+"""Every kind's figures, rendered on its case's quick settings (cheaper still where a case's
+quick run takes long), are not blank and have labelled axes.
+
+Kinds come from the registry and their cases from ``cases/*/case.toml``, so a new kind with a
+case is covered without editing this file; a kind with no case must be listed in
+``NO_CASE`` with the reason. A sweep case's own figures (histograms, scatter, sensitivity)
+are rendered by the sweep's aggregation on a synthetic design of 32 samples.
+
+Checks:
+
+* every PNG written (matplotlib or pyvista): pixel standard deviation > 15 (0-255 scale) and
+  at least 2 % of the pixels away from the background colour;
+* every matplotlib figure, inspected when it is saved (``Figure.savefig`` wrapped): each
+  visible axes with its axis lines on has an x and a y label (its own, or one on an axes it
+  shares that axis with); a colour bar has a label; an axes drawn without axis lines has a
+  title; in an axes with a legend every line is in it (a line meant to stay out says so with
+  ``label="_nolegend_"``).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np
+import pytest
+from matplotlib.figure import Figure as MplFigure
+from PIL import Image
+
+from oocyte_fe.runner.casefile import load_case, read_toml
+from oocyte_fe.runner.registry import CaseContext, kinds
+
+ROOT = Path(__file__).parents[1]
+CASES = ROOT / "cases"
+
+# inputs over the case's [quick] table, only to make slow quick runs cheaper (same figures)
+CHEAPER: dict[str, dict] = {
+    "afm_zp_cytoplasm": {"n_oocytes": 1},
+    "fe_verification": {"shell_size_um": 5.0, "hertz_fractions": [2.0, 1.0, 0.5]},
+    "fe_neck_aspiration": {
+        "steps": 8,
+        "size_um": 16.0,
+        "mesh_study_sizes_um": [],
+        "sensitivity": False,
+    },
+    "nmsd_vs_fe": {
+        "travel_um": 20.0,
+        "n_starts": 1,
+        "max_evaluations": 8,
+        "nmsd_n_steps": 10,
+        "calibrate_both_speeds": False,
+        "check_speed_um_s": 0.0,
+    },
+    "nmsd_calibration_tableII": {"n_starts": 1, "max_evaluations": 8},
+    "nmsd_spindle_offset": {"n_starts": 1, "max_evaluations": 8},
+}
+NO_CASE = {
+    "analytic_linear": "the closed-form test kind of the sweep tests; it draws nothing",
+    "nmsd_spindle_offset_resampled": "the sweep kind of sweep_spindle_offset; draws nothing "
+    "per sample (its figures are the sweep's, rendered below)",
+}
+
+
+def _case_dirs() -> dict[str, Path]:
+    """One case folder per kind (the first in name order); sweep cases are kept apart."""
+    found: dict[str, Path] = {}
+    for file in sorted(CASES.glob("*/case.toml")):
+        spec = read_toml(file)
+        if "sweep" not in spec:
+            found.setdefault(spec["kind"], file.parent)
+    return found
+
+
+def _sweep_dirs() -> list[Path]:
+    return [f.parent for f in sorted(CASES.glob("*/case.toml")) if "sweep" in read_toml(f)]
+
+
+def _label_problems(fig: MplFigure) -> list[str]:
+    """What is unlabelled in ``fig`` (empty when every axes is labelled)."""
+    problems = []
+    for i, ax in enumerate(fig.axes):
+        if not ax.get_visible():
+            continue
+        where = f"axes {i} ({ax.get_title() or 'untitled'})"
+        if hasattr(ax, "_colorbar"):
+            if not (ax.get_xlabel() or ax.get_ylabel()):
+                problems.append(f"{where}: colour bar without a label")
+            continue
+        if not ax.axison:
+            if not ax.get_title():
+                problems.append(f"{where}: drawn without axes and without a title")
+            continue
+        if ax.get_legend() is not None:
+            problems += [
+                f"{where}: a line left out of the legend without a label"
+                for line in ax.get_lines()
+                if line.get_label().startswith("_child")
+            ]
+        xs = ax.get_shared_x_axes().get_siblings(ax)
+        ys = ax.get_shared_y_axes().get_siblings(ax)
+        if not any(a.get_xlabel() for a in xs):
+            problems.append(f"{where}: no x label")
+        if not any(a.get_ylabel() for a in ys):
+            problems.append(f"{where}: no y label")
+    return problems
+
+
+@pytest.fixture
+def saved_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, list[str]]:
+    """file name -> label problems of every matplotlib figure saved while the test runs."""
+    seen: dict[str, list[str]] = {}
+    original = MplFigure.savefig
+
+    def savefig(self: MplFigure, fname, *args, **kwargs):
+        seen[str(fname)] = _label_problems(self)
+        return original(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(MplFigure, "savefig", savefig)
+    return seen
+
+
+def _blank(path: Path) -> str | None:
+    """Why the PNG ``path`` looks blank, or None."""
+    image = np.asarray(Image.open(path).convert("RGB"), dtype=float)
+    background = np.median(image.reshape(-1, 3), axis=0)
+    away = (np.abs(image - background).max(axis=2) > 30).mean()
+    if image.std() <= 15.0 or away < 0.02:
+        return f"{path.name}: pixel SD {image.std():.1f}, {100 * away:.1f} % off-background"
+    return None
+
+
+# afm.plotting.plot_fit (curve_fit.png, curve_plots/*.png) leaves its contact-point and
+# E-level lines out of the legend; afm/ is another helper's area: reported, not fixed here
+LEGEND_EXEMPT = ("curve_fit.png", "curve_plots")
+
+
+def _check_outputs(out: Path, saved: dict[str, list[str]]) -> None:
+    pngs = sorted(out.rglob("*.png"))
+    assert pngs, f"no figure written in {out}"
+    blank = [why for p in pngs if (why := _blank(p))]
+    assert not blank, blank
+    unlabelled = {}
+    for file, problems in saved.items():
+        if any(part in file for part in LEGEND_EXEMPT):
+            problems = [p for p in problems if "out of the legend" not in p]
+        if problems:
+            unlabelled[str(Path(file).relative_to(out))] = problems
+    assert not unlabelled, "\n".join(f"{f}: {p}" for f, ps in unlabelled.items() for p in ps)
+
+
+def test_every_kind_has_a_case_or_a_reason() -> None:
+    missing = set(kinds()) - set(_case_dirs()) - set(NO_CASE)
+    assert not missing, f"kinds with no case to render their figures: {sorted(missing)}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", sorted(_case_dirs()))
+def test_kind_figures(
+    kind: str, tmp_path: Path, saved_figures: dict[str, list[str]], monkeypatch
+) -> None:
+    monkeypatch.setenv("OOCYTE_FE_CACHE", str(tmp_path / "mesh_cache"))
+    folder = _case_dirs()[kind]
+    case = load_case(folder, quick=True)
+    raw = {**case.spec.inputs, **case.spec.quick, **CHEAPER.get(folder.name, {})}
+    inputs = case.kind.inputs.model_validate(raw, context={"case_dir": folder})
+    out = tmp_path / "out"
+    out.mkdir()
+    ctx = CaseContext(case.name, folder, out, inputs, True, logging.getLogger(f"figures.{kind}"))
+    outcome = case.kind.run(ctx)
+    for figure in outcome.figures:
+        assert (out / figure.file).is_file(), f"{figure.file} listed but not written"
+    _check_outputs(out, saved_figures)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("folder", _sweep_dirs(), ids=lambda p: p.name)
+def test_sweep_figures(folder: Path, tmp_path: Path, saved_figures) -> None:
+    """The sweep's aggregation draws labelled, non-blank figures (32 synthetic samples)."""
+    from oocyte_fe.sweep.report import SampleRow, aggregate
+    from oocyte_fe.sweep.sampling import design
+    from oocyte_fe.sweep.store import SampleRecord
+
+    case = load_case(folder)
+    sweep = case.spec.sweep
+    sweep = sweep.model_copy(update={"samples": 32})
+    case = type(case)(
+        case.name,
+        case.directory,
+        case.spec.model_copy(update={"sweep": sweep}),
+        case.kind,
+        case.inputs,
+        False,
+    )
+    d = design(sweep, False)
+    metrics = sweep.metrics or list(case.kind.metrics)
+    rows = []
+    for i, (values, unit) in enumerate(zip(d.values, d.unit, strict=True)):
+        y = {m: float(k + 1 + unit @ np.arange(1, len(unit) + 1)) for k, m in enumerate(metrics)}
+        rows.append(
+            SampleRow(i, values, np.asarray(unit), SampleRecord(f"{i}", "PASS", 1.0, "", y))
+        )
+    outcome = aggregate(case, rows, list(sweep.parameters), tmp_path)
+    assert math.isclose(outcome.metrics["ok_fraction"], 1.0)
+    assert {f.file for f in outcome.figures} == {"histograms.png", "scatter.png", "sensitivity.png"}
+    _check_outputs(tmp_path, saved_figures)
+
+
+def test_nmsd_snapshots_share_one_colour_scale(tmp_path: Path, monkeypatch) -> None:
+    """All panels on one scale from 0 to the largest |u|; a field at rest gets 0..1 um."""
+    from matplotlib.collections import PathCollection
+
+    from nmsd.lattice import circular_lattice
+    from nmsd.pipette import Pipette
+    from nmsd.plotting import plot_snapshots
+
+    limits: list[list[tuple[float, float]]] = []
+    original = MplFigure.savefig
+
+    def savefig(self: MplFigure, fname, *args, **kwargs):
+        scatters = [c for ax in self.axes for c in ax.collections if isinstance(c, PathCollection)]
+        limits.append([(c.norm.vmin, c.norm.vmax) for c in scatters])
+        assert not _label_problems(self), _label_problems(self)
+        return original(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(MplFigure, "savefig", savefig)
+    lattice = circular_lattice()
+    moved = lattice.nodes + np.array([[0.0, 0.0]] * (lattice.n_nodes - 1) + [[3.0, 4.0]])
+    snaps = {0.0: lattice.nodes, 10.0: lattice.nodes + 0.5, 20.0: moved}
+    plot_snapshots(tmp_path / "a.png", lattice, Pipette(), snaps)
+    plot_snapshots(tmp_path / "b.png", lattice, Pipette(), {0.0: lattice.nodes})
+    assert limits[0] == [(0.0, 5.0)] * 3  # |(3, 4)| = 5 um, shared by the three panels
+    assert limits[1] == [(0.0, 1.0)]  # nothing moved: 0..1, not -0.1..0.1
+    assert _blank(tmp_path / "a.png") is None
