@@ -337,12 +337,15 @@ def discover(paths: list[Path]) -> list[Path]:
     """Case folders under ``paths``: a folder with ``case.toml``, or the folders below one."""
     found: list[Path] = []
     for path in paths:
-        if (path / CASE_FILE).is_file():
-            found.append(path)
-        elif path.is_dir():
-            found.extend(sorted(p.parent for p in path.glob(f"*/{CASE_FILE}")))
-        else:
-            raise InputError(path, "", "a case folder (with case.toml) or a folder of cases")
+        try:
+            if (path / CASE_FILE).is_file():
+                found.append(path)
+            elif path.is_dir():
+                found.extend(sorted(p.parent for p in path.glob(f"*/{CASE_FILE}")))
+            else:
+                raise InputError(path, "", "a case folder (with case.toml) or a folder of cases")
+        except OSError as exc:  # a name too long, a loop, no permission
+            raise InputError(path, "", "a readable case folder", got=exc.strerror) from None
     if not found:
         raise InputError(", ".join(map(str, paths)), "", "at least one case folder with case.toml")
     names = [p.name for p in found]

@@ -23,7 +23,7 @@ from typer.testing import CliRunner
 
 from oocyte_fe.cli import app
 from oocyte_fe.errors import InputError
-from oocyte_fe.runner.casefile import load_case
+from oocyte_fe.runner.casefile import discover, load_case
 from oocyte_fe.runner.schema import readers_of
 from tests.fuzz.harness import check_outcome, fuzz_settings, hang_guard
 from tests.fuzz.test_fuzz_case_schema import bases, builtin_kinds  # noqa: F401 - fixture
@@ -204,3 +204,18 @@ def test_validate_exits_2_on_bad_data(tmp_path: Path) -> None:
     assert result.exit_code == 2, result.output
     assert "table2_viscosity.csv" in result.output
     assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize("what", ["long name", "fifo", "symlink loop", "missing", "file"])
+def test_case_folder_argument_is_refused(tmp_path: Path, what: str) -> None:
+    target = tmp_path / "x"
+    if what == "long name":
+        target = tmp_path / ("x" * 300)
+    elif what == "fifo":
+        os.mkfifo(target)
+    elif what == "symlink loop":
+        target.symlink_to(target)
+    elif what == "file":
+        target.write_text("not a folder")
+    with hang_guard(10), pytest.raises(InputError):
+        discover([target])
