@@ -37,7 +37,7 @@ class FeVerificationInputs(CaseInputs):
         description="element size of the 10-20 um shells",
         json_schema_extra={"unit": "um"},
     )
-    hertz_fractions: list[Annotated[float, Field(gt=0.01, le=1)]] = Field(
+    hertz_fractions: list[Annotated[float, Field(gt=0.01, le=4)]] = Field(
         [0.5, 0.25, 0.125],
         min_length=3,
         max_length=3,
