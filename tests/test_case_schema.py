@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import logging
 import math
 import shutil
 import time
@@ -15,7 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.afm_zp_cytoplasm import _draw
 from oocyte_fe.runner.casefile import load_case
-from oocyte_fe.runner.registry import case_kind, kinds
+from oocyte_fe.runner.registry import CaseContext, case_kind, kinds
 from oocyte_fe.runner.schema import CaseInputs, unit_of
 from oocyte_fe.runner.strict_json import strict_dumps
 
@@ -185,3 +186,27 @@ def test_strict_base_reads_arrays_as_tuples() -> None:
         )
 
     assert Pair.model_validate({"p": [1, 2]}).p == (1.0, 2.0)
+
+
+@pytest.mark.slow
+def test_neck_case_runs_on_its_own_material_files(tmp_path: Path) -> None:
+    case = _copy(tmp_path, "fe_neck_aspiration")
+    for name, modulus in (("zp", 7.01), ("cytoplasm", 1.55)):
+        (case / f"material_{name}.toml").write_text(
+            f'[material]\nname = "{name}"\nsource = "test"\nE_kPa = {modulus}\nnu = 0.5\n'
+        )
+    _edit(
+        case,
+        'material_case = "../afm_creep_prony"',
+        'zona_material_file = "material_zp.toml"\n'
+        'cytoplasm_material_file = "material_cytoplasm.toml"',
+    )
+    loaded = load_case(case, quick=True)
+    cheap = {"steps": 8, "size_um": 16.0, "mesh_study_sizes_um": [], "sensitivity": False}
+    inputs = loaded.inputs.model_copy(update=cheap)
+    out = tmp_path / "out"
+    out.mkdir()
+    ctx = CaseContext(loaded.name, case, out, inputs, True, logging.getLogger("neck"))
+    metrics = loaded.kind.run(ctx).metrics
+    assert not (out / "material").exists()  # no AFM case was re-run
+    assert 0 < metrics["deformation_min_um"] <= metrics["deformation_max_um"] < 100
