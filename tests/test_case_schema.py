@@ -210,3 +210,10 @@ def test_neck_case_runs_on_its_own_material_files(tmp_path: Path) -> None:
     metrics = loaded.kind.run(ctx).metrics
     assert not (out / "material").exists()  # no AFM case was re-run
     assert 0 < metrics["deformation_min_um"] <= metrics["deformation_max_um"] < 100
+
+
+def test_tolerance_given_as_text_is_refused(tmp_path: Path) -> None:
+    case = _copy(tmp_path, "afm_creep_prony")
+    _edit(case, "[tolerances.E0_kPa]\nrel = 0.02", '[tolerances.E0_kPa]\nrel = "0.02"')
+    with pytest.raises(InputError, match=r"tolerances\.E0_kPa\.rel: expected a number"):
+        load_case(case)

@@ -237,13 +237,20 @@ def _check_tables(file: Path, spec: CaseSpec) -> None:
             )
 
 
-def _raw_booleans(file: Path, raw: dict[str, Any]) -> None:
-    """``true`` where a number belongs in ``[reference]``/``[tolerances]`` (read as 1 otherwise)."""
-    for table in ("reference", "tolerances"):
+NUMBER_KEYS = {"reference": ("value",), "tolerances": ("rel", "abs", "min", "max")}
+
+
+def _raw_numbers(file: Path, raw: dict[str, Any]) -> None:
+    """Numbers of ``[reference]``/``[tolerances]`` as TOML numbers: ``true`` would read as 1 and
+    ``"0.1"`` as 0.1 in the (lax) models the runner shares."""
+    for table, keys in NUMBER_KEYS.items():
         for key, entry in (raw.get(table) or {}).items():
-            for name, value in entry.items() if isinstance(entry, dict) else ():
-                if isinstance(value, bool):
-                    raise InputError(file, f"{table}.{key}.{name}", "a number, not true/false")
+            for name in keys:
+                value = entry.get(name) if isinstance(entry, dict) else None
+                if value is not None and (
+                    isinstance(value, bool) or not isinstance(value, int | float)
+                ):
+                    raise InputError(file, f"{table}.{key}.{name}", "a number", got=value)
 
 
 def check_data_files(file: Path, inputs: BaseModel) -> None:
@@ -283,7 +290,7 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
     directory = Path(directory)
     file = directory / CASE_FILE
     raw = read_toml(file)
-    _raw_booleans(file, raw)
+    _raw_numbers(file, raw)
     try:
         spec = CaseSpec.model_validate(raw)
     except ValidationError as exc:
