@@ -237,6 +237,12 @@ TOP = st.sampled_from(
         ("tolerances", "*", "max"),
         ("reference", "*", "value"),
         ("quick", "*"),
+        ("sweep", "samples"),
+        ("sweep", "quick_samples"),
+        ("sweep", "seed"),
+        ("sweep", "parameters", "*"),
+        ("sweep", "parameters", "*", "mean"),
+        ("sweep", "parameters", "*", "high"),
     ]
 )
 
@@ -250,8 +256,11 @@ def test_case_top_level(bases: dict, data: st.DataObject) -> None:
     path = data.draw(TOP, label="path")
     value = data.draw(HOSTILE, label="value")
     if "*" in path:
-        table = raw.get(path[0]) or {}
-        keys = sorted(table) if path[0] != "quick" else sorted(raw.get("inputs", {}))
+        table: Any = raw
+        for part in path[: path.index("*")]:
+            table = table.get(part) if isinstance(table, dict) else None
+        table = raw.get("inputs", {}) if path[0] == "quick" else table
+        keys = sorted(table) if isinstance(table, dict) else []
         if not keys:
             return
         key = data.draw(st.sampled_from(keys), label="key")
