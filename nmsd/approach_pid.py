@@ -70,7 +70,7 @@ def pid_approach(
 
     The work is ``duration_s / period_s`` controller periods, at most :data:`MAX_PERIODS`.
     """
-    speed_um_s = checks.number("pid_approach", "speed_um_s", speed_um_s, gt=0, le=1e9)
+    speed_um_s = checks.number("pid_approach", "speed_um_s", speed_um_s, ge=1e-9, le=1e9)
     duration_s = checks.number("pid_approach", "duration_s", duration_s, gt=0, le=1e6)
     band_um = checks.number("pid_approach", "band_um", band_um, gt=0)
     if len(start_um) != 2:

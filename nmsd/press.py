@@ -138,8 +138,8 @@ def press_setup(
     hold_half_width_um = checks.number(
         "press_setup", "hold_half_width_um", hold_half_width_um, gt=0, le=1e6
     )
-    checks.number("press_setup", "speed_um_s", speed_um_s, gt=0, le=1e9)
-    checks.number("press_setup", "travel_um", travel_um, gt=0, le=1e6)
+    checks.number("press_setup", "speed_um_s", speed_um_s, ge=1e-9, le=1e9)
+    checks.number("press_setup", "travel_um", travel_um, ge=1e-6, le=1e6)
     checks.number("press_setup", "n_steps", n_steps, ge=1, le=MAX_STEPS, integer=True)
     lattice = circular_lattice() if lattice is None else lattice
     far = (2.0 * lattice.radius, 0.0)
@@ -203,8 +203,8 @@ def simulate_press(
     every (sub)step and return df/dp (:class:`nmsd.sensitivity.PressSensitivity`; starts
     from rest, S_0 = 0).
     """
-    speed_um_s = checks.number("simulate_press", "speed_um_s", speed_um_s, gt=0, le=1e9)
-    travel_um = checks.number("simulate_press", "travel_um", travel_um, gt=0, le=1e6)
+    speed_um_s = checks.number("simulate_press", "speed_um_s", speed_um_s, ge=1e-9, le=1e9)
+    travel_um = checks.number("simulate_press", "travel_um", travel_um, ge=1e-6, le=1e6)
     n_steps = int(
         checks.number("simulate_press", "n_steps", n_steps, ge=1, le=MAX_STEPS, integer=True)
     )
