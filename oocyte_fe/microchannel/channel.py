@@ -54,7 +54,7 @@ class Channel:
 
     def __post_init__(self) -> None:
         for name in ("diameter", "density", "viscosity", "reynolds_ref", "pressure_ref"):
-            positive("Channel", name, getattr(self, name))
+            object.__setattr__(self, name, positive("Channel", name, getattr(self, name)))
 
     @property
     def radius(self) -> float:

@@ -48,9 +48,9 @@ MAX_CELLS = 400
 
 def rectangle_mesh(width: float, height: float, cells: int) -> MeshTri:
     """Triangles on [0, width] x [0, height] with ``cells`` divisions along the shorter side."""
-    positive("rectangle_mesh", "width", width)
-    positive("rectangle_mesh", "height", height)
-    number("rectangle_mesh", "cells", cells, ge=1, le=MAX_CELLS, integer=True)
+    width = positive("rectangle_mesh", "width", width)
+    height = positive("rectangle_mesh", "height", height)
+    cells = number("rectangle_mesh", "cells", cells, ge=1, le=MAX_CELLS, integer=True)
     if max(width, height) / min(width, height) * cells > 50 * MAX_CELLS:
         raise InputError("rectangle_mesh", "width/height", "an aspect ratio of at most 50")
     short = min(width, height)
@@ -61,8 +61,8 @@ def rectangle_mesh(width: float, height: float, cells: int) -> MeshTri:
 
 def radial_mesh(radius: float, cells: int) -> MeshLine:
     """The radius 0 <= r <= R in ``cells`` equal segments (axisymmetric pipe section)."""
-    positive("radial_mesh", "radius", radius)
-    number("radial_mesh", "cells", cells, ge=1, le=100 * MAX_CELLS, integer=True)
+    radius = positive("radial_mesh", "radius", radius)
+    cells = number("radial_mesh", "cells", cells, ge=1, le=100 * MAX_CELLS, integer=True)
     return MeshLine(np.linspace(0.0, radius, cells + 1))
 
 
@@ -206,11 +206,11 @@ def solve_duct_flow(
         raise InputError(
             where, "axisymmetric", "True with a MeshLine radius, False with a MeshTri section"
         )
-    positive(where, "pressure_gradient", pressure_gradient)
-    number(where, "steps", steps, ge=1, le=50, integer=True)
-    number(where, "rtol", rtol, gt=0, lt=1)
-    number(where, "xtol", xtol, gt=0, lt=1)
-    number(where, "max_iter", max_iter, ge=1, le=10_000, integer=True)
+    pressure_gradient = positive(where, "pressure_gradient", pressure_gradient)
+    steps = number(where, "steps", steps, ge=1, le=50, integer=True)
+    rtol = number(where, "rtol", rtol, gt=0, lt=1)
+    xtol = number(where, "xtol", xtol, gt=0, lt=1)
+    max_iter = number(where, "max_iter", max_iter, ge=1, le=10_000, integer=True)
     if axisymmetric:
         radius = float(mesh.p.max())
         basis0 = Basis(mesh, ElementLineP2())

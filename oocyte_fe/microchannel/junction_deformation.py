@@ -50,8 +50,8 @@ class JunctionCell:
     rheology: Rheology
 
     def __post_init__(self) -> None:
-        positive("JunctionCell", "diameter", self.diameter)
-        positive("JunctionCell", "modulus", self.modulus)
+        object.__setattr__(self, "diameter", positive("JunctionCell", "diameter", self.diameter))
+        object.__setattr__(self, "modulus", positive("JunctionCell", "modulus", self.modulus))
         if not isinstance(self.rheology, Rheology):
             raise InputError("JunctionCell", "rheology", "a Rheology", got=type(self.rheology))
 
@@ -64,8 +64,16 @@ class JunctionParameters:
     junction_length: float
 
     def __post_init__(self) -> None:
-        number("JunctionParameters", "load_factor", self.load_factor, ge=0, le=HUGE)
-        positive("JunctionParameters", "junction_length", self.junction_length)
+        object.__setattr__(
+            self,
+            "load_factor",
+            number("JunctionParameters", "load_factor", self.load_factor, ge=0, le=HUGE),
+        )
+        object.__setattr__(
+            self,
+            "junction_length",
+            positive("JunctionParameters", "junction_length", self.junction_length),
+        )
 
 
 @dataclass(frozen=True)

@@ -51,9 +51,15 @@ class PoiseuilleFlow:
 
     def __post_init__(self) -> None:
         check_geometry("PoiseuilleFlow", self.geometry)
-        positive("PoiseuilleFlow", "size", self.size)
-        number("PoiseuilleFlow", "pressure_gradient", self.pressure_gradient, ge=0, le=HUGE)
-        positive("PoiseuilleFlow", "viscosity", self.viscosity)
+        object.__setattr__(self, "size", positive("PoiseuilleFlow", "size", self.size))
+        object.__setattr__(
+            self,
+            "pressure_gradient",
+            number("PoiseuilleFlow", "pressure_gradient", self.pressure_gradient, ge=0, le=HUGE),
+        )
+        object.__setattr__(
+            self, "viscosity", positive("PoiseuilleFlow", "viscosity", self.viscosity)
+        )
 
     @property
     def wall_shear_stress(self) -> float:
@@ -95,9 +101,9 @@ def pressure_gradient_for_mean_velocity(
     ``3 mu U / h^2`` (slit)."""
     where = "pressure_gradient_for_mean_velocity"
     check_geometry(where, geometry)
-    positive(where, "size", size)
-    number(where, "mean_velocity", mean_velocity, ge=0, le=HUGE)
-    positive(where, "viscosity", viscosity)
+    size = positive(where, "size", size)
+    mean_velocity = number(where, "mean_velocity", mean_velocity, ge=0, le=HUGE)
+    viscosity = positive(where, "viscosity", viscosity)
     factor = 8.0 if geometry == "pipe" else 3.0
     return factor * viscosity * mean_velocity / size**2
 
@@ -108,10 +114,10 @@ def power_law_flow_rate(
     """Closed-form power-law flow rate (see the module docstring)."""
     where = "power_law_flow_rate"
     check_geometry(where, geometry)
-    positive(where, "size", size)
-    number(where, "wall_shear_stress", wall_shear_stress, ge=0, le=HUGE)
-    positive(where, "consistency", consistency)
-    number(where, "n", n, ge=0.05, le=5)
+    size = positive(where, "size", size)
+    wall_shear_stress = number(where, "wall_shear_stress", wall_shear_stress, ge=0, le=HUGE)
+    consistency = positive(where, "consistency", consistency)
+    n = number(where, "n", n, ge=0.05, le=5)
     try:
         rate = (wall_shear_stress / consistency) ** (1.0 / n)
     except OverflowError:
@@ -139,11 +145,11 @@ def rectangular_duct_flow_rate(
     series is summed over ``terms`` odd k; the truncation error is below ``terms^-4``.
     """
     where = "rectangular_duct_flow_rate"
-    positive(where, "width", width)
-    positive(where, "height", height)
-    number(where, "pressure_gradient", pressure_gradient, ge=0, le=HUGE)
-    positive(where, "viscosity", viscosity)
-    number(where, "terms", terms, ge=1, le=100_000, integer=True)
+    width = positive(where, "width", width)
+    height = positive(where, "height", height)
+    pressure_gradient = number(where, "pressure_gradient", pressure_gradient, ge=0, le=HUGE)
+    viscosity = positive(where, "viscosity", viscosity)
+    terms = number(where, "terms", terms, ge=1, le=100_000, integer=True)
     h, w = sorted((height, width))
     k = 2.0 * np.arange(terms) + 1.0
     series = np.sum(np.tanh(k * math.pi * w / (2.0 * h)) / k**5)

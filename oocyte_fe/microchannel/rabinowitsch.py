@@ -65,8 +65,8 @@ def fully_developed_flow(
 ) -> GeneralizedFlow:
     """Flow rate and wall quantities for ``rheology`` in a pipe (R = size) or slit (h = size)."""
     check_geometry("fully_developed_flow", geometry)
-    positive("fully_developed_flow", "size", size)
-    positive("fully_developed_flow", "pressure_gradient", pressure_gradient)
+    size = positive("fully_developed_flow", "size", size)
+    pressure_gradient = positive("fully_developed_flow", "pressure_gradient", pressure_gradient)
     gamma = rheology.shear_rate
     if geometry == "pipe":
         tau_w = 0.5 * pressure_gradient * size
