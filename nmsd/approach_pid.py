@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nmsd import checks
 from nmsd.errors import NmsdInputError
 
 
@@ -35,10 +36,8 @@ class PidGains:
 
     def __post_init__(self) -> None:
         for name in ("kp", "ki", "kd", "lag_s", "resolution_um"):
-            if getattr(self, name) < 0:
-                raise NmsdInputError("PidGains", name, ">= 0", got=getattr(self, name))
-        if self.period_s <= 0:
-            raise NmsdInputError("PidGains", "period_s", "> 0", got=self.period_s)
+            checks.number("PidGains", name, getattr(self, name), ge=0, le=1e9)
+        checks.number("PidGains", "period_s", self.period_s, gt=0, le=1e6)
 
 
 @dataclass(frozen=True)
@@ -54,6 +53,10 @@ class ApproachTrace:
     settling_time_s: float
 
 
+MAX_PERIODS = 1_000_000
+"""Most controller periods one approach may simulate."""
+
+
 def pid_approach(
     target: Callable[[float], np.ndarray],
     gains: PidGains,
@@ -63,8 +66,25 @@ def pid_approach(
     band_um: float = 0.1,
 ) -> ApproachTrace:
     """Simulate the approach; ``target(progress_um)`` is the removal point (paper frame, um)
-    given how far the pipette has travelled, so the target can follow the moving spindle."""
+    given how far the pipette has travelled, so the target can follow the moving spindle.
+
+    The work is ``duration_s / period_s`` controller periods, at most :data:`MAX_PERIODS`.
+    """
+    speed_um_s = checks.number("pid_approach", "speed_um_s", speed_um_s, ge=1e-9, le=1e9)
+    duration_s = checks.number("pid_approach", "duration_s", duration_s, gt=0, le=1e6)
+    band_um = checks.number("pid_approach", "band_um", band_um, gt=0)
+    if len(start_um) != 2:
+        raise NmsdInputError("pid_approach", "start_um", "an (x, y) pair", got=start_um)
+    for value in start_um:
+        checks.number("pid_approach", "start_um", value, ge=-1e9, le=1e9)
     steps = int(round(duration_s / gains.period_s))
+    if steps > MAX_PERIODS:
+        raise NmsdInputError(
+            "pid_approach",
+            "duration_s/period_s",
+            f"at most {MAX_PERIODS:,} controller periods (a longer period or a shorter approach)",
+            got=f"{duration_s:g} s / {gains.period_s:g} s",
+        )
     x = np.array(start_um, dtype=float)
     start = x.copy()
     u = x.copy()

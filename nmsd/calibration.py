@@ -45,6 +45,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
+from nmsd import checks
 from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.parameters import NmsdParameters
 from nmsd.press import PressSetup
@@ -202,8 +203,15 @@ def calibrate(
     if not set(extra) <= set(EXTRA) or len(set(extra)) < len(extra):
         raise NmsdInputError("calibrate", "extra", f"distinct names of {EXTRA}", got=extra)
     extra = tuple(e for e in EXTRA if e in extra)  # gap_um, if free, is the last variable
-    if n_starts < 1:
-        raise NmsdInputError("calibrate", "n_starts", ">= 1", got=n_starts)
+    n_starts = int(checks.number("calibrate", "n_starts", n_starts, ge=1, le=1000, integer=True))
+    max_evaluations = int(
+        checks.number(
+            "calibrate", "max_evaluations", max_evaluations, ge=4, le=1_000_000, integer=True
+        )
+    )
+    seed = int(checks.number("calibrate", "seed", seed, ge=0, integer=True))
+    checks.number("calibrate", "tolerance", tolerance, gt=0, lt=1)
+    checks.number("calibrate", "k2_over_k1_min", k2_over_k1_min, ge=0)
     if not 0 < tolerance < 1:
         raise NmsdInputError("calibrate", "tolerance", "in (0, 1)", got=tolerance)
     if not k2_over_k1_min >= 0:

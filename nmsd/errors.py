@@ -13,8 +13,9 @@ class NmsdInputError(ValueError):
         self.got = got
         msg = f"{source}: {field}: expected {expected}"
         if got is not None:
-            msg += f", got {got!r}"
-        super().__init__(msg)
+            text = repr(got)
+            msg += f", got {text if len(text) <= 80 else text[:76] + ' ...'}"
+        super().__init__(" ".join(msg.splitlines()))
 
 
 class NmsdDivergence(RuntimeError):

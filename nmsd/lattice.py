@@ -23,6 +23,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import Delaunay
 
+from nmsd import checks
 from nmsd.errors import NmsdInputError
 
 MOORE_OFFSETS = np.array([(1, 0), (0, 1), (1, 1), (1, -1)])
@@ -143,10 +144,13 @@ def circular_lattice(
     term, :mod:`nmsd.area`): every grid square with all four corners inside, and the
     triangle of the three corners inside where one is missing (all their sides are links).
     """
-    if diameter_um <= 0 or spacings_across < 2:
-        raise NmsdInputError(
-            "circular_lattice", "diameter_um/spacings_across", "a positive diameter, >= 2"
+    diameter_um = checks.number("circular_lattice", "diameter_um", diameter_um, ge=1e-3, le=1e6)
+    spacings_across = int(
+        checks.number(
+            "circular_lattice", "spacings_across", spacings_across, ge=2, le=400, integer=True
         )
+    )
+    shift = checks.number("circular_lattice", "shift", shift, ge=-1, le=1)
     radius = 0.5 * diameter_um
     h = diameter_um / spacings_across
     m = spacings_across

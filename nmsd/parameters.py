@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields, replace
 
+from nmsd import checks
 from nmsd.damping import READINGS
 from nmsd.errors import NmsdInputError
 
@@ -81,5 +82,11 @@ class NmsdParameters:
 
 
 def node_mass_for(diameter_um: float, n_nodes: int, density: float = WATER_DENSITY) -> float:
-    """Mass per node of a sphere of the given diameter shared by ``n_nodes``, nN s^2/um."""
+    """Mass per node of a sphere of the given diameter shared by ``n_nodes``, nN s^2/um.
+
+    ``m = density pi d^3 / 6 / n_nodes``.
+    """
+    diameter_um = checks.number("node_mass_for", "diameter_um", diameter_um, ge=1e-3, le=1e6)
+    n_nodes = int(checks.number("node_mass_for", "n_nodes", n_nodes, ge=1, integer=True))
+    density = checks.number("node_mass_for", "density", density, ge=1e-30, le=1e6)
     return density * math.pi * diameter_um**3 / 6.0 / n_nodes

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nmsd import checks
 from nmsd.errors import NmsdInputError
 
 TABLE_I_WIDTH_UM = 20.628  # d_inj, seed 000 Table I
@@ -44,8 +45,14 @@ class Pipette:
     source: str = "Pipette"
 
     def __post_init__(self) -> None:
-        if not self.width_um > 0:
-            raise NmsdInputError(self.source, "width_um", "> 0", got=self.width_um)
+        checks.number(self.source, "width_um", self.width_um, gt=0, le=1e6)
+        checks.number(self.source, "tip_angle_deg", self.tip_angle_deg, ge=0, lt=180)
+        checks.number(self.source, "contact_stiffness", self.contact_stiffness, gt=0)
+        if len(self.start) != 2 or len(self.direction) != 2:
+            raise NmsdInputError(self.source, "start/direction", "(x, y) pairs")
+        for name, pair in (("start", self.start), ("direction", self.direction)):
+            for value in pair:
+                checks.number(self.source, name, value, ge=-1e9, le=1e9)
         if not 0 <= self.tip_angle_deg < 180:
             raise NmsdInputError(self.source, "tip_angle_deg", "in [0, 180)", self.tip_angle_deg)
         if not self.contact_stiffness > 0:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from nmsd import checks
 from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import Lattice, circular_lattice
@@ -133,8 +134,13 @@ def press_setup(
     ``symmetric``: follow the mirror-symmetric branch (:mod:`nmsd.symmetry`; the lattice,
     pipette and holder must be symmetric about the pipette axis).
     """
-    if gap_um < 0:
-        raise NmsdInputError("press_setup", "gap_um", ">= 0 (a pipette starting outside)", gap_um)
+    gap_um = checks.number("press_setup", "gap_um", gap_um, ge=0, le=1e6)
+    hold_half_width_um = checks.number(
+        "press_setup", "hold_half_width_um", hold_half_width_um, gt=0, le=1e6
+    )
+    checks.number("press_setup", "speed_um_s", speed_um_s, ge=1e-9, le=1e9)
+    checks.number("press_setup", "travel_um", travel_um, ge=1e-6, le=1e6)
+    checks.number("press_setup", "n_steps", n_steps, ge=1, le=MAX_STEPS, integer=True)
     lattice = circular_lattice() if lattice is None else lattice
     far = (2.0 * lattice.radius, 0.0)
     probe = Pipette(width_um, tip_angle_deg, far, (-1.0, 0.0), contact_stiffness)
@@ -171,6 +177,10 @@ def touching_start(lattice: Lattice, pipette: Pipette) -> Pipette:
     return replace(pipette, start=tuple(np.asarray(pipette.start) + shift * a))
 
 
+MAX_STEPS = 1_000_000
+"""Most backward-Euler steps one press may ask for."""
+
+
 def simulate_press(
     lattice: Lattice,
     params: NmsdParameters,
@@ -193,8 +203,13 @@ def simulate_press(
     every (sub)step and return df/dp (:class:`nmsd.sensitivity.PressSensitivity`; starts
     from rest, S_0 = 0).
     """
-    if speed_um_s <= 0 or travel_um <= 0 or n_steps < 1:
-        raise NmsdInputError("simulate_press", "speed/travel/n_steps", "positive values")
+    speed_um_s = checks.number("simulate_press", "speed_um_s", speed_um_s, ge=1e-9, le=1e9)
+    travel_um = checks.number("simulate_press", "travel_um", travel_um, ge=1e-6, le=1e6)
+    n_steps = int(
+        checks.number("simulate_press", "n_steps", n_steps, ge=1, le=MAX_STEPS, integer=True)
+    )
+    for value in record_um:
+        checks.number("simulate_press", "record_um", value, ge=0)
     x = lattice.nodes.copy() if initial_positions is None else np.array(initial_positions)
     if pipette.contains(x, 0.0).any():
         raise NmsdInputError(

@@ -7,11 +7,13 @@ Columns: ``displacement_um`` (strictly increasing), ``force_experiment_uN`` and 
 from __future__ import annotations
 
 import csv
+import difflib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from nmsd.checks import read_text
 from nmsd.errors import NmsdInputError
 
 UN_TO_NN = 1.0e3
@@ -31,14 +33,15 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     """Read the CSV; raise :class:`NmsdInputError` naming file and column on bad content."""
     path = Path(path)
     try:
-        with path.open(newline="") as fh:
-            rows = list(csv.DictReader(fh))
-    except OSError as exc:
-        raise NmsdInputError(str(path), "", "a readable CSV file", got=exc.strerror) from None
+        rows = list(csv.DictReader(read_text(path).splitlines()))
+    except csv.Error as exc:
+        raise NmsdInputError(str(path), "", f"a comma-separated table ({exc})") from None
     header = set(rows[0]) if rows else set()
     for column in ("displacement_um", "force_experiment_uN"):
         if column not in header:
-            raise NmsdInputError(str(path), column, "this column (units in the name)")
+            close = difflib.get_close_matches(column, [str(h) for h in header], n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise NmsdInputError(str(path), column, f"this column (units in the name){hint}")
     columns = {}
     for name in ("displacement_um", "force_experiment_uN", "force_simulation_uN"):
         if name not in header:
@@ -47,6 +50,8 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
             columns[name] = np.array([float(r[name]) for r in rows])
         except (TypeError, ValueError):
             raise NmsdInputError(str(path), name, "numbers in every row") from None
+        if not np.all(np.isfinite(columns[name])):
+            raise NmsdInputError(str(path), name, "finite numbers in every row (no nan, inf)")
     d = columns["displacement_um"]
     if len(d) < 2 or np.any(np.diff(d) <= 0) or d[0] < 0:
         raise NmsdInputError(str(path), "displacement_um", "non-negative, strictly increasing")

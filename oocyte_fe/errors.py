@@ -4,6 +4,22 @@ from __future__ import annotations
 
 from pathlib import Path
 
+GOT_CHARS = 80
+"""Longest ``got`` shown in an error message (a value, never a file's content)."""
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks and other control characters escaped (a one-line message)."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def short_repr(value: object) -> str:
+    """``repr(value)`` on one line, cut to :data:`GOT_CHARS` characters."""
+    text = one_line(repr(value))
+    return text if len(text) <= GOT_CHARS else text[: GOT_CHARS - 4] + " ..."
+
 
 class InputError(ValueError):
     """Bad user input: names the file, the field and what was expected.
@@ -15,13 +31,17 @@ class InputError(ValueError):
     def __init__(
         self, file: str | Path, field: str, expected: str, got: object | None = None
     ) -> None:
-        self.file = str(file)
-        self.field = field
-        self.expected = expected
+        self.file = one_line(str(file))
+        self.field = one_line(field)
+        self.expected = one_line(expected)
         self.got = got
-        msg = f"{self.file}: {field}: expected {expected}" if field else f"{self.file}: {expected}"
+        msg = (
+            f"{self.file}: {self.field}: expected {self.expected}"
+            if field
+            else f"{self.file}: {self.expected}"
+        )
         if got is not None:
-            msg += f", got {got!r}"
+            msg += f", got {short_repr(got)}"
         super().__init__(msg)
 
 

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import time
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 
 
-class EchoInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+class EchoInputs(CaseInputs):
     x_um: float = Field(gt=0, description="a positive length, um")
     nu: float = Field(default=0.3, ge=-1.0, lt=0.5, description="Poisson ratio (compressible)")
     crash: bool = False

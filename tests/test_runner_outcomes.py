@@ -56,7 +56,7 @@ def test_known_miss_is_miss_within_worst_and_fail_beyond(tmp_path: Path) -> None
         ('max = 3.0\nknown_miss = "why"\nworst = 2.0', "worst above the goal max"),
         ('min = 3.0\nknown_miss = "why"\nworst = 4.0', "worst below the goal min"),
         ("min = 3.0\nmax = 2.0", "min <= max"),
-        ("max = nan", "finite numbers"),
+        ("max = nan", "finite number"),
     ],
 )
 def test_impossible_tolerances_are_refused(tmp_path: Path, tolerance: str, fragment: str) -> None:
@@ -337,7 +337,11 @@ def test_new_case_of_every_kind_asks_only_for_required_inputs(tmp_path: Path) ->
         try:
             load_case(folder)  # valid as written, or missing only what has no default
         except InputError as exc:
-            assert "it is required" in str(exc), f"{kind.name}: {exc}"
+            # missing only what has no default, or a data-file template (written by `new`,
+            # read at validation) that still has to be replaced by the user's data
+            templates = [p.name for p in folder.iterdir() if p.name != "case.toml"]
+            named = any(t in str(exc) for t in templates)
+            assert "it is required" in str(exc) or named, f"{kind.name}: {exc}"
             assert "# " in (folder / "case.toml").read_text()
 
 

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nmsd.pipette import HOLD_HALF_WIDTH_UM, TABLE_I_TIP_ANGLE_DEG, TABLE_I_WIDTH_UM
+from oocyte_fe.checks import numeric_fields
 from oocyte_fe.errors import InputError
 
 
@@ -45,6 +46,7 @@ class PressScenario:
     source: str = "PressScenario"
 
     def __post_init__(self) -> None:
+        numeric_fields(self, self.source)
         if not 0 < self.cytoplasm_diameter_um < self.cell_diameter_um:
             raise InputError(
                 self.source,

@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from afm.material_file import read_material
+from oocyte_fe import files
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.kinematics import ACTIVE_I, ACTIVE_J, Kinematics, active, cross5, outer5
 
@@ -96,8 +97,16 @@ class Material:
 
 
 def read_material_file(path: str | Path) -> Material:
-    """Read the material file written by :mod:`afm` (format and validation live there)."""
-    record = read_material(path)
+    """Read the material file written by :mod:`afm` (format and validation live there).
+
+    The file is checked first through :mod:`oocyte_fe.files` (a regular UTF-8 file, not a
+    folder, FIFO or symlink loop); nesting too deep for the TOML parser is one clear line.
+    """
+    files.read_text(path)
+    try:
+        record = read_material(path)
+    except RecursionError:
+        raise InputError(path, "", "a material file of [material] and [prony] tables") from None
     prony = Prony(record.g, record.tau_s, source=str(path))
     return Material(record.E_kPa, record.nu, prony, name=record.name, source=str(path))
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
 from afm.creep import fit_creep
 from afm.curve import spring_constant_nN_per_um
@@ -14,30 +16,82 @@ from afm.plotting import plot_creep
 from afm.prony_series import RelaxationProny
 from afm.synthetic import creep_indentation
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
+
+RelaxationTime = Annotated[float, Field(ge=1e-4, le=1e4)]
+Fraction = Annotated[float, Field(ge=1e-6, lt=1)]
 
 
-class CreepInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    E0_kPa: float = Field(gt=0, description="instantaneous Young's modulus of the synthetic ZP")
-    nu: float = Field(gt=-1, le=0.5)
-    prony_g: list[float] = Field(min_length=1, description="normalised relaxation terms g_i")
-    prony_tau_s: list[float] = Field(min_length=1, description="relaxation times tau_i, s")
-    half_angle_deg: float = Field(gt=0, lt=90)
-    clamp_force_nN: float = Field(gt=0)
-    hold_s: float = Field(gt=0)
-    sample_rate_Hz: float = Field(gt=0)
-    noise_fraction: float = Field(ge=0, description="indentation noise SD / indentation")
-    force_noise_nN: float = Field(ge=0, description="force noise SD during the clamp, nN")
-    plateau_height_um: float = Field(description="scanner height at the end of the hold, um")
-    spring_constant_N_per_m: float = Field(gt=0)
-    per_decade: int = Field(ge=1, le=20, description="NNLS grid: retardation times per decade")
-    cytoplasm_E_kPa: float = Field(gt=0, description="elastic cytoplasm modulus (seed Table 1)")
-    seed: int = 0
+class CreepInputs(CaseInputs):
+    E0_kPa: float = Field(
+        gt=0,
+        description="instantaneous Young's modulus of the synthetic ZP",
+        json_schema_extra={"unit": "kPa"},
+    )
+    nu: float = Field(gt=-1, le=0.5, description="Poisson ratio", json_schema_extra={"unit": "1"})
+    prony_g: list[Fraction] = Field(
+        min_length=1,
+        description="normalised relaxation terms g_i, each in [1e-6, 1), summing below 1",
+        json_schema_extra={"unit": "1"},
+    )
+    prony_tau_s: list[RelaxationTime] = Field(
+        min_length=1,
+        description="relaxation times tau_i, each in [1e-4, 1e4] s",
+        json_schema_extra={"unit": "s"},
+    )
+    half_angle_deg: float = Field(
+        gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}
+    )
+    clamp_force_nN: float = Field(
+        gt=0, description="force held during the creep", json_schema_extra={"unit": "nN"}
+    )
+    hold_s: float = Field(
+        gt=0, le=1e4, description="duration of the hold", json_schema_extra={"unit": "s"}
+    )
+    sample_rate_Hz: float = Field(
+        gt=0,
+        le=1e5,
+        description="samples per second of the record",
+        json_schema_extra={"unit": "Hz"},
+    )
+    noise_fraction: float = Field(
+        ge=0,
+        le=1,
+        description="indentation noise SD / indentation",
+        json_schema_extra={"unit": "1"},
+    )
+    force_noise_nN: float = Field(
+        ge=0, description="force noise SD during the clamp", json_schema_extra={"unit": "nN"}
+    )
+    plateau_height_um: float = Field(
+        description="scanner height at the end of the hold", json_schema_extra={"unit": "um"}
+    )
+    spring_constant_N_per_m: float = Field(
+        gt=0, description="cantilever spring constant", json_schema_extra={"unit": "N/m"}
+    )
+    per_decade: int = Field(
+        ge=1,
+        le=20,
+        description="NNLS grid: retardation times per decade",
+        json_schema_extra={"unit": "1"},
+    )
+    cytoplasm_E_kPa: float = Field(
+        gt=0,
+        description="elastic cytoplasm modulus (seed Table 1)",
+        json_schema_extra={"unit": "kPa"},
+    )
+    seed: int = Field(
+        0, ge=0, description="random seed of the noise", json_schema_extra={"unit": "1"}
+    )
 
     @model_validator(mode="after")
-    def _same_length(self) -> CreepInputs:
+    def _series(self) -> CreepInputs:
         if len(self.prony_g) != len(self.prony_tau_s):
             raise ValueError("prony_g and prony_tau_s of equal length")
+        if sum(self.prony_g) >= 1:
+            raise ValueError(f"prony_g summing below 1 (a solid; the sum is {sum(self.prony_g):g})")
+        if self.hold_s * self.sample_rate_Hz > 1e6:
+            raise ValueError("hold_s x sample_rate_Hz at most 1e6 samples")
         return self
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from afm import plotting
 from afm.batch import BatchResult, curve_files, fit_batch
@@ -35,10 +35,10 @@ from afm.nanite_pipeline import fit_nanite_default
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 
 
-class FitFilesInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+class FitFilesInputs(CaseInputs):
     curves: str = Field(
         min_length=1,
         description="folder (searched recursively) or glob of curve files, relative to the "
@@ -49,13 +49,24 @@ class FitFilesInputs(BaseModel):
         default_factory=dict,
         description="tip parameters of the model, e.g. half_angle_deg = 10 (deg) or "
         "radius_um (um); left-out ones take the model's default",
+        json_schema_extra={"unit": "deg or um, by the key's suffix"},
     )
-    nu: float = Field(0.5, gt=-1, le=0.5, description="Poisson ratio of the sample")
+    nu: float = Field(
+        0.5,
+        gt=-1,
+        le=0.5,
+        description="Poisson ratio of the sample",
+        json_schema_extra={"unit": "1"},
+    )
     max_indentation_um: float | None = Field(
         None, gt=0, description="fit range: depth past contact", json_schema_extra={"unit": "um"}
     )
     max_force_fraction: float | None = Field(
-        None, gt=0, le=1, description="fit range: fraction of the maximum force"
+        None,
+        gt=0,
+        le=1,
+        description="fit range: fraction of the maximum force",
+        json_schema_extra={"unit": "1"},
     )
     contact_method: Literal["fit", "deviation"] = Field(
         "fit", description="contact point: a fit parameter, or the deviation estimate"

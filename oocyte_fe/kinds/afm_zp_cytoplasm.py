@@ -5,36 +5,98 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field, model_validator
 
 from afm.batch import curve_files, fit_batch, write_batch_table
 from afm.curve import spring_constant_nN_per_um
 from afm.curve_io import write_curve
 from afm.plotting import plot_batch, plot_fit, plot_histogram
 from afm.synthetic import pierce_curve
+from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 
 
-class ZpCytoplasmInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    n_oocytes: int = Field(ge=1, description="oocytes in the synthetic population")
-    points_per_oocyte: int = Field(ge=1, description="pierce-through curves per oocyte")
-    E_zp_mean_kPa: float = Field(gt=0, description="mean of the ZP moduli drawn, kPa")
-    E_zp_sd_kPa: float = Field(ge=0, description="SD of the ZP moduli drawn, kPa")
-    E_cytoplasm_mean_kPa: float = Field(gt=0, description="mean of the cytoplasm moduli, kPa")
-    E_cytoplasm_sd_kPa: float = Field(ge=0, description="SD of the cytoplasm moduli, kPa")
-    min_E_kPa: float = Field(gt=0, description="draws below this are redrawn (non-physical)")
-    half_angle_deg: float = Field(gt=0, lt=90, description="cone half angle, deg")
-    nu: float = Field(gt=-1, le=0.5)
-    spring_constant_N_per_m: float = Field(gt=0)
-    pierce_force_nN: float = Field(gt=0, description="force at which the probe pierces the ZP")
-    residual_fraction: float = Field(ge=0, lt=1, description="force left after the drop / peak")
-    contact_point_um: float = Field(gt=0)
-    trigger_force_nN: float = Field(gt=0, description="force that ends the approach, nN")
-    n_points: int = Field(ge=100)
-    noise_fraction: float = Field(ge=0, description="force noise SD / pierce force")
-    tilt_nN_per_um: float = Field(description="baseline tilt, nN/um")
-    seed: int = 0
+class ZpCytoplasmInputs(CaseInputs):
+    n_oocytes: int = Field(
+        ge=1,
+        le=1000,
+        description="oocytes in the synthetic population",
+        json_schema_extra={"unit": "1"},
+    )
+    points_per_oocyte: int = Field(
+        ge=1,
+        le=1000,
+        description="pierce-through curves per oocyte",
+        json_schema_extra={"unit": "1"},
+    )
+    E_zp_mean_kPa: float = Field(
+        gt=0, description="mean of the ZP moduli drawn", json_schema_extra={"unit": "kPa"}
+    )
+    E_zp_sd_kPa: float = Field(
+        ge=0, description="SD of the ZP moduli drawn", json_schema_extra={"unit": "kPa"}
+    )
+    E_cytoplasm_mean_kPa: float = Field(
+        gt=0, description="mean of the cytoplasm moduli drawn", json_schema_extra={"unit": "kPa"}
+    )
+    E_cytoplasm_sd_kPa: float = Field(
+        ge=0, description="SD of the cytoplasm moduli drawn", json_schema_extra={"unit": "kPa"}
+    )
+    min_E_kPa: float = Field(
+        gt=0,
+        description="draws below this are redrawn (non-physical); below both means",
+        json_schema_extra={"unit": "kPa"},
+    )
+    half_angle_deg: float = Field(
+        gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}
+    )
+    nu: float = Field(gt=-1, le=0.5, description="Poisson ratio", json_schema_extra={"unit": "1"})
+    spring_constant_N_per_m: float = Field(
+        gt=0, description="cantilever spring constant", json_schema_extra={"unit": "N/m"}
+    )
+    pierce_force_nN: float = Field(
+        gt=0,
+        description="force at which the probe pierces the ZP",
+        json_schema_extra={"unit": "nN"},
+    )
+    residual_fraction: float = Field(
+        ge=0, lt=1, description="force left after the drop / peak", json_schema_extra={"unit": "1"}
+    )
+    contact_point_um: float = Field(
+        gt=0, description="scanner height at contact", json_schema_extra={"unit": "um"}
+    )
+    trigger_force_nN: float = Field(
+        gt=0, description="force that ends the approach", json_schema_extra={"unit": "nN"}
+    )
+    n_points: int = Field(
+        ge=100, le=1_000_000, description="samples per curve", json_schema_extra={"unit": "1"}
+    )
+    noise_fraction: float = Field(
+        ge=0, le=1, description="force noise SD / pierce force", json_schema_extra={"unit": "1"}
+    )
+    tilt_nN_per_um: float = Field(description="baseline tilt", json_schema_extra={"unit": "nN/um"})
+    seed: int = Field(
+        0,
+        ge=0,
+        description="random seed of the population and noise",
+        json_schema_extra={"unit": "1"},
+    )
+
+    @model_validator(mode="after")
+    def _draws_possible(self) -> ZpCytoplasmInputs:
+        for what in ("zp", "cytoplasm"):
+            mean = getattr(self, f"E_{what}_mean_kPa")
+            sd = getattr(self, f"E_{what}_sd_kPa")
+            if mean - self.min_E_kPa < -3 * sd or (sd == 0 and mean < self.min_E_kPa):
+                raise ValueError(
+                    f"min_E_kPa below E_{what}_mean_kPa + 3 E_{what}_sd_kPa (almost every draw "
+                    f"would be redrawn: mean {mean:g}, SD {sd:g}, floor {self.min_E_kPa:g} kPa)"
+                )
+        if self.trigger_force_nN <= self.pierce_force_nN * self.residual_fraction:
+            raise ValueError("trigger_force_nN above pierce_force_nN x residual_fraction")
+        if self.n_oocytes * self.points_per_oocyte > 10_000:
+            raise ValueError("n_oocytes x points_per_oocyte at most 10 000 curves")
+        return self
 
 
 METRICS = {
@@ -49,13 +111,25 @@ METRICS = {
 }
 
 
-def _draw(rng: np.random.Generator, mean: float, sd: float, n: int, floor: float) -> np.ndarray:
-    """n draws of N(mean, sd), each below ``floor`` redrawn."""
+MAX_REDRAW_ROUNDS = 1000
+
+
+def _draw(
+    rng: np.random.Generator, mean: float, sd: float, n: int, floor: float, where: Path
+) -> np.ndarray:
+    """n draws of N(mean, sd), each below ``floor`` redrawn (at most ``MAX_REDRAW_ROUNDS``)."""
     values = rng.normal(mean, sd, n)
-    while np.any(values < floor):
+    for _ in range(MAX_REDRAW_ROUNDS):
         bad = values < floor
+        if not np.any(bad):
+            return values
         values[bad] = rng.normal(mean, sd, int(bad.sum()))
-    return values
+    raise InputError(
+        where,
+        "inputs.min_E_kPa",
+        f"a floor most draws of N({mean:g}, {sd:g}) kPa pass; {MAX_REDRAW_ROUNDS} redraw rounds "
+        f"left {int(np.sum(values < floor))} of {n} below {floor:g} kPa",
+    )
 
 
 def _gallery(out_dir: Path, rows: list, drawn: dict[str, tuple[float, float]]) -> str:
@@ -87,8 +161,17 @@ def run(ctx: CaseContext) -> CaseOutcome:
     inp: ZpCytoplasmInputs = ctx.inputs  # type: ignore[assignment]
     rng = np.random.default_rng(inp.seed)
     n = inp.n_oocytes * inp.points_per_oocyte
-    e_zp = _draw(rng, inp.E_zp_mean_kPa, inp.E_zp_sd_kPa, n, inp.min_E_kPa)
-    e_cyt = _draw(rng, inp.E_cytoplasm_mean_kPa, inp.E_cytoplasm_sd_kPa, n, inp.min_E_kPa)
+    e_zp = _draw(
+        rng, inp.E_zp_mean_kPa, inp.E_zp_sd_kPa, n, inp.min_E_kPa, ctx.case_dir / "case.toml"
+    )
+    e_cyt = _draw(
+        rng,
+        inp.E_cytoplasm_mean_kPa,
+        inp.E_cytoplasm_sd_kPa,
+        n,
+        inp.min_E_kPa,
+        ctx.case_dir / "case.toml",
+    )
     k = spring_constant_nN_per_um(inp.spring_constant_N_per_m)
     geometry = {"half_angle_deg": inp.half_angle_deg}
 

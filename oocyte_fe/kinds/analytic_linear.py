@@ -9,16 +9,22 @@ holds a sweep over this kind to those values. Dimensionless.
 from __future__ import annotations
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 
 
-class LinearInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    x: list[float] = Field(min_length=1, description="inputs x_i (a sweep sets x.0, x.1, ...)")
-    a: list[float] = Field(min_length=1, description="coefficients a_i, one per input")
-    c: float = Field(0.0, description="constant term")
+class LinearInputs(CaseInputs):
+    x: list[float] = Field(
+        min_length=1,
+        description="inputs x_i (a sweep sets x.0, x.1, ...)",
+        json_schema_extra={"unit": "1"},
+    )
+    a: list[float] = Field(
+        min_length=1, description="coefficients a_i, one per input", json_schema_extra={"unit": "1"}
+    )
+    c: float = Field(0.0, description="constant term", json_schema_extra={"unit": "1"})
 
     @model_validator(mode="after")
     def _same_length(self) -> LinearInputs:

@@ -6,7 +6,7 @@ aspirating at the spindle's initial position and at a fixed offset
 from __future__ import annotations
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from nmsd.approach_pid import PidGains
 from nmsd.calibration import calibrate
@@ -18,6 +18,7 @@ from nmsd.tableII import read_force_displacement
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 from oocyte_fe.tracking import enucleation as loop
 from oocyte_fe.tracking.plots import plot_loop_distances
 from oocyte_fe.tracking.synthetic import CELL_DIAMETER_UM, SequenceSpec
@@ -29,10 +30,9 @@ def _unit(unit: str) -> dict:
     return {"unit": unit}
 
 
-class LoopInputs(BaseModel):
+class LoopInputs(CaseInputs):
     """Calibration, virtual cells, video and controller of the loop."""
 
-    model_config = ConfigDict(extra="forbid")
     data: DataFile = Field(description="Table II CSV (displacement_um, force_experiment_uN, ...)")
     n_cells: int = Field(10, ge=1, description="virtual cells", json_schema_extra=_unit("1"))
     spacings_across: int = Field(

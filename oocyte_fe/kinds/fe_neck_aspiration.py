@@ -3,50 +3,164 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Annotated
+
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
+from oocyte_fe.fe.material import read_material_file
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.neck import plotting
-from oocyte_fe.neck.materials import materials_from_afm_case
+from oocyte_fe.neck.materials import OocyteMaterials, materials_from_afm_case
 from oocyte_fe.neck.passage import PassageResult, PassageSettings, run_passage
 from oocyte_fe.neck.pipette import NeckedPipette
+from oocyte_fe.runner.casefile import read_toml
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+
+SizeUm = Annotated[float, Field(ge=1, le=100)]
 
 
-class NeckInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    material_case: str = Field(description="folder of the afm_creep_prony case, relative")
-    cytoplasm_radius_um: float = Field(gt=0)
-    zona_thickness_um: float = Field(gt=0)
-    bore_diameter_um: float = Field(gt=0)
-    neck_diameter_um: float = Field(gt=0)
-    taper_length_um: float = Field(gt=0, description="length of the cosine taper, um")
-    friction: float = Field(ge=0)
-    suction_Pa: float = Field(gt=0, description="the seed's suction, Pa (compared, see reading)")
-    duration_s: float = Field(gt=0)
-    steps: int = Field(ge=2)
-    advance_um: float = Field(gt=0, description="rear-cap advance over duration_s, um")
-    size_um: float = Field(gt=0, description="element size away from the side band, um")
-    refine_factor: float = Field(ge=1)
-    penalty_factor: float = Field(gt=0, description="normal penalty = factor * E_max / h")
-    mesh_study_sizes_um: list[float] = Field(default_factory=list)
-    mesh_change_max_pct: float = Field(
-        default=2.0, gt=0, description="largest change between the two finest meshes, %"
+class NeckInputs(CaseInputs):
+    material_case: str | None = Field(
+        default=None,
+        description="folder of an afm_creep_prony case, relative (chained: it is re-run); "
+        "or give zona_material_file and cytoplasm_material_file",
     )
-    sensitivity: bool = True
-    sensitivity_size_um: float = Field(default=14.0, gt=0)
-    friction_values: list[float] = Field(default_factory=lambda: [0.0, 0.4])
-    zona_E_sd_kPa: float = Field(default=2.88, ge=0)
+    zona_material_file: Annotated[DataFile, DataReader(read_material_file)] | None = Field(
+        default=None, description="ZP material file (TOML, as afm_creep_prony writes it)"
+    )
+    cytoplasm_material_file: Annotated[DataFile, DataReader(read_material_file)] | None = Field(
+        default=None, description="cytoplasm material file (TOML, as afm_creep_prony writes it)"
+    )
+    cytoplasm_radius_um: float = Field(
+        gt=0, description="cytoplasm radius (inside the ZP)", json_schema_extra={"unit": "um"}
+    )
+    zona_thickness_um: float = Field(
+        gt=0, description="ZP thickness", json_schema_extra={"unit": "um"}
+    )
+    bore_diameter_um: float = Field(
+        gt=0, description="pipette bore diameter before the neck", json_schema_extra={"unit": "um"}
+    )
+    neck_diameter_um: float = Field(
+        gt=0, description="pipette neck diameter", json_schema_extra={"unit": "um"}
+    )
+    taper_length_um: float = Field(
+        gt=0, description="length of the cosine taper", json_schema_extra={"unit": "um"}
+    )
+    friction: float = Field(
+        ge=0,
+        le=2,
+        description="Coulomb friction coefficient at the pipette wall",
+        json_schema_extra={"unit": "1"},
+    )
+    suction_Pa: float = Field(
+        gt=0,
+        description="the seed's suction (compared, see reading)",
+        json_schema_extra={"unit": "Pa"},
+    )
+    duration_s: float = Field(
+        gt=0, description="duration of the passage", json_schema_extra={"unit": "s"}
+    )
+    steps: int = Field(
+        ge=2, le=10_000, description="time steps over duration_s", json_schema_extra={"unit": "1"}
+    )
+    advance_um: float = Field(
+        gt=0, description="rear-cap advance over duration_s", json_schema_extra={"unit": "um"}
+    )
+    size_um: float = Field(
+        ge=1,
+        le=100,
+        description="element size away from the side band",
+        json_schema_extra={"unit": "um"},
+    )
+    refine_factor: float = Field(
+        ge=1,
+        le=10,
+        description="side-band element size = size_um / this",
+        json_schema_extra={"unit": "1"},
+    )
+    penalty_factor: float = Field(
+        gt=0, description="normal penalty = factor * E_max / h", json_schema_extra={"unit": "1"}
+    )
+    mesh_study_sizes_um: list[SizeUm] = Field(
+        default_factory=list,
+        description="element sizes of the mesh study (coarse to fine); empty: no study",
+        json_schema_extra={"unit": "um"},
+    )
+    mesh_change_max_pct: float = Field(
+        default=2.0,
+        gt=0,
+        description="largest change between the two finest meshes",
+        json_schema_extra={"unit": "%"},
+    )
+    sensitivity: bool = Field(True, description="run the friction and modulus sensitivity")
+    sensitivity_size_um: float = Field(
+        default=14.0,
+        ge=1,
+        le=100,
+        description="element size of the sensitivity runs",
+        json_schema_extra={"unit": "um"},
+    )
+    friction_values: list[Annotated[float, Field(ge=0, le=2)]] = Field(
+        default_factory=lambda: [0.0, 0.4],
+        description="friction coefficients of the sensitivity runs",
+        json_schema_extra={"unit": "1"},
+    )
+    zona_E_sd_kPa: float = Field(
+        default=2.88,
+        ge=0,
+        description="SD of the ZP modulus (sensitivity at mean +- SD)",
+        json_schema_extra={"unit": "kPa"},
+    )
     zona_E_kPa: float | None = Field(
-        default=None, gt=0, description="replaces the ZP modulus of the material file, kPa"
+        default=None,
+        gt=0,
+        description="replaces the ZP modulus of the material file",
+        json_schema_extra={"unit": "kPa"},
     )
     cytoplasm_E_kPa: float | None = Field(
-        default=None, gt=0, description="replaces the cytoplasm modulus of the material file, kPa"
+        default=None,
+        gt=0,
+        description="replaces the cytoplasm modulus of the material file",
+        json_schema_extra={"unit": "kPa"},
     )
-    vtu: bool = True
+    vtu: bool = Field(True, description="write the VTU/PVD series of the main run")
+
+    @field_validator("material_case")
+    @classmethod
+    def _afm_case(cls, value: str | None, info: ValidationInfo) -> str | None:
+        case_dir = (info.context or {}).get("case_dir")
+        if value is not None and case_dir is not None:
+            folder = Path(case_dir) / value
+            try:
+                kind = read_toml(folder / "case.toml").get("kind")
+            except InputError as exc:
+                raise ValueError(
+                    f"material_case naming a folder with an afm_creep_prony case.toml "
+                    f"({exc.expected}: {folder / 'case.toml'}); a copied case can name "
+                    "material files instead (zona_material_file, cytoplasm_material_file)"
+                ) from None
+            if kind != "afm_creep_prony":
+                raise ValueError(f"material_case naming an afm_creep_prony case, not {kind!r}")
+        return value
+
+    @model_validator(mode="after")
+    def _one_material_source(self) -> NeckInputs:
+        files = (self.zona_material_file, self.cytoplasm_material_file)
+        given = sum(f is not None for f in files)
+        if self.material_case is None and given != 2:
+            raise ValueError(
+                "material_case, or both zona_material_file and cytoplasm_material_file"
+            )
+        if self.material_case is not None and given:
+            raise ValueError("material_case or the two material files, not both")
+        if self.neck_diameter_um >= self.bore_diameter_um:
+            raise ValueError("neck_diameter_um below bore_diameter_um")
+        return self
 
 
 UNITS = {"s", "um", "kPa", "nN"}
@@ -100,16 +214,14 @@ def _table(header: list[str], rows: list[list[str]]) -> str:
 def run(ctx: CaseContext) -> CaseOutcome:
     """Layered viscoelastic oocyte through a narrowed pipette neck; peripheral deformation."""
     inp: NeckInputs = ctx.inputs  # type: ignore[assignment]
-    afm_dir = (ctx.case_dir / inp.material_case).resolve()
-    if not (afm_dir / "case.toml").is_file():
-        raise InputError(
-            ctx.case_dir / "case.toml",
-            "inputs.material_case",
-            "a folder holding the afm_creep_prony case.toml",
-            got=inp.material_case,
-        )
-    ctx.step(f"materials: re-running {afm_dir.name} into material/")
-    mats = materials_from_afm_case(afm_dir, ctx.output("material"), ctx.log, ctx.quick)
+    if inp.material_case is None:
+        zp, cy = inp.zona_material_file, inp.cytoplasm_material_file
+        ctx.step(f"materials: {zp.name}, {cy.name}")
+        mats = OocyteMaterials(read_material_file(zp), read_material_file(cy), zp, cy)
+    else:
+        afm_dir = (ctx.case_dir / inp.material_case).resolve()
+        ctx.step(f"materials: re-running {afm_dir.name} into material/")
+        mats = materials_from_afm_case(afm_dir, ctx.output("material"), ctx.log, ctx.quick)
     mats = mats.with_moduli(inp.zona_E_kPa, inp.cytoplasm_E_kPa)
     pipette = NeckedPipette(inp.bore_diameter_um / 2, inp.neck_diameter_um / 2, inp.taper_length_um)
     geometry = {"cytoplasm_radius_um": inp.cytoplasm_radius_um, "zona_um": inp.zona_thickness_um}

@@ -9,14 +9,17 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
+from typing import Annotated
+
 import matplotlib.pyplot as plt
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 from oocyte_fe.verification import (
     Verification,
     hertz,
@@ -26,14 +29,20 @@ from oocyte_fe.verification import (
 )
 
 
-class FeVerificationInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    shell_size_um: float = Field(2.0, gt=0, description="element size of the 10-20 um shells, um")
-    hertz_fractions: list[float] = Field(
+class FeVerificationInputs(CaseInputs):
+    shell_size_um: float = Field(
+        2.0,
+        gt=0.2,
+        le=10,
+        description="element size of the 10-20 um shells",
+        json_schema_extra={"unit": "um"},
+    )
+    hertz_fractions: list[Annotated[float, Field(gt=0.01, le=4)]] = Field(
         [0.5, 0.25, 0.125],
         min_length=3,
         max_length=3,
         description="contact element size / contact radius a, three meshes halving",
+        json_schema_extra={"unit": "1"},
     )
 
 

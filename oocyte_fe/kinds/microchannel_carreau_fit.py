@@ -2,31 +2,43 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import Field, field_validator
 
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.plotting import plot_viscosity_fits
 from oocyte_fe.microchannel.rheology_fit import ViscosityFit, fit_viscosity
 from oocyte_fe.microchannel.tables import read_flow_curve
 from oocyte_fe.microchannel.viscosity import viscosity_models
-from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
 PA_S = units.VISCOSITY["Pa_s"]
 
 
-class CarreauFitInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    data: DataFile = Field(description="CSV: strain_rate_1_s, viscosity_<unit>")
+PositivePaS = Annotated[float, Field(gt=0)]
+
+
+class CarreauFitInputs(CaseInputs):
+    data: Annotated[DataFile, DataReader(read_flow_curve)] = Field(
+        description="CSV flow curve: strain_rate_1_s, viscosity_<unit> (Table 2)"
+    )
     models: list[str] = Field(
-        default=["carreau", "carreau_yasuda", "cross", "power_law"], min_length=1
+        default=["carreau", "carreau_yasuda", "cross", "power_law"],
+        min_length=1,
+        description="viscosity models to fit (see oocyte-fe kinds)",
     )
-    table3_zero_shear_Pa_s: dict[str, float] = Field(
-        default_factory=dict, description="readings of Table 3's zero-shear cell, Pa s"
+    table3_zero_shear_Pa_s: dict[str, PositivePaS] = Field(
+        default_factory=dict,
+        description="readings of Table 3's zero-shear cell, per model",
+        json_schema_extra={"unit": "Pa s"},
     )
-    table3_infinite_shear_Pa_s: dict[str, float] = Field(
-        default_factory=dict, description="readings of Table 3's infinite-shear cell, Pa s"
+    table3_infinite_shear_Pa_s: dict[str, PositivePaS] = Field(
+        default_factory=dict,
+        description="readings of Table 3's infinite-shear cell, per model",
+        json_schema_extra={"unit": "Pa s"},
     )
 
     @field_validator("models")

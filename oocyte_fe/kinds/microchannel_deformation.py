@@ -2,29 +2,68 @@
 
 from __future__ import annotations
 
-import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Annotated, Literal
 
+import numpy as np
+from pydantic import Field, model_validator
+
+from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
 from oocyte_fe.microchannel.plotting import plot_junction_ratio
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
-from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
 
-class DeformationInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    deformation_data: DataFile = Field(description="CSV: pressure_<unit>, ratio_experiment, ...")
-    viscosity_data: DataFile = Field(description="CSV flow curve for the cytoplasm's Carreau fit")
-    eta_inf_Pa_s: float = Field(gt=0, description="Carreau infinite-shear viscosity (fixed)")
-    channel: ChannelInputs
-    cell_diameter_um: float = Field(gt=0)
-    modulus_kPa: float = Field(gt=0, description="cell Young's modulus (AFM)")
-    fit_pressures_hPa: list[float] = Field(min_length=2, max_length=3)
-    fit_to: str = Field(default="experiment", pattern="^(experiment|simulation)$")
+class DeformationInputs(CaseInputs):
+    deformation_data: Annotated[DataFile, DataReader(read_deformation_table)] = Field(
+        description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)"
+    )
+    viscosity_data: Annotated[DataFile, DataReader(read_flow_curve)] = Field(
+        description="CSV flow curve for the cytoplasm's Carreau fit (Table 2)"
+    )
+    eta_inf_Pa_s: float = Field(
+        gt=0,
+        description="Carreau infinite-shear viscosity (fixed)",
+        json_schema_extra={"unit": "Pa s"},
+    )
+    channel: ChannelInputs = Field(description="the channel and its medium")
+    cell_diameter_um: float = Field(
+        gt=0, description="oocyte diameter", json_schema_extra={"unit": "um"}
+    )
+    modulus_kPa: float = Field(
+        gt=0, description="cell Young's modulus (AFM)", json_schema_extra={"unit": "kPa"}
+    )
+    fit_pressures_hPa: list[Annotated[float, Field(gt=0)]] = Field(
+        min_length=2,
+        max_length=3,
+        description="pressures of the table the model is fitted on (the rest are predicted)",
+        json_schema_extra={"unit": "hPa"},
+    )
+    fit_to: Literal["experiment", "simulation"] = Field(
+        default="experiment", description="table column fitted: experiment or simulation"
+    )
+
+    @model_validator(mode="after")
+    def _fit_pressures_in_table(self) -> DeformationInputs:
+        try:
+            table = read_deformation_table(self.deformation_data)
+        except InputError:
+            return self  # the file's own fault is reported by the data-file check
+        hpa = units.PRESSURE["hPa"]
+        listed = table.pressure / hpa
+        for p in self.fit_pressures_hPa:
+            if not np.any(np.isclose(listed, p, rtol=1e-9, atol=1e-12)):
+                raise ValueError(
+                    f"fit_pressures_hPa among the pressures of {self.deformation_data.name} "
+                    f"({', '.join(f'{v:g}' for v in listed)} hPa), not {p:g}"
+                )
+        if len(set(self.fit_pressures_hPa)) != len(self.fit_pressures_hPa):
+            raise ValueError("distinct fit_pressures_hPa")
+        return self
 
 
 METRICS = {

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from oocyte_fe.kinds.microchannel_inputs import CarreauInputs, ChannelInputs
 from oocyte_fe.microchannel import units
@@ -19,23 +20,59 @@ from oocyte_fe.microchannel.poiseuille import (
 from oocyte_fe.microchannel.rabinowitsch import fully_developed_flow
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 
 PA_PER_M = 1e-9  # 1 Pa/m = 1e-3 kPa / 1e6 um
 
 
-class FlowInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-    channel: ChannelInputs
-    pressures_hPa: list[float] = Field(min_length=1, description="driving pressures (Table 4)")
+PositiveFloat = Annotated[float, Field(gt=0)]
+CellCount = Annotated[int, Field(ge=2, le=400)]
+
+
+class FlowInputs(CaseInputs):
+    channel: ChannelInputs = Field(description="the channel and its medium")
+    pressures_hPa: list[PositiveFloat] = Field(
+        min_length=1,
+        description="driving pressures (Table 4)",
+        json_schema_extra={"unit": "hPa"},
+    )
     carreau: CarreauInputs = Field(description="cytoplasm rheology for the non-Newtonian flows")
-    power_law_consistency_Pa_s_n: float = Field(gt=0, description="K for the closed-form check")
-    power_law_n: float = Field(gt=0, le=1.5)
-    pressure_gradient_Pa_m: float = Field(gt=0, description="G for the non-Newtonian flows")
-    duct_width_um: float = Field(gt=0)
-    duct_height_um: float = Field(gt=0)
-    rectangle_cells: list[int] = Field(min_length=1, description="cells on the short side")
-    radial_cells: list[int] = Field(min_length=1, description="cells on the pipe radius")
-    continuation_steps: int = Field(default=4, ge=1, le=20)
+    power_law_consistency_Pa_s_n: float = Field(
+        gt=0,
+        description="consistency K for the closed-form power-law check",
+        json_schema_extra={"unit": "Pa s^n"},
+    )
+    power_law_n: float = Field(
+        gt=0, le=1.5, description="power-law index", json_schema_extra={"unit": "1"}
+    )
+    pressure_gradient_Pa_m: float = Field(
+        gt=0,
+        description="pressure gradient G for the non-Newtonian flows",
+        json_schema_extra={"unit": "Pa/m"},
+    )
+    duct_width_um: float = Field(
+        gt=0, description="rectangular duct width", json_schema_extra={"unit": "um"}
+    )
+    duct_height_um: float = Field(
+        gt=0, description="rectangular duct height", json_schema_extra={"unit": "um"}
+    )
+    rectangle_cells: list[CellCount] = Field(
+        min_length=1,
+        description="FE cells on the duct's short side, one mesh each",
+        json_schema_extra={"unit": "1"},
+    )
+    radial_cells: list[CellCount] = Field(
+        min_length=1,
+        description="FE cells on the pipe radius, one mesh each",
+        json_schema_extra={"unit": "1"},
+    )
+    continuation_steps: int = Field(
+        default=4,
+        ge=1,
+        le=20,
+        description="viscosity continuation steps of the non-Newtonian solve",
+        json_schema_extra={"unit": "1"},
+    )
 
 
 METRICS = {

@@ -5,22 +5,37 @@ Each field carries its unit in its name; :meth:`to_internal` converts to um, nN,
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
+from oocyte_fe.runner.schema import CaseInputs
 
 
-class ChannelInputs(BaseModel):
+class ChannelInputs(CaseInputs):
     """The device of seed 001, Section 2.4: circular channel, medium, measured Re."""
 
-    model_config = ConfigDict(extra="forbid")
-    diameter_um: float = Field(gt=0, description="channel diameter, um")
-    density_kg_m3: float = Field(gt=0, description="medium density, kg/m^3")
-    viscosity_Pa_s: float = Field(gt=0, description="medium viscosity, Pa s")
-    reynolds_ref: float = Field(gt=0, lt=2000, description="Re measured at pressure_ref_hPa")
-    pressure_ref_hPa: float = Field(gt=0, description="driving pressure of the Re measurement")
+    diameter_um: float = Field(
+        gt=0, description="channel diameter", json_schema_extra={"unit": "um"}
+    )
+    density_kg_m3: float = Field(
+        gt=0, description="medium density", json_schema_extra={"unit": "kg/m^3"}
+    )
+    viscosity_Pa_s: float = Field(
+        gt=0, description="medium viscosity", json_schema_extra={"unit": "Pa s"}
+    )
+    reynolds_ref: float = Field(
+        gt=0,
+        lt=2000,
+        description="Reynolds number measured at pressure_ref_hPa",
+        json_schema_extra={"unit": "1"},
+    )
+    pressure_ref_hPa: float = Field(
+        gt=0,
+        description="driving pressure of the Re measurement",
+        json_schema_extra={"unit": "hPa"},
+    )
 
     def to_internal(self) -> Channel:
         return Channel(
@@ -32,14 +47,19 @@ class ChannelInputs(BaseModel):
         )
 
 
-class CarreauInputs(BaseModel):
+class CarreauInputs(CaseInputs):
     """Carreau parameters in the paper's units (Pa s, s)."""
 
-    model_config = ConfigDict(extra="forbid")
-    eta0_Pa_s: float = Field(gt=0, description="zero-shear viscosity, Pa s")
-    eta_inf_Pa_s: float = Field(gt=0, description="infinite-shear viscosity, Pa s")
-    time_constant_s: float = Field(gt=0, description="Carreau time constant, s")
-    n: float = Field(gt=0, le=1.5, description="power-law index")
+    eta0_Pa_s: float = Field(
+        gt=0, description="zero-shear viscosity", json_schema_extra={"unit": "Pa s"}
+    )
+    eta_inf_Pa_s: float = Field(
+        gt=0, description="infinite-shear viscosity", json_schema_extra={"unit": "Pa s"}
+    )
+    time_constant_s: float = Field(
+        gt=0, description="Carreau time constant", json_schema_extra={"unit": "s"}
+    )
+    n: float = Field(gt=0, le=1.5, description="power-law index", json_schema_extra={"unit": "1"})
 
     def to_internal(self, source: str) -> Rheology:
         pa_s = units.VISCOSITY["Pa_s"]

@@ -13,7 +13,7 @@ import math
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
@@ -35,6 +35,7 @@ from oocyte_fe.microchannel.vof.runner import (
 )
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 
 PA_S = units.VISCOSITY["Pa_s"]
 KG_M3 = units.DENSITY["kg_m3"]
@@ -45,10 +46,9 @@ def _f(default: object, description: str, unit: str, **kw: object) -> object:
     return Field(default, description=description, json_schema_extra={"unit": unit}, **kw)
 
 
-class CellPhaseInputs(BaseModel):
+class CellPhaseInputs(CaseInputs):
     """One of the cell's phases (Table 3 of seed 001): density and Carreau limits."""
 
-    model_config = ConfigDict(extra="forbid")
     density_kg_m3: float = Field(gt=0, description="density", json_schema_extra={"unit": "kg/m^3"})
     eta0_Pa_s: float = Field(
         gt=0,
@@ -60,10 +60,9 @@ class CellPhaseInputs(BaseModel):
     )
 
 
-class GeometryInputs(BaseModel):
+class GeometryInputs(CaseInputs):
     """The Fig. 6 junction as read here (docs/microchannel.md, VOF section)."""
 
-    model_config = ConfigDict(extra="forbid")
     channel_width_um: float = _f(250.0, "main channel width (paper)", "um", gt=0)
     branch_width_um: float = _f(250.0, "width of the medium branch B (reading)", "um", gt=0)
     upstream_length_um: float = _f(875.0, "inlet A to the junction centre (reading)", "um", gt=0)
@@ -86,8 +85,7 @@ class GeometryInputs(BaseModel):
         )
 
 
-class VofInputs(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+class VofInputs(CaseInputs):
     deformation_data: DataFile = Field(
         description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
         json_schema_extra={"unit": "file"},

@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import os
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.schema import CaseInputs
 from oocyte_fe.tracking import benchmark as bench
 from oocyte_fe.tracking.plots import plot_precision_success, pooled
 from oocyte_fe.tracking.synthetic import benchmark_grid
@@ -17,10 +18,9 @@ from oocyte_fe.tracking.tracker import MFAKCF, SINGLE_KCF
 SEED = "seed 000, Section III.B"
 
 
-class TrackingInputs(BaseModel):
+class TrackingInputs(CaseInputs):
     """Which synthetic sequences to run and the goals to check."""
 
-    model_config = ConfigDict(extra="forbid")
     n_frames: int = Field(
         300, ge=120, description="frames per sequence", json_schema_extra={"unit": "frames"}
     )

@@ -21,9 +21,18 @@ from oocyte_fe.sweep.resample import relative_scatter, resample_relative, write_
 
 class ResampledSpindleInputs(SpindleInputs):
     noise_rel: float = Field(
-        0.025, ge=0, lt=1, description="relative SD of the multiplicative force noise"
+        0.025,
+        ge=0,
+        lt=1,
+        description="relative SD of the multiplicative force noise",
+        json_schema_extra={"unit": "1"},
     )
-    noise_seed: int = Field(0, ge=0, description="realisation of the noise (0, 1, 2, ...)")
+    noise_seed: int = Field(
+        0,
+        ge=0,
+        description="realisation of the noise (0, 1, 2, ...)",
+        json_schema_extra={"unit": "1"},
+    )
 
 
 @case_kind(

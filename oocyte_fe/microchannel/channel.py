@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from oocyte_fe.checks import positive
 from oocyte_fe.errors import InputError
 
 LAMINAR_LIMIT = 2000.0
@@ -53,9 +54,7 @@ class Channel:
 
     def __post_init__(self) -> None:
         for name in ("diameter", "density", "viscosity", "reynolds_ref", "pressure_ref"):
-            value = getattr(self, name)
-            if not (np.isfinite(value) and value > 0):
-                raise InputError("channel", name, "a positive number", got=value)
+            object.__setattr__(self, name, positive("Channel", name, getattr(self, name)))
 
     @property
     def radius(self) -> float:

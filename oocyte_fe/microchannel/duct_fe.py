@@ -38,12 +38,21 @@ from skfem import (
 )
 from skfem.helpers import dot, grad
 
-from oocyte_fe.errors import SolverError
+from oocyte_fe.checks import number, positive
+from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.microchannel.viscosity import Rheology
+
+MAX_CELLS = 400
+"""Most cells on the short side of a duct mesh (bounded work)."""
 
 
 def rectangle_mesh(width: float, height: float, cells: int) -> MeshTri:
     """Triangles on [0, width] x [0, height] with ``cells`` divisions along the shorter side."""
+    width = positive("rectangle_mesh", "width", width)
+    height = positive("rectangle_mesh", "height", height)
+    cells = number("rectangle_mesh", "cells", cells, ge=1, le=MAX_CELLS, integer=True)
+    if max(width, height) / min(width, height) * cells > 50 * MAX_CELLS:
+        raise InputError("rectangle_mesh", "width/height", "an aspect ratio of at most 50")
     short = min(width, height)
     nx = max(1, round(cells * width / short))
     ny = max(1, round(cells * height / short))
@@ -52,6 +61,8 @@ def rectangle_mesh(width: float, height: float, cells: int) -> MeshTri:
 
 def radial_mesh(radius: float, cells: int) -> MeshLine:
     """The radius 0 <= r <= R in ``cells`` equal segments (axisymmetric pipe section)."""
+    radius = positive("radial_mesh", "radius", radius)
+    cells = number("radial_mesh", "cells", cells, ge=1, le=100 * MAX_CELLS, integer=True)
     return MeshLine(np.linspace(0.0, radius, cells + 1))
 
 
@@ -188,8 +199,18 @@ def solve_duct_flow(
     when the residual is below ``rtol`` times the load ``|int G v|`` or the update below
     ``xtol`` times the solution (round-off). Raises :class:`SolverError` otherwise.
     """
+    where = "solve_duct_flow"
+    if not isinstance(mesh, (MeshLine, MeshTri)):  # skfem constructors, not types
+        raise InputError(where, "mesh", "a MeshTri (rectangle_mesh) or MeshLine (radial_mesh)")
     if axisymmetric != isinstance(mesh, MeshLine):
-        raise ValueError("axisymmetric=True needs a MeshLine radius, plane flow a MeshTri")
+        raise InputError(
+            where, "axisymmetric", "True with a MeshLine radius, False with a MeshTri section"
+        )
+    pressure_gradient = positive(where, "pressure_gradient", pressure_gradient)
+    steps = number(where, "steps", steps, ge=1, le=50, integer=True)
+    rtol = number(where, "rtol", rtol, gt=0, lt=1)
+    xtol = number(where, "xtol", xtol, gt=0, lt=1)
+    max_iter = number(where, "max_iter", max_iter, ge=1, le=10_000, integer=True)
     if axisymmetric:
         radius = float(mesh.p.max())
         basis0 = Basis(mesh, ElementLineP2())

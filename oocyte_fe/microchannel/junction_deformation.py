@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from oocyte_fe.checks import HUGE, TINY, number, numbers_array, positive
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
@@ -48,10 +49,37 @@ class JunctionCell:
     modulus: float
     rheology: Rheology
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "diameter", positive("JunctionCell", "diameter", self.diameter))
+        object.__setattr__(self, "modulus", positive("JunctionCell", "modulus", self.modulus))
+        if not isinstance(self.rheology, Rheology):
+            raise InputError("JunctionCell", "rheology", "a Rheology", got=type(self.rheology))
+
 
 @dataclass(frozen=True)
 class JunctionParameters:
     """The fitted parameters: ``load_factor`` (1) and ``junction_length`` (um)."""
+
+    load_factor: float
+    junction_length: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self,
+            "load_factor",
+            number("JunctionParameters", "load_factor", self.load_factor, ge=0, le=HUGE),
+        )
+        object.__setattr__(
+            self,
+            "junction_length",
+            positive("JunctionParameters", "junction_length", self.junction_length),
+        )
+
+
+@dataclass(frozen=True)
+class JunctionStderr:
+    """One standard error of each fitted parameter; NaN where the fit cannot tell (two
+    pressures for two parameters leave no residual)."""
 
     load_factor: float
     junction_length: float
@@ -61,12 +89,18 @@ def junction_deformation(
     channel: Channel, cell: JunctionCell, params: JunctionParameters, pressure: np.ndarray
 ) -> np.ndarray:
     """Taylor deformation D (1) at driving pressures ``pressure`` (kPa); see module docstring."""
+    pressure = numbers_array("junction_deformation", "pressure", pressure, ge=TINY, le=HUGE)
+    return _deformation(channel, cell, params.load_factor, params.junction_length, pressure)
+
+
+def _deformation(
+    channel: Channel, cell: JunctionCell, load_factor: float, length: float, pressure: np.ndarray
+) -> np.ndarray:
+    """:func:`junction_deformation` without the argument checks (the fit's inner loop)."""
     velocity = channel.mean_velocity(pressure)
-    stress = (
-        params.load_factor * 8.0 * channel.viscosity * velocity * cell.diameter / channel.radius**2
-    )
+    stress = load_factor * 8.0 * channel.viscosity * velocity * cell.diameter / channel.radius**2
     relaxation = cell.rheology.viscosity(velocity / cell.diameter) / cell.modulus
-    residence = params.junction_length / velocity
+    residence = length / velocity
     return stress / cell.modulus * (1.0 - np.exp(-residence / relaxation))
 
 
@@ -80,7 +114,7 @@ class JunctionFit:
     """Fitted parameters, their standard errors, and the ratio predicted at every pressure."""
 
     params: JunctionParameters
-    stderr: JunctionParameters
+    stderr: JunctionStderr
     fit_pressures: tuple[float, ...]
     pressure: np.ndarray
     ratio: np.ndarray
@@ -117,8 +151,7 @@ def fit_junction_model(
     idx = np.array(sorted(set(picks)))
 
     def predict(x: np.ndarray, p: np.ndarray) -> np.ndarray:
-        params = JunctionParameters(*np.exp(x))
-        return axis_ratio(junction_deformation(channel, cell, params, p))
+        return axis_ratio(_deformation(channel, cell, *np.exp(x), p))
 
     def residuals(x: np.ndarray) -> np.ndarray:
         return predict(x, pressure[idx]) / ratio[idx] - 1.0
@@ -131,7 +164,7 @@ def fit_junction_model(
     errors = values * np.sqrt(np.diag(cov)) if idx.size > 2 else np.full(2, np.nan)
     return JunctionFit(
         JunctionParameters(*values),
-        JunctionParameters(*errors),
+        JunctionStderr(*(float(e) for e in errors)),
         tuple(float(pressure[i]) for i in idx),
         pressure,
         predict(sol.x, pressure),

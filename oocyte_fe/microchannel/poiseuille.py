@@ -27,7 +27,17 @@ from typing import Literal
 
 import numpy as np
 
+from oocyte_fe.checks import HUGE, number, positive
+from oocyte_fe.errors import InputError
+
 Geometry = Literal["pipe", "slit"]
+GEOMETRIES = ("pipe", "slit")
+
+
+def check_geometry(where: str, geometry: object) -> None:
+    """Refuse a geometry other than ``"pipe"`` or ``"slit"`` (never read one as the other)."""
+    if geometry not in GEOMETRIES:
+        raise InputError(where, "geometry", "'pipe' or 'slit'", got=geometry)
 
 
 @dataclass(frozen=True)
@@ -38,6 +48,18 @@ class PoiseuilleFlow:
     size: float
     pressure_gradient: float
     viscosity: float
+
+    def __post_init__(self) -> None:
+        check_geometry("PoiseuilleFlow", self.geometry)
+        object.__setattr__(self, "size", positive("PoiseuilleFlow", "size", self.size))
+        object.__setattr__(
+            self,
+            "pressure_gradient",
+            number("PoiseuilleFlow", "pressure_gradient", self.pressure_gradient, ge=0, le=HUGE),
+        )
+        object.__setattr__(
+            self, "viscosity", positive("PoiseuilleFlow", "viscosity", self.viscosity)
+        )
 
     @property
     def wall_shear_stress(self) -> float:
@@ -77,6 +99,11 @@ def pressure_gradient_for_mean_velocity(
 ) -> float:
     """``G`` (kPa/um) driving Newtonian flow at ``mean_velocity``: ``8 mu U / R^2`` (pipe),
     ``3 mu U / h^2`` (slit)."""
+    where = "pressure_gradient_for_mean_velocity"
+    check_geometry(where, geometry)
+    size = positive(where, "size", size)
+    mean_velocity = number(where, "mean_velocity", mean_velocity, ge=0, le=HUGE)
+    viscosity = positive(where, "viscosity", viscosity)
     factor = 8.0 if geometry == "pipe" else 3.0
     return factor * viscosity * mean_velocity / size**2
 
@@ -85,7 +112,23 @@ def power_law_flow_rate(
     geometry: Geometry, size: float, wall_shear_stress: float, consistency: float, n: float
 ) -> float:
     """Closed-form power-law flow rate (see the module docstring)."""
-    rate = (wall_shear_stress / consistency) ** (1.0 / n)
+    where = "power_law_flow_rate"
+    check_geometry(where, geometry)
+    size = positive(where, "size", size)
+    wall_shear_stress = number(where, "wall_shear_stress", wall_shear_stress, ge=0, le=HUGE)
+    consistency = positive(where, "consistency", consistency)
+    n = number(where, "n", n, ge=0.05, le=5)
+    try:
+        rate = (wall_shear_stress / consistency) ** (1.0 / n)
+    except OverflowError:
+        rate = math.inf
+    if not rate < HUGE:
+        raise InputError(
+            where,
+            "wall_shear_stress/consistency/n",
+            f"(tau_w / K)^(1/n) below {HUGE:g} (a finite flow rate)",
+            got=(wall_shear_stress, consistency, n),
+        )
     if geometry == "pipe":
         return math.pi * size**3 * n / (3.0 * n + 1.0) * rate
     return 2.0 * size**2 * n / (2.0 * n + 1.0) * rate
@@ -101,6 +144,12 @@ def rectangular_duct_flow_rate(
     with ``h <= w`` the shorter side (Bruus, Theoretical Microfluidics, 2008, eq. 4.47). The
     series is summed over ``terms`` odd k; the truncation error is below ``terms^-4``.
     """
+    where = "rectangular_duct_flow_rate"
+    width = positive(where, "width", width)
+    height = positive(where, "height", height)
+    pressure_gradient = number(where, "pressure_gradient", pressure_gradient, ge=0, le=HUGE)
+    viscosity = positive(where, "viscosity", viscosity)
+    terms = number(where, "terms", terms, ge=1, le=100_000, integer=True)
     h, w = sorted((height, width))
     k = 2.0 * np.arange(terms) + 1.0
     series = np.sum(np.tanh(k * math.pi * w / (2.0 * h)) / k**5)

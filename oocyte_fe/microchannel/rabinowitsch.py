@@ -23,7 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import quad
 
-from oocyte_fe.microchannel.poiseuille import Geometry
+from oocyte_fe.checks import positive
+from oocyte_fe.microchannel.poiseuille import Geometry, check_geometry
 from oocyte_fe.microchannel.viscosity import Rheology
 
 _QUAD = {"epsabs": 0.0, "epsrel": 1e-11, "limit": 200}
@@ -63,6 +64,9 @@ def fully_developed_flow(
     rheology: Rheology, geometry: Geometry, size: float, pressure_gradient: float
 ) -> GeneralizedFlow:
     """Flow rate and wall quantities for ``rheology`` in a pipe (R = size) or slit (h = size)."""
+    check_geometry("fully_developed_flow", geometry)
+    size = positive("fully_developed_flow", "size", size)
+    pressure_gradient = positive("fully_developed_flow", "pressure_gradient", pressure_gradient)
     gamma = rheology.shear_rate
     if geometry == "pipe":
         tau_w = 0.5 * pressure_gradient * size

@@ -8,36 +8,55 @@ what was expected.
 from __future__ import annotations
 
 import csv
+import difflib
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe import files
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel import units
 
 
 def read_columns(path: Path) -> dict[str, np.ndarray]:
-    """All columns of a CSV file with a header row, as float arrays; ``#`` lines are comments."""
+    """All columns of a CSV file with a header row, as float arrays; ``#`` lines are comments.
+
+    The file is opened through :mod:`oocyte_fe.files` (a regular UTF-8 file, never a FIFO);
+    every cell must be a finite number.
+    """
+    text = files.read_text(path)
     try:
-        with Path(path).open(newline="") as fh:
-            rows = list(csv.reader(fh))
-    except OSError as exc:
-        raise InputError(path, "", "a readable CSV file", got=exc.strerror) from None
+        rows = list(csv.reader(text.splitlines()))
+    except csv.Error as exc:
+        raise InputError(path, "", f"a comma-separated table ({exc})") from None
     rows = [r for r in rows if r and any(c.strip() for c in r) and not r[0].startswith("#")]
     if len(rows) < 2:
         raise InputError(path, "", "a header row and at least one data row")
     header = [h.strip() for h in rows[0]]
+    if len(set(header)) != len(header):
+        raise InputError(path, "header", "distinct column names", got=", ".join(header)[:80])
     columns: dict[str, list[float]] = {h: [] for h in header}
     for line, row in enumerate(rows[1:], start=2):
         if len(row) != len(header):
             raise InputError(path, f"line {line}", f"{len(header)} comma-separated values")
         for name, cell in zip(header, row, strict=True):
             try:
-                columns[name].append(float(cell))
+                value = float(cell)
             except ValueError:
-                raise InputError(path, f"{name} (line {line})", "a number", got=cell) from None
+                raise InputError(
+                    path, f"{name} (line {line})", "a number", got=files.excerpt(cell)
+                ) from None
+            if not math.isfinite(value):
+                raise InputError(path, f"{name} (line {line})", "a finite number", got=value)
+            columns[name].append(value)
     return {k: np.array(v) for k, v in columns.items()}
+
+
+def _suggest(name: str, columns: dict[str, np.ndarray]) -> str:
+    close = difflib.get_close_matches(name, list(columns), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def quantity(columns: dict[str, np.ndarray], stem: str, kind: str, path: Path) -> np.ndarray:
@@ -45,7 +64,12 @@ def quantity(columns: dict[str, np.ndarray], stem: str, kind: str, path: Path) -
     table = units.QUANTITIES[kind]
     found = [(name, name[len(stem) + 1 :]) for name in columns if name.startswith(stem + "_")]
     if not found:
-        raise InputError(path, stem, f"a column {stem}_<unit> with unit one of {', '.join(table)}")
+        raise InputError(
+            path,
+            stem,
+            f"a column {stem}_<unit> with unit one of {', '.join(table)}"
+            + _suggest(f"{stem}_{next(iter(table))}", columns),
+        )
     name, unit = found[0]
     if unit not in table:
         raise InputError(path, name, f"a {kind} unit, one of {', '.join(table)}", got=unit)
@@ -94,7 +118,9 @@ def read_deformation_table(path: Path) -> DeformationTable:
     ratios = []
     for name in ("ratio_experiment", "ratio_simulation"):
         if name not in columns:
-            raise InputError(path, name, "this column (axis ratio, dimensionless)")
+            raise InputError(
+                path, name, "this column (axis ratio, dimensionless)" + _suggest(name, columns)
+            )
         r = columns[name]
         if not np.all((r > 0) & (r <= 1)):
             raise InputError(

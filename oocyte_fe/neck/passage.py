@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from oocyte_fe.checks import numeric_fields
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.fe import contact as ct
 from oocyte_fe.fe.body import Body
@@ -56,6 +57,7 @@ class PassageSettings:
     lagged_seal: bool = True  # seal mask held per step (its derivative is not in the tangent)
 
     def __post_init__(self) -> None:
+        numeric_fields(self, "PassageSettings")
         checks = {
             "size_um": self.size_um > 0,
             "refine_factor": self.refine_factor >= 1,

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
+from oocyte_fe.checks import numeric_fields
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.obstacles import Polyline, necked_pipette_wall
 
@@ -39,6 +40,7 @@ class NeckedPipette:
     taper_points: int = 41
 
     def __post_init__(self) -> None:
+        numeric_fields(self, "NeckedPipette")
         for name in ("neck_radius_um", "taper_length_um", "bore_length_um", "neck_length_um"):
             if not getattr(self, name) > 0:
                 raise InputError(

@@ -19,24 +19,19 @@ A case with a ``[sweep]`` table names aggregated metrics (``METRIC.mean``, ``.sd
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Any
 
-from pydantic import (
-    AfterValidator,
-    BaseModel,
-    ConfigDict,
-    Field,
-    ValidationError,
-    ValidationInfo,
-    model_validator,
-)
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from oocyte_fe import files
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseKind, get_kind
+from oocyte_fe.runner.schema import DataFile, readers_of
 from oocyte_fe.sweep.spec import SweepSpec, check_sweep, resolved_inputs, sweep_metric_names
 
 CASE_FILE = "case.toml"
@@ -44,16 +39,11 @@ DEFAULT_TIMEOUT_S = 1800.0
 """A case without ``timeout_s`` stops after this many seconds (30 min), reported ERROR."""
 
 
-def _resolve_data_file(value: Path, info: ValidationInfo) -> Path:
-    case_dir = (info.context or {}).get("case_dir")
-    path = value if value.is_absolute() or case_dir is None else Path(case_dir) / value
-    if not path.is_file():
-        raise ValueError(f"an existing data file (relative to the case folder), not found: {path}")
-    return path
+MAX_DEPTH = 16
+"""Deepest nesting of tables and arrays accepted in ``case.toml``."""
+MAX_TIMEOUT_S = 30 * 86400.0
 
-
-DataFile = Annotated[Path, AfterValidator(_resolve_data_file)]
-"""An input field naming a data file; resolved against the case folder and checked to exist."""
+__all__ = ["DataFile", "Case", "CaseSpec", "load_case", "read_toml", "discover"]
 
 
 class Reference(BaseModel):
@@ -179,12 +169,14 @@ class Tolerance(BaseModel):
 class CaseSpec(BaseModel):
     """The top level of ``case.toml``."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
     kind: str = Field(min_length=1)
     description: str = Field(min_length=1)
     reading: str | None = None
     full: bool = Field(default=False, strict=True, description="heavy: run only with --full/--only")
-    timeout_s: float | None = Field(default=DEFAULT_TIMEOUT_S, gt=0)
+    timeout_s: float | None = Field(
+        default=DEFAULT_TIMEOUT_S, gt=0, le=MAX_TIMEOUT_S, strict=True, description="limit, s"
+    )
     inputs: dict[str, Any] = Field(default_factory=dict)
     quick: dict[str, Any] = Field(default_factory=dict)
     reference: dict[str, Reference] = Field(default_factory=dict)
@@ -212,48 +204,164 @@ def _loc(loc: tuple[Any, ...]) -> str:
     return ".".join(str(p) for p in loc) if loc else "(top level)"
 
 
-def raise_validation_error(file: Path | str, err: ValidationError, prefix: str = "") -> None:
-    """Turn the first pydantic error into one :class:`InputError` line."""
-    first = err.errors()[0]
-    field = prefix + _loc(tuple(first["loc"]))
+def _keys_at(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[str]:
+    """The field names of the (sub-)model that ``loc`` points into (for "did you mean")."""
+    for part in loc:
+        if model is None or not isinstance(part, str) or part not in model.model_fields:
+            return []
+        annotation = model.model_fields[part].annotation
+        model = (
+            annotation
+            if isinstance(annotation, type) and issubclass(annotation, BaseModel)
+            else None
+        )
+    return list(model.model_fields) if model is not None else []
+
+
+def did_you_mean(word: str, known: list[str]) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``known``, or ``""``."""
+    close = difflib.get_close_matches(str(word), known, n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def raise_validation_error(
+    file: Path | str, err: ValidationError, prefix: str = "", model: type[BaseModel] | None = None
+) -> None:
+    """Turn the first pydantic error into one :class:`InputError` line.
+
+    ``model`` (the validated class) lets an unknown key get a "did you mean" suggestion.
+    """
+    errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")  # typos first
+    first = errors[0]
+    loc = tuple(first["loc"])
+    field = prefix + _loc(loc) if loc or not prefix else prefix.rstrip(".")
     kind = first["type"]
     if kind == "missing":
         raise InputError(file, field, "this key (it is required)") from None
     if kind == "extra_forbidden":
-        raise InputError(file, field, "no such key (unknown key)") from None
+        hint = did_you_mean(str(loc[-1]), _keys_at(model, loc[:-1])) if loc else ""
+        raise InputError(file, field, f"no such key (unknown key){hint}") from None
     msg = first["msg"].removeprefix("Value error, ").removeprefix("Input should be ")
     if msg.startswith(("greater", "less")):
         msg = "a value " + msg
-    more = len(err.errors()) - 1
+    more = len(errors) - 1
     expected = msg[0].lower() + msg[1:] if msg else "a valid value"
     if more:
         expected += f" (and {more} more error{'s' if more > 1 else ''})"
-    raise InputError(file, field, expected, got=first.get("input")) from None
+    got = first.get("input")
+    if isinstance(got, dict | list | tuple) and len(repr(got)) > 80:
+        got = None  # a whole table is no help in a one-line message
+    raise InputError(file, field, expected, got=got) from None
+
+
+def _check_values(file: Path, raw: Any) -> None:
+    """Refuse nesting deeper than :data:`MAX_DEPTH` and non-finite floats anywhere in the file.
+
+    Iterative (no recursion), so a 2 000-deep array is one clear line, not a RecursionError.
+    """
+    stack: list[tuple[str, Any, int]] = [("", raw, 0)]
+    while stack:
+        where, value, depth = stack.pop()
+        if depth > MAX_DEPTH:
+            raise InputError(file, where, f"tables and arrays nested at most {MAX_DEPTH} deep")
+        if isinstance(value, float) and not math.isfinite(value):
+            raise InputError(file, where, "a finite number (inf and nan are not accepted)", value)
+        if isinstance(value, dict):
+            stack.extend(
+                (f"{where}.{k}" if where else str(k), v, depth + 1) for k, v in value.items()
+            )
+        elif isinstance(value, list):
+            stack.extend((f"{where}.{i}", v, depth + 1) for i, v in enumerate(value))
 
 
 def read_toml(file: Path) -> dict[str, Any]:
-    """Read a TOML file; a syntax error names the file and the line."""
+    """Read a TOML file safely (:mod:`oocyte_fe.files`); every fault is one line."""
+    text = files.read_text(file)
     try:
-        with file.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise InputError(file, "", "an existing file") from None
+        raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(file, "", f"valid TOML ({exc})") from None
+    except RecursionError:
+        raise InputError(file, "", f"tables and arrays nested at most {MAX_DEPTH} deep") from None
+    _check_values(file, raw)
+    return raw
+
+
+def _check_tables(file: Path, spec: CaseSpec) -> None:
+    """Cross-field rules of ``[reference]`` and ``[tolerances]`` (bounds ordered, numbers real)."""
+    for key, ref in spec.reference.items():
+        if isinstance(ref.value, bool) or not math.isfinite(ref.value):
+            raise InputError(file, f"reference.{key}.value", "a finite number", got=ref.value)
+    for key, tol in spec.tolerances.items():
+        for name in ("rel", "abs", "min", "max"):
+            value = getattr(tol, name)
+            if value is not None and (isinstance(value, bool) or not math.isfinite(value)):
+                raise InputError(file, f"tolerances.{key}.{name}", "a finite number", got=value)
+        if tol.min is not None and tol.max is not None and tol.min > tol.max:
+            raise InputError(
+                file, f"tolerances.{key}", "min <= max", got={"min": tol.min, "max": tol.max}
+            )
+
+
+NUMBER_KEYS = {"reference": ("value",), "tolerances": ("rel", "abs", "min", "max")}
+
+
+def _raw_numbers(file: Path, raw: dict[str, Any]) -> None:
+    """Numbers of ``[reference]``/``[tolerances]`` as TOML numbers: ``true`` would read as 1 and
+    ``"0.1"`` as 0.1 in the (lax) models the runner shares."""
+    for table, keys in NUMBER_KEYS.items():
+        for key, entry in (raw.get(table) or {}).items():
+            for name in keys:
+                value = entry.get(name) if isinstance(entry, dict) else None
+                if value is not None and (
+                    isinstance(value, bool) or not isinstance(value, int | float)
+                ):
+                    raise InputError(file, f"{table}.{key}.{name}", "a number", got=value)
+
+
+def check_data_files(file: Path, inputs: BaseModel) -> None:
+    """Read every data file of ``inputs`` with the reader ``run`` uses (:class:`DataReader`).
+
+    An error of the reader names the data file and its column; the message adds the input
+    that named the file. Nested input blocks are walked too.
+    """
+    for name, reader in readers_of(type(inputs)).items():
+        path = getattr(inputs, name)
+        if path is None:
+            continue
+        try:
+            reader(path)
+        except ValueError as exc:  # InputError, AfmInputError, NmsdInputError are ValueErrors
+            if not hasattr(exc, "expected"):
+                raise InputError(file, f"inputs.{name}", f"a readable data file ({exc})") from None
+            where = f"{getattr(exc, 'file', None) or getattr(exc, 'source', path)}"
+            raise InputError(
+                f"{where} (from {file.name}: inputs.{name})",
+                getattr(exc, "field", ""),
+                exc.expected,  # type: ignore[attr-defined]
+                got=getattr(exc, "got", None),
+            ) from None
+    for name in type(inputs).model_fields:
+        value = getattr(inputs, name)
+        if isinstance(value, BaseModel):
+            check_data_files(file, value)
 
 
 def load_case(directory: Path | str, quick: bool = False, kind_module: str | None = None) -> Case:
     """Read, validate and resolve one case folder.
 
-    ``quick`` merges the ``[quick]`` table over ``[inputs]``. Raises :class:`InputError`.
+    ``quick`` merges the ``[quick]`` table over ``[inputs]``. Data files are read with the
+    readers ``run`` uses, so a case that loads has readable data. Raises :class:`InputError`.
     """
     directory = Path(directory)
     file = directory / CASE_FILE
     raw = read_toml(file)
+    _raw_numbers(file, raw)
     try:
         spec = CaseSpec.model_validate(raw)
     except ValidationError as exc:
-        raise_validation_error(file, exc)
+        raise_validation_error(file, exc, model=CaseSpec)
+    _check_tables(file, spec)
     kind = get_kind(spec.kind, file, module=kind_module)
     metrics = sweep_metric_names(kind.metrics) if spec.sweep else kind.metrics
     for table in ("reference", "tolerances"):
@@ -263,19 +371,29 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
                 if spec.sweep:
                     stats = "METRIC.(mean|sd|p05|p50|p95), n_ok or n_failed"
                     expected = f"a sweep statistic {stats}; {expected}"
-                raise InputError(file, f"{table}.{key}", expected)
+                raise InputError(
+                    file, f"{table}.{key}", expected + did_you_mean(key, list(metrics))
+                )
     for key, tol in spec.tolerances.items():
         if tol.needs_reference and key not in spec.reference:
             raise InputError(file, f"tolerances.{key}", f"a [reference.{key}] to be relative to")
     unknown_quick = set(spec.quick) - set(kind.inputs.model_fields)
     if unknown_quick:
-        raise InputError(file, f"quick.{sorted(unknown_quick)[0]}", "a key of [inputs] to override")
-    data = {**spec.inputs, **spec.quick} if quick else dict(spec.inputs)
-    try:
-        inputs = kind.inputs.model_validate(data, context={"case_dir": directory})
-    except ValidationError as exc:
-        table = "quick." if quick and str(exc.errors()[0]["loc"][0]) in spec.quick else "inputs."
-        raise_validation_error(file, exc, prefix=table)
+        key = sorted(unknown_quick)[0]
+        hint = did_you_mean(key, list(kind.inputs.model_fields))
+        raise InputError(file, f"quick.{key}", f"a key of [inputs] to override{hint}")
+    merged = {**spec.inputs, **spec.quick}
+    tables = [merged] if quick else [dict(spec.inputs)] + ([merged] if spec.quick else [])
+    validated = []
+    for data in tables:  # [quick] is checked without --quick too: `validate` sees it
+        try:
+            validated.append(kind.inputs.model_validate(data, context={"case_dir": directory}))
+        except ValidationError as exc:
+            loc = exc.errors()[0]["loc"]
+            table = "quick." if data is merged and loc and str(loc[0]) in spec.quick else "inputs."
+            raise_validation_error(file, exc, prefix=table, model=kind.inputs)
+    inputs = validated[0]
+    check_data_files(file, inputs)
     if spec.sweep:
         check_sweep(
             str(file),
@@ -292,12 +410,15 @@ def discover(paths: list[Path]) -> list[Path]:
     """Case folders under ``paths``: a folder with ``case.toml``, or the folders below one."""
     found: list[Path] = []
     for path in paths:
-        if (path / CASE_FILE).is_file():
-            found.append(path)
-        elif path.is_dir():
-            found.extend(sorted(p.parent for p in path.glob(f"*/{CASE_FILE}")))
-        else:
-            raise InputError(path, "", "a case folder (with case.toml) or a folder of cases")
+        try:
+            if (path / CASE_FILE).is_file():
+                found.append(path)
+            elif path.is_dir():
+                found.extend(sorted(p.parent for p in path.glob(f"*/{CASE_FILE}")))
+            else:
+                raise InputError(path, "", "a case folder (with case.toml) or a folder of cases")
+        except OSError as exc:  # a name too long, a loop, no permission
+            raise InputError(path, "", "a readable case folder", got=exc.strerror) from None
     if not found:
         raise InputError(", ".join(map(str, paths)), "", "at least one case folder with case.toml")
     names = [p.name for p in found]

@@ -1,7 +1,8 @@
 """The case-kind registry: one dict, filled by the :func:`case_kind` decorator.
 
 A case kind is a plain function ``run(ctx: CaseContext) -> CaseOutcome`` plus its input
-schema (a pydantic model that forbids unknown keys) and the names of the metrics it reports.
+schema (a subclass of :class:`oocyte_fe.runner.schema.CaseInputs`: strict types, finite
+numbers, no unknown keys) and the names of the metrics it reports.
 Kinds for ``afm``, ``nmsd`` and ``oocyte_fe`` live in :mod:`oocyte_fe.kinds`, one module each;
 they call the plain library functions of those packages (``afm`` and ``nmsd`` never import
 ``oocyte_fe``).
@@ -9,6 +10,7 @@ they call the plain library functions of those packages (``afm`` and ``nmsd`` ne
 
 from __future__ import annotations
 
+import difflib
 import importlib
 import logging
 from collections.abc import Callable, Mapping
@@ -18,6 +20,7 @@ from pathlib import Path
 from pydantic import BaseModel
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.runner.schema import CaseInputs
 
 _KINDS: dict[str, CaseKind] = {}
 _BUILTINS = "oocyte_fe.kinds"
@@ -139,8 +142,11 @@ def case_kind(
     ``metrics`` maps each metric name the kind reports to a one-line description with its
     unit; case files may only name these in ``[reference]`` and ``[tolerances]``.
     """
-    if inputs.model_config.get("extra") != "forbid":
-        raise TypeError(f"case kind {name!r}: its inputs model must forbid unknown keys")
+    if not issubclass(inputs, CaseInputs):
+        raise TypeError(
+            f"case kind {name!r}: its inputs model must subclass "
+            "oocyte_fe.runner.schema.CaseInputs (strict, finite, bounded inputs)"
+        )
 
     def register(run: Callable[[CaseContext], CaseOutcome]) -> Callable[[CaseContext], CaseOutcome]:
         existing = _KINDS.get(name)
@@ -169,7 +175,9 @@ def get_kind(name: str, file: str | Path = "case.toml", module: str | None = Non
         importlib.import_module(module)
     known = kinds()
     if name not in known:
-        raise InputError(file, "kind", f"one of {', '.join(sorted(known))}", got=name)
+        close = difflib.get_close_matches(str(name), list(known), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(file, "kind", f"one of {', '.join(sorted(known))}{hint}", got=name)
     return known[name]
 
 

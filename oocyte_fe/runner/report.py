@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from pathlib import Path
@@ -13,6 +12,7 @@ from oocyte_fe.runner.casefile import Case
 from oocyte_fe.runner.html import index_html, write_case_html
 from oocyte_fe.runner.registry import CaseOutcome, Check
 from oocyte_fe.runner.result import STATUSES, CaseResult, read_result
+from oocyte_fe.runner.strict_json import strict_dumps
 
 
 def _fmt(value: float | None) -> str:
@@ -105,7 +105,7 @@ def write_case_report(
     """Write ``report.md`` and ``metrics.json`` into ``out_dir``; return the status."""
     status = case_status(checks)
     (out_dir / "metrics.json").write_text(
-        json.dumps(
+        strict_dumps(
             {
                 "case": case.name,
                 "kind": case.kind.name,
@@ -127,8 +127,6 @@ def write_case_report(
                     for c in checks
                 ],
             },
-            indent=2,
-            default=float,
         )
     )
     lines = [

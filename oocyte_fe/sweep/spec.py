@@ -49,7 +49,7 @@ COUNTS = {
 
 
 class _Distribution(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
     source: str | None = Field(default=None, description="where the numbers come from")
 
 
@@ -138,10 +138,12 @@ Parameter = Annotated[Normal | Uniform | LogUniform | Choice, Field(discriminato
 class SweepSpec(BaseModel):
     """The ``[sweep]`` table."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
     sampler: Literal["lhs", "sobol"] = "lhs"
     samples: int = Field(ge=2, le=100_000, description="number of samples")
-    quick_samples: int | None = Field(default=None, ge=2, description="samples with --quick")
+    quick_samples: int | None = Field(
+        default=None, ge=2, le=100_000, description="samples with --quick"
+    )
     seed: int = Field(default=0, ge=0)
     sensitivity: Literal["rbd_fast", "pawn", "none"] = "rbd_fast"
     metrics: list[str] | None = Field(default=None, description="metrics to aggregate (all)")
