@@ -141,8 +141,8 @@ def test_monitor_names_each_silent_failure(line: str, mode: str) -> None:
 def test_quick_case_without_openfoam_is_reported_skipped(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """No OpenFOAM: the case passes with one SKIPPED check naming the install line, the report
-    says SKIPPED, the Kelvin-Voigt estimate is still there; no traceback."""
+    """No OpenFOAM: the case is SKIPPED (not a failure: exit 0) with the install line as its
+    reason, the report says SKIPPED, the Kelvin-Voigt estimate is still there; no traceback."""
     import oocyte_fe.kinds.microchannel_vof as kind
 
     def missing(_path: object = None) -> None:
@@ -150,7 +150,8 @@ def test_quick_case_without_openfoam_is_reported_skipped(
 
     monkeypatch.setattr(kind, "find_openfoam", missing)
     [result] = run_cases(plan([CASES / "microchannel_vof_quick"]), tmp_path)
-    assert result.status == "PASS" and result.total == 1
+    assert result.status == "SKIPPED" and result.ok and result.total == 0
+    assert "apt-get install -y openfoam" in result.reason
     report = (tmp_path / "microchannel_vof_quick" / "report.md").read_text()
     assert "SKIPPED" in report and "apt-get install -y openfoam" in report
     assert "Kelvin-Voigt estimate" in report

@@ -38,7 +38,8 @@ class CaseRun:
 
     @property
     def status(self) -> str:
-        """``PASS``, ``MISS`` (only documented misses), ``FAIL`` or ``ERROR``."""
+        """``PASS``, ``MISS`` (only documented misses), ``SKIPPED`` (a tool missing), ``FAIL``
+        or ``ERROR``."""
         return self.result.status
 
     @property

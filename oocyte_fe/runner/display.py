@@ -25,7 +25,7 @@ from oocyte_fe.runner.progress import ProgressEvent
 from oocyte_fe.runner.report import summary_markdown
 from oocyte_fe.runner.result import CaseResult
 
-COLOUR = {"PASS": "green", "MISS": "yellow", "FAIL": "red", "ERROR": "bold red"}
+COLOUR = {"PASS": "green", "MISS": "yellow", "SKIPPED": "cyan", "FAIL": "red", "ERROR": "bold red"}
 
 
 def _end_line(r: CaseResult) -> str:

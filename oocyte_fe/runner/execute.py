@@ -199,14 +199,14 @@ def execute_case(
         logger.info("started%s", " (quick)" if quick else "")
         with _time_limit(case.spec.timeout_s, logger), reporting(ctx.progress):
             outcome = case.kind.run(ctx)
-        checks = evaluate_checks(case, outcome)
+        checks = [] if outcome.skipped else evaluate_checks(case, outcome)
         seconds = time.perf_counter() - start
         logger.info("finished in %.2f s", seconds)
         handler.close()
         status = write_case_report(case, outcome, checks, tmp, seconds)
         failed = [c.name for c in checks if c.status == "FAIL"]
         missed = [c.name for c in checks if c.status == "MISS"]
-        reason = "; ".join(
+        reason = outcome.skipped or "; ".join(
             part
             for part in (
                 "failed: " + ", ".join(failed) if failed else "",

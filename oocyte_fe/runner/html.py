@@ -21,12 +21,13 @@ table { border-collapse: collapse; margin: 1em 0; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left; vertical-align: top; }
 th { background: #eee; }
 td.PASS { background: #d4f4d4; } td.MISS { background: #fff2c2; }
+td.SKIPPED { background: #dde8f4; }
 td.FAIL { background: #ffd6c2; } td.ERROR { background: #f4b8b8; }
 img { max-width: 100%; }
 pre { background: #f6f6f6; padding: 0.5em; overflow-x: auto; }
 """
 
-_STATUS_CELL = re.compile(r"<td>(PASS|MISS|FAIL|ERROR)</td>")
+_STATUS_CELL = re.compile(r"<td>(PASS|MISS|SKIPPED|FAIL|ERROR)</td>")
 
 
 def render(markdown: str, title: str) -> str:

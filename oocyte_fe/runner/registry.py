@@ -80,6 +80,9 @@ class CaseOutcome:
     figures: list[Figure] = field(default_factory=list)
     sections: list[tuple[str, str]] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
+    skipped: str = ""
+    """Why the case did not run here (an external tool missing) and the line that installs it;
+    the case is then ``SKIPPED``: its ``[tolerances]`` are not evaluated."""
 
 
 @dataclass

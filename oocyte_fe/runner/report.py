@@ -103,7 +103,7 @@ def write_case_report(
     case: Case, outcome: CaseOutcome, checks: list[Check], out_dir: Path, seconds: float
 ) -> str:
     """Write ``report.md`` and ``metrics.json`` into ``out_dir``; return the status."""
-    status = case_status(checks)
+    status = "SKIPPED" if outcome.skipped else case_status(checks)
     (out_dir / "metrics.json").write_text(
         strict_dumps(
             {

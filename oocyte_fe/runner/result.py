@@ -7,8 +7,10 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 RESULT_FILE = "result.json"
-STATUSES = ("PASS", "MISS", "FAIL", "ERROR")
-"""``MISS``: every check passes except documented known misses (not a failure)."""
+STATUSES = ("PASS", "MISS", "SKIPPED", "FAIL", "ERROR")
+"""``MISS``: every check passes except documented known misses (not a failure); ``SKIPPED``:
+the case could not run here because an external tool is missing (it says which and how to
+install it; not a failure)."""
 
 
 @dataclass(frozen=True)
@@ -27,8 +29,9 @@ class CaseResult:
 
     @property
     def ok(self) -> bool:
-        """Counts as a success for the exit code: passed, or only documented misses."""
-        return self.status in ("PASS", "MISS")
+        """Counts as a success for the exit code: passed, only documented misses, or skipped
+        for a missing external tool."""
+        return self.status in ("PASS", "MISS", "SKIPPED")
 
     def write(self, folder: Path) -> None:
         """Write ``result.json`` into the case folder (read back by :func:`read_result`)."""
