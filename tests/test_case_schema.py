@@ -217,3 +217,18 @@ def test_tolerance_given_as_text_is_refused(tmp_path: Path) -> None:
     _edit(case, "[tolerances.E0_kPa]\nrel = 0.02", '[tolerances.E0_kPa]\nrel = "0.02"')
     with pytest.raises(InputError, match=r"tolerances\.E0_kPa\.rel: expected a number"):
         load_case(case)
+
+
+def test_library_argument_errors_inside_a_run_name_the_case_file(tmp_path: Path) -> None:
+    """An input that passes validation but that a library refuses at run time (found by the
+    run-level fuzz: E0_kPa = 1e-300 makes the Prony conversion fail inside afm) is reported
+    against ``case.toml: inputs``, never under the library's ``<input>`` placeholder."""
+    case = _copy(tmp_path, "afm_creep_prony")
+    _edit(case, "E0_kPa = 7.01", "E0_kPa = 1e-300")
+    loaded = load_case(case)
+    ctx = CaseContext(
+        loaded.name, loaded.directory, tmp_path / "out", loaded.inputs, False, logging.getLogger()
+    )
+    with pytest.raises(InputError) as err:
+        loaded.kind.run(ctx)
+    assert str(err.value).startswith(str(case / "case.toml") + ": inputs (passed on as argument")

@@ -97,7 +97,7 @@ def test_spindle_tracking_rejects_unknown_sequence(tmp_path: Path) -> None:
     from oocyte_fe.kinds.spindle_tracking import TrackingInputs, run
     from oocyte_fe.runner.registry import CaseContext, get_kind
 
-    assert get_kind("spindle_tracking").run is run
+    assert get_kind("spindle_tracking").run.__wrapped__ is run
     ctx = CaseContext(
         "t",
         tmp_path,

@@ -11,6 +11,7 @@ they call the plain library functions of those packages (``afm`` and ``nmsd`` ne
 from __future__ import annotations
 
 import difflib
+import functools
 import importlib
 import logging
 from collections.abc import Callable, Mapping
@@ -19,6 +20,8 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
+from afm.errors import AfmInputError
+from nmsd.errors import NmsdInputError
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.schema import CaseInputs
 
@@ -156,10 +159,31 @@ def case_kind(
         if existing is not None and existing.module != run.__module__:
             raise ValueError(f"case kind {name!r} is already registered by {existing.module}")
         text = description or ((run.__doc__ or "").strip().splitlines() or [""])[0]
-        _KINDS[name] = CaseKind(name, text, inputs, dict(metrics), run)
+        _KINDS[name] = CaseKind(name, text, inputs, dict(metrics), _naming_the_case_file(run))
         return run
 
     return register
+
+
+def _naming_the_case_file(
+    run: Callable[[CaseContext], CaseOutcome],
+) -> Callable[[CaseContext], CaseOutcome]:
+    """``run`` with the afm/nmsd argument errors it lets through (named ``<input>``, the
+    libraries' placeholder for values passed from Python) re-raised as the case file's error:
+    a case's user is told ``case.toml: inputs``, not a library's argument name alone."""
+
+    @functools.wraps(run)
+    def guarded(ctx: CaseContext) -> CaseOutcome:
+        try:
+            return run(ctx)
+        except (AfmInputError, NmsdInputError) as exc:
+            source = exc.file if isinstance(exc, AfmInputError) else exc.source
+            if source not in ("<input>", ""):
+                raise  # it names a data file already
+            where = f"inputs (passed on as argument {exc.field!r})"
+            raise InputError(ctx.case_dir / "case.toml", where, exc.expected, exc.got) from None
+
+    return guarded
 
 
 def _load_builtins() -> None:
