@@ -13,6 +13,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
 from oocyte_fe.fe.material import read_material_file
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
+from oocyte_fe.kinds.data_templates import CYTOPLASM_MATERIAL, ZONA_MATERIAL
 from oocyte_fe.neck import plotting
 from oocyte_fe.neck.materials import OocyteMaterials, materials_from_afm_case
 from oocyte_fe.neck.passage import PassageResult, PassageSettings, run_passage
@@ -31,10 +32,14 @@ class NeckInputs(CaseInputs):
         "or give zona_material_file and cytoplasm_material_file",
     )
     zona_material_file: Annotated[DataFile, DataReader(read_material_file)] | None = Field(
-        default=None, description="ZP material file (TOML, as afm_creep_prony writes it)"
+        default=None,
+        description="ZP material file (TOML, as afm_creep_prony writes it)",
+        json_schema_extra=ZONA_MATERIAL,
     )
     cytoplasm_material_file: Annotated[DataFile, DataReader(read_material_file)] | None = Field(
-        default=None, description="cytoplasm material file (TOML, as afm_creep_prony writes it)"
+        default=None,
+        description="cytoplasm material file (TOML, as afm_creep_prony writes it)",
+        json_schema_extra=CYTOPLASM_MATERIAL,
     )
     cytoplasm_radius_um: float = Field(
         gt=0, description="cytoplasm radius (inside the ZP)", json_schema_extra={"unit": "um"}

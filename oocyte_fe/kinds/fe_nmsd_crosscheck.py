@@ -36,6 +36,7 @@ from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
 from oocyte_fe.errors import InputError
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
+from oocyte_fe.kinds.data_templates import CREEP, TABLE_II
 from oocyte_fe.kinds.nmsd_cases import build_press
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
@@ -49,10 +50,12 @@ class CrosscheckInputs(CaseInputs):
     """Scenario, materials, FE mesh/steps, NMSD lattice/calibration, comparison grid."""
 
     creep_data: Annotated[DataFile, DataReader(read_creep)] = Field(
-        description="ZP force-clamp creep CSV (afm.curve_io format)"
+        description="ZP force-clamp creep CSV (afm.curve_io format)",
+        json_schema_extra=CREEP,
     )
     table2_data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
-        description="Table II CSV: displacement_um, force_*_uN"
+        description="Table II CSV: displacement_um, force_*_uN",
+        json_schema_extra=TABLE_II,
     )
     cell_diameter_um: float = Field(
         115.625, gt=0, description="Table I R_c, outer diameter", json_schema_extra={"unit": "um"}

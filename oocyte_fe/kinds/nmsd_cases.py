@@ -25,6 +25,7 @@ from nmsd.press import PressSetup, press_setup
 from nmsd.spindle import predict_spindle_offset
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.data_templates import TABLE_II
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
@@ -38,7 +39,8 @@ class PressInputs(CaseInputs):
     """Lattice, pipette and calibration settings shared by both kinds."""
 
     data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
-        description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN"
+        description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN",
+        json_schema_extra=TABLE_II,
     )
     cell_diameter_um: float = Field(
         115.625,
