@@ -23,7 +23,8 @@ CREEP: dict[str, Any] = {
     "columns": ["time_s", "force_nN", "indentation_um"],
     # the reader wants at least 10 samples: 11, creeping as 2.2 + 0.7 (1 - exp(-t / 1.5 s)) um
     "example_rows": [
-        [0.6 * i, 5.0, round(2.2 + 0.7 * (1.0 - math.exp(-0.6 * i / 1.5)), 4)] for i in range(11)
+        [round(0.6 * i, 4), 5.0, round(2.2 + 0.7 * (1.0 - math.exp(-0.4 * i)), 4)]
+        for i in range(11)
     ],
     "example_source": "SYNTHETIC (11 samples of a 5 nN clamp creeping from 2.2 um towards "
     "2.9 um, like cases/afm_creep_prony); a force column force_nN/pN/uN and indentation_um/nm, "
@@ -58,7 +59,7 @@ DEFORMATION: dict[str, Any] = {
 
 KNOWN_MODULI: dict[str, Any] = {
     "columns": ["file", "E_kPa"],
-    "example_rows": [["curves/zp/zp_01.csv", 4.7258]],
+    "example_rows": [["curves/zp/zp_01.csv", 4.72580727154525]],
     "example_source": "SYNTHETIC (cases/afm_fit_files/known_moduli.csv); file relative to "
     "the case folder",
 }

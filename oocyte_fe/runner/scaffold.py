@@ -67,10 +67,7 @@ def _template_text(extra: dict[str, Any]) -> str:
     if not columns:
         return ""
     rows = [",".join(columns)]
-    rows += [
-        ",".join(f"{v:g}" if isinstance(v, float) else str(v) for v in row)
-        for row in extra.get("example_rows", ())
-    ]
+    rows += [",".join(str(v) for v in row) for row in extra.get("example_rows", ())]  # as given
     return "\n".join(rows) + "\n"
 
 
