@@ -2,7 +2,9 @@
 
 Importing this package imports every module in it, and each module registers its kinds with
 :func:`oocyte_fe.runner.registry.case_kind`. A kind module only validates inputs and calls the
-plain library functions of ``afm``, ``nmsd`` or ``oocyte_fe``; physics lives there.
+plain library functions of ``afm``, ``nmsd`` or ``oocyte_fe``; physics lives there, report
+writing in a report module (``nmsd_report`` here for the NMSD kinds). ``data_templates`` holds
+what the data files look like, for ``oocyte-fe new``.
 """
 
 import importlib

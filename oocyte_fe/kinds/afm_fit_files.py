@@ -33,6 +33,7 @@ from afm.material_file import MaterialFile, write_material
 from afm.models import MODELS
 from afm.nanite_pipeline import fit_nanite_default
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.data_templates import KNOWN_MODULI
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.runner.schema import CaseInputs
@@ -97,7 +98,9 @@ class FitFilesInputs(CaseInputs):
         json_schema_extra={"unit": "deg"},
     )
     known_moduli: DataFile | None = Field(
-        None, description="optional CSV (file, E_kPa) of known moduli to check the fits against"
+        None,
+        description="optional CSV (file, E_kPa) of known moduli to check the fits against",
+        json_schema_extra=KNOWN_MODULI,
     )
     known_tolerance_pct: float = Field(
         5.0, gt=0, description="largest error against known_moduli", json_schema_extra={"unit": "%"}

@@ -16,6 +16,7 @@ from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.data_templates import TABLE_II
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.runner.schema import CaseInputs
@@ -33,7 +34,10 @@ def _unit(unit: str) -> dict:
 class LoopInputs(CaseInputs):
     """Calibration, virtual cells, video and controller of the loop."""
 
-    data: DataFile = Field(description="Table II CSV (displacement_um, force_experiment_uN, ...)")
+    data: DataFile = Field(
+        description="Table II CSV (displacement_um, force_experiment_uN, ...)",
+        json_schema_extra=TABLE_II,
+    )
     n_cells: int = Field(10, ge=1, description="virtual cells", json_schema_extra=_unit("1"))
     spacings_across: int = Field(
         12, ge=4, description="NMSD grid spacings across the cell", json_schema_extra=_unit("1")

@@ -13,12 +13,13 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
 from oocyte_fe.fe.material import read_material_file
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
-from oocyte_fe.neck import plotting
+from oocyte_fe.kinds.data_templates import CYTOPLASM_MATERIAL, ZONA_MATERIAL
+from oocyte_fe.neck import report
 from oocyte_fe.neck.materials import OocyteMaterials, materials_from_afm_case
 from oocyte_fe.neck.passage import PassageResult, PassageSettings, run_passage
 from oocyte_fe.neck.pipette import NeckedPipette
 from oocyte_fe.runner.casefile import read_toml
-from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
 SizeUm = Annotated[float, Field(ge=1, le=100)]
@@ -31,10 +32,14 @@ class NeckInputs(CaseInputs):
         "or give zona_material_file and cytoplasm_material_file",
     )
     zona_material_file: Annotated[DataFile, DataReader(read_material_file)] | None = Field(
-        default=None, description="ZP material file (TOML, as afm_creep_prony writes it)"
+        default=None,
+        description="ZP material file (TOML, as afm_creep_prony writes it)",
+        json_schema_extra=ZONA_MATERIAL,
     )
     cytoplasm_material_file: Annotated[DataFile, DataReader(read_material_file)] | None = Field(
-        default=None, description="cytoplasm material file (TOML, as afm_creep_prony writes it)"
+        default=None,
+        description="cytoplasm material file (TOML, as afm_creep_prony writes it)",
+        json_schema_extra=CYTOPLASM_MATERIAL,
     )
     cytoplasm_radius_um: float = Field(
         gt=0, description="cytoplasm radius (inside the ZP)", json_schema_extra={"unit": "um"}
@@ -205,11 +210,6 @@ def _require(result: PassageResult, label: str) -> None:
         raise RuntimeError(f"{label}: {result.failure}")
 
 
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return "\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows])
-
-
 @case_kind("fe_neck_aspiration", inputs=NeckInputs, metrics=METRICS)
 def run(ctx: CaseContext) -> CaseOutcome:
     """Layered viscoelastic oocyte through a narrowed pipette neck; peripheral deformation."""
@@ -278,35 +278,9 @@ def run(ctx: CaseContext) -> CaseOutcome:
     units = {k: (k.rsplit("_", 1)[-1] if k.rsplit("_", 1)[-1] in UNITS else "") for k in columns}
     write_history_csv(ctx.output("history.csv"), columns, units)
 
-    n = len(main.frames)
-    front = main.series("front_pole_um") + inp.cytoplasm_radius_um + inp.zona_thickness_um
-    entering = int(np.argmax(front > main.pipette.z_neck_um))
-    picks = [
-        (0, "start (touching the taper)"),
-        (entering, "entering the neck"),
-        (n - 1, "in the neck"),
-    ]
-    figures = []
-    for k, label in picks:
-        name = f"section_{k:02d}.png"
-        plotting.plot_state(main, k, ctx.output(name), f"t = {main.frames[k].t:.2f} s: {label}")
-        figures.append(
-            Figure(
-                name,
-                f"Section at t = {main.frames[k].t:.2f} s ({label}), oocyte "
-                "frame (centroid advance removed), coloured by |u - (0, w)| in um.",
-            )
-        )
-    plotting.plot_history(main, ctx.output("history.png"), dp0)
-    plotting.plot_wall_pressure(main, ctx.output("wall_pressure.png"), [k for k, _ in picks[1:]])
-    figures += [
-        Figure(
-            "history.png",
-            "Advance against time; suction the quasi-static passage needs "
-            "against the advance (dotted: the seed's 100 Pa); axial force balance.",
-        ),
-        Figure("wall_pressure.png", "Contact pressure along the pipette wall."),
-    ]
+    figures = report.passage_figures(
+        main, ctx.output, inp.cytoplasm_radius_um, inp.zona_thickness_um, dp0
+    )
 
     deform = _end(main, "deformation_um")
     radial = _end(main, "radial_inward_um")
@@ -333,20 +307,12 @@ def run(ctx: CaseContext) -> CaseOutcome:
         change = runs["elastic"] / deform - 1
         metrics["elastic_vs_visco_pct"] = float(100 * np.max(np.abs(change)))
         sections.append(
-            (
-                "Viscoelastic vs elastic",
-                _table(
-                    ["polar angle (deg)", "viscoelastic (um)", "elastic (um)"],
-                    [
-                        [f"{a:.1f}", f"{v:.2f}", f"{e:.2f}"]
-                        for a, v, e in zip(
-                            main.points.polar_deg, deform, runs["elastic"], strict=True
-                        )
-                    ],
-                )
-                + "\n\nSuction needed, max: viscoelastic "
-                f"{metrics['suction_needed_max_Pa']:.0f} Pa, "
-                f"elastic {1e3 * elastic.series('suction_kPa').max():.0f} Pa.",
+            report.elastic_section(
+                main.points.polar_deg,
+                deform,
+                runs["elastic"],
+                metrics["suction_needed_max_Pa"],
+                1e3 * elastic.series("suction_kPa").max(),
             )
         )
 
@@ -369,30 +335,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 continue
             d = _end(r, "deformation_um")
             runs[label] = d
-            sens_rows.append(
-                [
-                    label,
-                    f"{d.min():.2f}",
-                    f"{d.max():.2f}",
-                    f"{1e3 * r.series('suction_kPa').max():.0f}",
-                    f"{_stall(r, dp0):.1f}",
-                ]
-            )
-        sections.append(
-            (
-                f"Sensitivity (coarse mesh, size {inp.sensitivity_size_um:g} um)",
-                _table(
-                    [
-                        "run",
-                        "deformation min (um)",
-                        "max (um)",
-                        "suction needed max (Pa)",
-                        "stall advance at 100 Pa (um)",
-                    ],
-                    sens_rows,
-                ),
-            )
-        )
+            sens_rows.append((label, d, 1e3 * r.series("suction_kPa").max(), _stall(r, dp0)))
+        sections.append(report.sensitivity_section(inp.sensitivity_size_um, sens_rows))
 
     if inp.mesh_study_sizes_um:
         study = []
@@ -414,56 +358,10 @@ def run(ctx: CaseContext) -> CaseOutcome:
         if len(study) >= 2:
             a, b = study[-2][3], study[-1][3]
             metrics["mesh_change_pct"] = float(100 * np.max(np.abs(a / b - 1)))
-        sections.append(
-            (
-                "Mesh study",
-                _table(
-                    ["size (um)", "elements", "dofs", "deformation at the five points (um)"],
-                    [
-                        [f"{s:g}", str(ne), str(nd), ", ".join(f"{v:.2f}" for v in d)]
-                        for s, ne, nd, d in study
-                    ],
-                ),
-            )
-        )
+        sections.append(report.mesh_section(study))
 
-    plotting.plot_periphery(main.points.polar_deg, runs, ctx.output("periphery.png"), (8.0, 18.0))
-    figures.append(
-        Figure(
-            "periphery.png",
-            "Deformation |u - (0, w)| at the five material "
-            "points at t_end for each run, and the seed's 8-18 um range.",
-        )
-    )
-    pts = _table(
-        ["polar angle (deg)", "radial inward -u_R (um)", "deformation (um)"],
-        [
-            [f"{a:.1f}", f"{r:.2f}", f"{d:.2f}"]
-            for a, r, d in zip(main.points.polar_deg, radial, deform, strict=True)
-        ],
-    )
-    sections.insert(0, ("Peripheral deformation at t_end (main run)", pts))
-    sections.insert(
-        1,
-        (
-            "Materials (regenerated through afm)",
-            f"ZP: E0 = {mats.zona.E_kPa:.4g} kPa, g = {mats.zona.prony.g}, "
-            f"tau = {mats.zona.prony.tau_s} s; cytoplasm: E = "
-            f"{mats.cytoplasm.E_kPa:.4g} kPa (elastic). Files: "
-            "`material/material_zp.toml`, `material/material_cytoplasm.toml`.",
-        ),
-    )
-    steps = main.steps
-    sections.append(
-        (
-            "Solver",
-            f"{len(steps)} steps, {sum(s.iterations for s in steps)} Newton "
-            f"iterations, {sum(s.cutbacks for s in steps)} cutbacks; "
-            f"{body.mesh.nelements} P2/P1 triangles, {body.n_dofs} dofs.",
-        )
-    )
-    if failures:
-        sections.append(("Runs that stopped early", "\n".join(f"- {f}" for f in failures)))
+    figures.append(report.periphery_figure(ctx.output, main.points.polar_deg, runs))
+    sections = report.neck_sections(main, radial, deform, mats, sections, failures)
     checks = [
         Check(
             "volume conserved (nu = 0.5) within 0.5 %",

@@ -11,7 +11,6 @@ import numpy as np
 from pydantic import Field
 
 from afm.curve_io import read_creep
-from nmsd.area import poisson_ratio
 from nmsd.calibration import calibrate
 from nmsd.displacement_field import press_displacements
 from nmsd.errors import NmsdDivergence, NmsdInputError
@@ -31,14 +30,14 @@ from oocyte_fe.crosscheck.agreement import (
     largest_departure,
 )
 from oocyte_fe.crosscheck.fe_press import FeSettings, pipette_at, run_fe_press
-from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_overlay
+from oocyte_fe.crosscheck.report import crosscheck_figures, crosscheck_sections
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
 from oocyte_fe.errors import InputError
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
+from oocyte_fe.kinds.data_templates import CREEP, TABLE_II
 from oocyte_fe.kinds.nmsd_cases import build_press
-from oocyte_fe.plotting import plot_section
-from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
 UN = 1e-3  # nN -> uN
@@ -49,10 +48,12 @@ class CrosscheckInputs(CaseInputs):
     """Scenario, materials, FE mesh/steps, NMSD lattice/calibration, comparison grid."""
 
     creep_data: Annotated[DataFile, DataReader(read_creep)] = Field(
-        description="ZP force-clamp creep CSV (afm.curve_io format)"
+        description="ZP force-clamp creep CSV (afm.curve_io format)",
+        json_schema_extra=CREEP,
     )
     table2_data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
-        description="Table II CSV: displacement_um, force_*_uN"
+        description="Table II CSV: displacement_um, force_*_uN",
+        json_schema_extra=TABLE_II,
     )
     cell_diameter_um: float = Field(
         115.625, gt=0, description="Table I R_c, outer diameter", json_schema_extra={"unit": "um"}
@@ -454,32 +455,21 @@ def run(ctx: CaseContext) -> CaseOutcome:
 
     ctx.step("figures and tables")
     arrows = [a for a in inp.arrow_advances_um if np.any(np.isclose(advances, a))]
-    plot_force_overlay(
-        ctx.output("force_curves.png"),
-        {
-            f"FE (AFM moduli, x {inp.thickness_um:g} um)": (fe.advance_um, fe_nN * UN),
-            f"NMSD calibrated to FE (R^2 {vs_fe.r2:.4f})": (fe.advance_um, cal.force_nN * UN),
-        },
-        measured=(table.displacement_um, table.force_nN * UN),
-        difference=(fe.advance_um, (cal.force_nN - fe_nN) * UN),
-    )
-    plot_displacement_arrows(
-        ctx.output("displacement_arrows.png"),
-        points,
+    figures = crosscheck_figures(
+        ctx.output,
+        fe,
+        fe_nN,
+        inp.thickness_um,
+        cal,
+        vs_fe,
+        table,
         agree,
+        points,
         u_fe,
         u_nm,
         arrows,
-        scenario.radius_um,
-        {a: setup.pipette.outline(a) for a in arrows},
-    )
-    end = pipette_at(scenario, fe.advance_um[-1])
-    plot_section(
-        ctx.output("fe_section_end.png"),
-        fe.mesh,
-        fe.vertex_displacement_um[-1],
-        obstacles=[np.asarray(end.points)],
-        title=f"FE at {fe.advance_um[-1]:g} um advance, displacement magnitude",
+        scenario,
+        setup,
     )
     with FieldSeriesWriter(ctx.output("fields"), fe.mesh, "press") as series:
         for k, advance in enumerate(fe.advance_um):
@@ -548,69 +538,19 @@ def run(ctx: CaseContext) -> CaseOutcome:
     }
     return CaseOutcome(
         metrics=metrics,
-        figures=[
-            Figure(
-                "force_curves.png",
-                "FE force (per unit thickness times the effective thickness) and the NMSD "
-                "calibrated to it, with Table II (measured, not fitted); lower panel NMSD - FE.",
-            ),
-            Figure(
-                "displacement_arrows.png",
-                "Displacements (true scale) at the spindle (star) and the grid: FE blue, NMSD "
-                "red, pipette grey; last panel: spindle displacement, error and goal.",
-            ),
-            Figure("fe_section_end.png", "FE disc at the end of the travel (ZP and cytoplasm)."),
-        ],
-        sections=[
-            ("Materials (AFM chain)", _materials_text(materials, inp)),
-            ("NMSD constants calibrated to the FE curve (um, nN, s)", _params_text(cal, vs_fe)),
-            ("Spindle displacement by advance (um)", _spindle_table(agree, slow_error, scale)),
-            (
-                "Where the reduced model departs",
-                f"Largest force difference NMSD - FE: {depart_nN * UN:+.2f} uN at "
-                f"{depart_um:g} um. Spindle goal met at "
-                f"{int(np.sum(agree.spindle_ratio <= 1))} of {len(advances)} advances. "
-                f"With the NMSD drag d0, d1 scaled by {scale:g} (springs unchanged, "
-                f"force no longer fitted) the spindle error falls to at most "
-                f"{slow_error.max():.1f} um (from {agree.spindle_error_um.max():.1f} um).",
-            ),
-            (
-                "FE solver",
-                f"{fe.steps} steps, {fe.cutbacks} cutbacks, {fe.newton_iterations} Newton "
-                f"iterations, {fe.seconds:.1f} s; {fe.mesh.nelements} P2 triangles; largest "
-                f"penetration {fe.penetration_um.max():.3f} um.",
-            ),
-        ],
-    )
-
-
-def _materials_text(materials, inp: CrosscheckInputs) -> str:
-    z = materials.zona
-    terms = ", ".join(
-        f"g={g:.4f} tau={t:.4g} s" for g, t in zip(z.prony.g, z.prony.tau_s, strict=True)
-    )
-    return (
-        f"ZP: E0 = {z.E_kPa:.4g} kPa, nu = {z.nu:g}, Prony {terms} (from `{inp.creep_data.name}`"
-        f": {materials.zona_record.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
-        f"nu = {materials.cytoplasm.nu:g}, elastic."
-        f" E_zp / E_cyto: {materials.stiffness_ratio(relaxed=False):.4g} instantaneous, "
-        f"{materials.stiffness_ratio(relaxed=True):.4g} relaxed (NMSD ring input: "
-        f"`{inp.nmsd_zona_stiffness_ratio}`)."
-    )
-
-
-def _params_text(cal, metrics) -> str:
-    p = cal.params
-    area = (
-        f"area term {p.area_stiffness:g} k1/h (small-strain plane-strain Poisson ratio "
-        f"{poisson_ratio(p.area_stiffness):.3f}); ZP ring k1, k2 x {p.zona_stiffness_ratio:.4g}"
-        f" beyond r = {p.zona_inner_radius_um:.2f} um; "
-    )
-    return (
-        f"k1 = {p.k1:.4g} nN, k2 = {p.k2:.4g} nN, dl_c = {p.dl_c:g}, d0 = {p.d0:.4g} nN s/um, "
-        f"d1 = {p.d1:.4g} nN s/um^2; {area}RMSE {metrics.rmse_nN * UN:.3f} uN, "
-        f"R^2 {metrics.r2:.4f}, S {metrics.similarity:.5f}; {cal.evaluations} presses in "
-        f"{cal.seconds:.1f} s."
+        figures=figures,
+        sections=crosscheck_sections(
+            materials,
+            inp.creep_data.name,
+            inp.nmsd_zona_stiffness_ratio,
+            cal,
+            vs_fe,
+            agree,
+            slow_error,
+            scale,
+            (depart_um, depart_nN),
+            fe,
+        ),
     )
 
 
@@ -626,19 +566,3 @@ def _drag_scaled_error(setup, params, advances, spindle, u_fe_spindle, inp: Cros
         u = np.array([field.at_points[float(a)][0] for a in advances])
         return scale, np.linalg.norm(u - u_fe_spindle, axis=1)
     return inp.drag_scale, np.full(len(advances), np.nan)
-
-
-def _spindle_table(agree, slow_error: np.ndarray, scale: float) -> str:
-    rows = [
-        "| advance | FE (ux, uy) | NMSD (ux, uy) | error | goal | max grid error | "
-        f"error, drag x {scale:g} |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    for k, a in enumerate(agree.advance_um):
-        fe, nm = agree.spindle_fe_um[k], agree.spindle_nmsd_um[k]
-        rows.append(
-            f"| {a:g} | ({fe[0]:.2f}, {fe[1]:.2f}) | ({nm[0]:.2f}, {nm[1]:.2f}) | "
-            f"{agree.spindle_error_um[k]:.2f} | {agree.spindle_tolerance_um[k]:.2f} | "
-            f"{agree.error_um[k].max():.2f} | {slow_error[k]:.2f} |"
-        )
-    return "\n".join(rows)

@@ -7,6 +7,7 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field, field_validator
 
+from oocyte_fe.kinds.data_templates import FLOW_CURVE
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.plotting import plot_viscosity_fits
 from oocyte_fe.microchannel.rheology_fit import ViscosityFit, fit_viscosity
@@ -23,7 +24,8 @@ PositivePaS = Annotated[float, Field(gt=0)]
 
 class CarreauFitInputs(CaseInputs):
     data: Annotated[DataFile, DataReader(read_flow_curve)] = Field(
-        description="CSV flow curve: strain_rate_1_s, viscosity_<unit> (Table 2)"
+        description="CSV flow curve: strain_rate_1_s, viscosity_<unit> (Table 2)",
+        json_schema_extra=FLOW_CURVE,
     )
     models: list[str] = Field(
         default=["carreau", "carreau_yasuda", "cross", "power_law"],

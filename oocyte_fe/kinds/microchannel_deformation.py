@@ -8,6 +8,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
@@ -20,10 +21,12 @@ from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
 class DeformationInputs(CaseInputs):
     deformation_data: Annotated[DataFile, DataReader(read_deformation_table)] = Field(
-        description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)"
+        description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
+        json_schema_extra=DEFORMATION,
     )
     viscosity_data: Annotated[DataFile, DataReader(read_flow_curve)] = Field(
-        description="CSV flow curve for the cytoplasm's Carreau fit (Table 2)"
+        description="CSV flow curve for the cytoplasm's Carreau fit (Table 2)",
+        json_schema_extra=FLOW_CURVE,
     )
     eta_inf_Pa_s: float = Field(
         gt=0,

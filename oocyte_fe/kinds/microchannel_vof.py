@@ -15,6 +15,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from pydantic import Field
 
+from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
@@ -88,11 +89,11 @@ class GeometryInputs(CaseInputs):
 class VofInputs(CaseInputs):
     deformation_data: DataFile = Field(
         description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
-        json_schema_extra={"unit": "file"},
+        json_schema_extra=DEFORMATION,
     )
     viscosity_data: DataFile = Field(
         description="CSV flow curve (Table 2) for the Carreau lambda and n",
-        json_schema_extra={"unit": "file"},
+        json_schema_extra=FLOW_CURVE,
     )
     channel: ChannelInputs = Field(description="the device (calibrates U(p))")
     zp: CellPhaseInputs = Field(description="zona pellucida phase (Table 3)")

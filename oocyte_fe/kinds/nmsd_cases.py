@@ -10,7 +10,7 @@ from pydantic import Field
 
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.calibration import MODELS, CalibrationResult, calibrate, fit_metrics
-from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
+from nmsd.cytoplasm_loss import loss_fraction
 from nmsd.errors import NmsdInputError
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
@@ -20,12 +20,13 @@ from nmsd.pipette import (
     TABLE_I_TIP_ANGLE_DEG,
     TABLE_I_WIDTH_UM,
 )
-from nmsd.plotting import plot_force_curves, plot_snapshots, plot_spindle
 from nmsd.press import PressSetup, press_setup
 from nmsd.spindle import predict_spindle_offset
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.errors import InputError
-from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
+from oocyte_fe.kinds.data_templates import TABLE_II
+from oocyte_fe.kinds.nmsd_report import calibration_report, spindle_report
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
 
 UN = 1e-3  # nN -> uN
@@ -38,7 +39,8 @@ class PressInputs(CaseInputs):
     """Lattice, pipette and calibration settings shared by both kinds."""
 
     data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
-        description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN"
+        description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN",
+        json_schema_extra=TABLE_II,
     )
     cell_diameter_um: float = Field(
         115.625,
@@ -259,27 +261,6 @@ def _calibrate(ctx: CaseContext, setup, data, base, model: str) -> CalibrationRe
     )
 
 
-def _params_table(results: dict[str, CalibrationResult], paper) -> str:
-    rows = [
-        "| model | damping | k1 (nN) | k2 (nN) | d0 (nN s/um) | d1 (nN s/um^2) | dl_c | gap (um) "
-        "| RMSE (uN) | R^2 | S |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for name, r in results.items():
-        p = r.params
-        m = r.metrics
-        gap = "-" if r.gap_um is None else f"{r.gap_um:.3g}"
-        rows.append(
-            f"| {name} | {p.damping} | {p.k1:.4g} | {p.k2:.4g} | {p.d0:.4g} | {p.d1:.4g} | "
-            f"{p.dl_c:.3g} | {gap} | {m.rmse_nN * UN:.3f} | {m.r2:.4f} | {m.similarity:.5f} |"
-        )
-    rows.append(
-        f"| paper model column | - | - | - | - | - | - | - | {paper.rmse_nN * UN:.3f} | "
-        f"{paper.r2:.4f} | {paper.similarity:.5f} |"
-    )
-    return "\n".join(rows)
-
-
 @case_kind(
     "nmsd_calibration",
     inputs=CalibrationInputs,
@@ -312,22 +293,9 @@ def run_calibration(ctx: CaseContext) -> CaseOutcome:
     tic = time.perf_counter()
     press = setup.run(best.params, record_um=inp.snapshot_um)
     press_ms = 1e3 * (time.perf_counter() - tic)
-    d = data.displacement_um
-    curves = {
-        f"{name} (RMSE {r.metrics.rmse_nN * UN:.2f} uN)": (d, r.force_nN * UN)
-        for name, r in results.items()
-    }
-    curves["paper model column"] = (d, data.paper_model_nN * UN)
-    plot_force_curves(ctx.output("force_models.png"), d, data.force_nN * UN, curves)
-    rate = {}
-    for v in inp.rate_speeds_um_s:
-        r = setup.run(best.params, speed_um_s=v)
-        rate[f"NMSD at {v:g} um/s"] = (r.advance_um, r.force_nN * UN)
-    plot_force_curves(ctx.output("rate_dependence.png"), d, data.force_nN * UN, rate)
-    snaps = {0.0: setup.lattice.nodes, **press.snapshots}
-    plot_snapshots(ctx.output("snapshots.png"), setup.lattice, setup.pipette, snaps)
-    rates = "\n".join(
-        f"- {k}: force at {inp.travel_um:g} um = {f[-1]:.2f} uN" for k, (_, f) in rate.items()
+    rate = {v: setup.run(best.params, speed_um_s=v) for v in inp.rate_speeds_um_s}
+    figures, sections = calibration_report(
+        ctx.output, data, results, paper, setup, press, rate, inp.travel_um
     )
     return CaseOutcome(
         metrics={
@@ -340,22 +308,8 @@ def run_calibration(ctx: CaseContext) -> CaseOutcome:
             "press_ms": press_ms,
             "calibration_s": best.seconds,
         },
-        figures=[
-            Figure("force_models.png", "Table II against the calibrated model families"),
-            Figure("rate_dependence.png", "calibrated NMSD pressed at three speeds (seed Fig. 4)"),
-            Figure("snapshots.png", "lattice at 0, 15, 30, 45 um, coloured by |u| (seed Fig. 5)"),
-        ],
-        sections=[
-            ("Calibrated constants (um, nN, s)", _params_table(results, paper)),
-            ("Rate dependence", rates),
-            (
-                "Cost",
-                "\n".join(
-                    f"- {n}: {r.evaluations} presses in {r.seconds:.1f} s ({r.message})"
-                    for n, r in results.items()
-                ),
-            ),
-        ],
+        figures=figures,
+        sections=sections,
         checks=[
             Check(
                 "nmsd beats linear MSD (RMSE)",
@@ -407,30 +361,19 @@ def run_spindle(ctx: CaseContext) -> CaseOutcome:
 
     gains = PidGains(inp.kp, inp.ki, inp.kd, inp.period_s, inp.actuator_lag_s, inp.resolution_um)
     trace = pid_approach(target, gains, speed_um_s=inp.speed_um_s)
-    plot_spindle(ctx.output("spindle_path.png"), off.path_um, paper, trace.position_um)
-    keys = sorted(off.press.snapshots)
-    snaps = {a: off.press.snapshots[a] for a in keys[:: max(1, len(keys) // 3)]}
-    plot_snapshots(ctx.output("approach_snapshots.png"), setup.lattice, off.pipette, snaps)
     moved = float(np.linalg.norm(off.final_um - off.initial_um))
     d = inp.cell_diameter_um
     loss = loss_fraction(moved + inp.spindle_length_um, inp.removal_pipette_um, d)
-    lengths = {
-        name: (
-            aspirated_length_for(f / 100, inp.removal_pipette_um, d),
-            aspirated_length_for(f / 100, inp.removal_pipette_um, d, plane=True),
-        )
-        for name, f in (("proposed", 4.5), ("previous method", 6.9), ("blind aspiration", 30.0))
-    }
-    gaps = np.array([0.0, 5.0, 10.0, 20.0, 40.0])
-    aspirated = gaps + inp.spindle_length_um
-    loss3 = 100 * loss_fraction(aspirated, inp.removal_pipette_um, d)
-    loss2 = 100 * loss_fraction(aspirated, inp.removal_pipette_um, d, plane=True)
-    loss_rows = "\n".join(
-        f"| {g:g} | {a:.2f} | {b:.2f} |" for g, a, b in zip(gaps, loss3, loss2, strict=True)
-    )
-    paper_rows = "\n".join(
-        f"- {n}: 3D needs L = {a:.0f} um, focal-plane reading L = {b:.1f} um"
-        for n, (a, b) in lengths.items()
+    figures, sections = spindle_report(
+        ctx.output,
+        setup.lattice,
+        off,
+        paper,
+        trace,
+        cal,
+        inp.removal_pipette_um,
+        d,
+        inp.spindle_length_um,
     )
     return CaseOutcome(
         metrics={
@@ -443,21 +386,6 @@ def run_spindle(ctx: CaseContext) -> CaseOutcome:
             "pid_settling_s": trace.settling_time_s,
             "loss_model_pct": 100 * float(loss),
         },
-        figures=[
-            Figure("spindle_path.png", "spindle path (model), paper's offset, PID pipette trace"),
-            Figure("approach_snapshots.png", "lattice during the approach, coloured by |u|"),
-        ],
-        sections=[
-            (
-                "Calibration used (Table II only)",
-                f"{cal.params}\n\nRMSE {cal.metrics.rmse_nN * UN:.3f} uN",
-            ),
-            (
-                "Cytoplasm loss against mouth-to-spindle distance (spindle length "
-                f"{inp.spindle_length_um:g} um aspirated too)",
-                "| distance (um) | 3D loss (%) | focal-plane loss (%) |\n|---|---|---|\n"
-                + loss_rows,
-            ),
-            ("Aspirated length implied by the paper's percentages", paper_rows),
-        ],
+        figures=figures,
+        sections=sections,
     )

@@ -2,7 +2,10 @@
 
 Every input is read from the kind's pydantic model: its default (``required`` when it has
 none), its description and its unit (``json_schema_extra={"unit": ...}``). A data-file input
-(a ``Path``) gets a template file; ``json_schema_extra={"columns": [...]}`` gives its header.
+(a ``Path``) gets a template file that the kind's reader accepts: ``json_schema_extra`` gives
+its ``columns`` (the header), ``example_rows`` (one or two rows under it) and
+``example_source`` (where the rows come from, or that they are synthetic), or, for a file that
+is not a table, its ``suffix`` (e.g. ``".toml"``) and whole ``example_text``.
 The new case has no ``[reference]``/``[tolerances]``: a user's case is judged only against
 what its author declares.
 """
@@ -36,6 +39,9 @@ class InputDoc:
     unit: str
     is_file: bool
     columns: tuple[str, ...]
+    template: str  # text of the data-file template ("" when the kind gives none)
+    suffix: str  # of the data-file template
+    source: str  # where the template's example comes from
     model: type[BaseModel] | None  # a nested table of inputs
 
 
@@ -51,6 +57,18 @@ def _types(annotation: Any) -> list[Any]:
     if origin in (typing.Union, types.UnionType):
         return [t for a in typing.get_args(annotation) for t in _types(a)]
     return [annotation]
+
+
+def _template_text(extra: dict[str, Any]) -> str:
+    """A data-file template: ``example_text``, or the header and ``example_rows`` as CSV."""
+    if "example_text" in extra:
+        return str(extra["example_text"])
+    columns = list(extra.get("columns", ()))
+    if not columns:
+        return ""
+    rows = [",".join(columns)]
+    rows += [",".join(str(v) for v in row) for row in extra.get("example_rows", ())]  # as given
+    return "\n".join(rows) + "\n"
 
 
 def input_docs(model: type[BaseModel]) -> list[InputDoc]:
@@ -71,6 +89,9 @@ def input_docs(model: type[BaseModel]) -> list[InputDoc]:
                 str(extra.get("unit", "")),
                 Path in kinds,
                 tuple(extra.get("columns", ())),
+                _template_text(extra),
+                str(extra.get("suffix", ".csv")),
+                str(extra.get("example_source", "")),
                 nested,
             )
         )
@@ -140,7 +161,9 @@ def _table(
             lines.append(_comment(doc))
         if doc.is_file:
             files[doc.name] = doc
-            lines.append(f'{doc.name} = "{doc.name}.csv"   # template written beside this file')
+            if doc.source:
+                lines.append(f"# template written beside this file; its rows: {doc.source}")
+            lines.append(f'{doc.name} = "{doc.name}{doc.suffix}"   # replace with your data')
         elif doc.required and not given:
             lines.append(f"# {doc.name} =    # REQUIRED: set a value")
         elif default is None:
@@ -183,11 +206,10 @@ def new_case(kind: CaseKind, folder: Path) -> list[Path]:
     written = [folder / CASE_FILE]
     written[0].write_text("\n".join(lines))
     for name, doc in files.items():
-        path = folder / f"{name}.csv"
+        path = folder / f"{name}{doc.suffix}"
         if path.exists():
             continue
-        header = ",".join(doc.columns)
-        text = f"# template for input {name}: {doc.description}\n# replace with your data\n"
-        path.write_text(text + (header + "\n" if header else ""))
+        # no comment lines: not every reader skips them (what the rows are is in case.toml)
+        path.write_text(doc.template)
         written.append(path)
     return written

@@ -1,0 +1,90 @@
+"""What a kind's data-file inputs look like: columns and example rows for ``oocyte-fe new``.
+
+Each constant is the ``json_schema_extra`` of a data-file input (see
+:mod:`oocyte_fe.runner.scaffold`): the exact column names (units in the names) that the
+input's reader expects, and one or two example rows, taken from the shipped case data (named)
+or marked synthetic, so that the template ``oocyte-fe new`` writes is read without error.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+TABLE_II: dict[str, Any] = {
+    "columns": ["displacement_um", "force_experiment_uN", "force_simulation_uN"],
+    "example_rows": [[41.25, 10.44089, 10.75634], [62.375, 55.32843, 55.38837]],
+    "example_source": "seed 000 Table II (cases/nmsd_calibration_tableII); "
+    "force_simulation_uN is optional",
+}
+"""Read by :func:`nmsd.tableII.read_force_displacement`."""
+
+CREEP: dict[str, Any] = {
+    "columns": ["time_s", "force_nN", "indentation_um"],
+    # the reader wants at least 10 samples: 11, creeping as 2.2 + 0.7 (1 - exp(-t / 1.5 s)) um
+    "example_rows": [
+        [round(0.6 * i, 4), 5.0, round(2.2 + 0.7 * (1.0 - math.exp(-0.4 * i)), 4)]
+        for i in range(11)
+    ],
+    "example_source": "SYNTHETIC (11 samples of a 5 nN clamp creeping from 2.2 um towards "
+    "2.9 um, like cases/afm_creep_prony); a force column force_nN/pN/uN and indentation_um/nm, "
+    "or a height column with metadata (afm.curve_io)",
+}
+"""Read by :func:`afm.curve_io.read_creep` (the creep-table form)."""
+
+FLOW_CURVE: dict[str, Any] = {
+    "columns": ["strain_rate_1_s", "viscosity_Pa_s"],
+    # six rows, not two: a fit of carreau_yasuda's 5 parameters needs more points than that
+    "example_rows": [
+        [0.00172, 969.1],
+        [0.00456, 467.8],
+        [0.0107, 215.0],
+        [0.021, 125.8],
+        [0.0238, 102.8],
+        [0.0524, 44.1],
+    ],
+    "example_source": "6 of the 11 rows of seed 001 Table 2 (cases/microchannel_carreau_fit); "
+    "viscosity_<unit> "
+    "takes the units of oocyte_fe.microchannel.units",
+}
+"""Read by :func:`oocyte_fe.microchannel.tables.read_flow_curve`."""
+
+DEFORMATION: dict[str, Any] = {
+    "columns": ["pressure_hPa", "ratio_experiment", "ratio_simulation"],
+    "example_rows": [[600, 0.912, 0.934], [900, 0.908, 0.922]],
+    "example_source": "seed 001 Table 4 (cases/microchannel_deformation); pressure_<unit> "
+    "takes the units of oocyte_fe.microchannel.units",
+}
+"""Read by :func:`oocyte_fe.microchannel.tables.read_deformation_table`."""
+
+KNOWN_MODULI: dict[str, Any] = {
+    "columns": ["file", "E_kPa"],
+    "example_rows": [["curves/zp/zp_01.csv", 4.72580727154525]],
+    "example_source": "SYNTHETIC (cases/afm_fit_files/known_moduli.csv); file relative to "
+    "the case folder",
+}
+"""Read by the ``afm_fit_files`` kind (``file``, ``E_kPa``)."""
+
+
+def material_template(name: str, E_kPa: float, g: list[float], tau_s: list[float]) -> str:
+    """A material file (format of :mod:`afm.material_file`) for a template."""
+    return (
+        "# oocyte-fe material file; units: kPa, s\n"
+        f'[material]\nname = "{name}"\nsource = "example written by oocyte-fe new"\n'
+        f"E_kPa = {E_kPa}\nnu = 0.5\n[prony]\ng = {g}\ntau_s = {tau_s}\n"
+    )
+
+
+ZONA_MATERIAL: dict[str, Any] = {
+    "suffix": ".toml",
+    "example_text": material_template("zona_pellucida", 7.01, [0.3, 0.2], [0.2, 1.5]),
+    "example_source": "the synthetic ZP series of cases/afm_creep_prony (E0 = 7.01 kPa, seed 001)",
+}
+"""Read by :func:`oocyte_fe.fe.material.read_material_file`."""
+
+CYTOPLASM_MATERIAL: dict[str, Any] = {
+    "suffix": ".toml",
+    "example_text": material_template("cytoplasm", 1.55, [], []),
+    "example_source": "elastic, E = 1.55 kPa (seed 001 Table 1, as cases/afm_creep_prony)",
+}
+"""Read by :func:`oocyte_fe.fe.material.read_material_file`."""
