@@ -24,9 +24,9 @@ from afm.fit import IndentationFit
 MAX_PLOT_POINTS = 600
 DPI = 80
 MIN_JOBS_PER_WORKER = 10
+"""Fewer plots than this per process are drawn in this process (start-up costs more)."""
 TICKS = 4
 """At most this many tick intervals per axis (tick labels are most of a figure's drawing time)."""
-"""Fewer plots than this per process are drawn in this process (start-up costs more)."""
 
 
 def plot_name(row: BatchRow) -> str:
