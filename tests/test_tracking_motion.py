@@ -9,7 +9,7 @@ import pytest
 from scipy import ndimage
 
 from oocyte_fe.tracking.motion import CentreFilter, MotionModel
-from oocyte_fe.tracking.tracker import MFAKCF, MFAKCF_MOTION, Tracker
+from oocyte_fe.tracking.tracker import MFAKCF, MFAKCF_HOLD, Tracker
 
 
 def test_constant_velocity_is_learnt_and_coasted_exactly() -> None:
@@ -69,14 +69,15 @@ def _moving_target_sequence(n: int, hidden: range, v: tuple[float, float]):
 
 def test_prediction_follows_constant_velocity_target_through_occlusion() -> None:
     """The square moves 2 px/frame and vanishes for 12 frames. Holding the last position
-    (MFAKCF) leaves the box 24 px behind when it reappears; the constant-velocity prediction
-    (rho = 1) is within 3 px then, and both find it again afterwards."""
+    (MFAKCF_HOLD) leaves the box 24 px behind when it reappears; the constant-velocity
+    prediction (rho = 1) is within 3 px then; all find it again afterwards (MFAKCF, rho = 0.8,
+    coasts 1 / (1 - rho) = 5 frames' worth and re-finds it in its gate)."""
     hidden = range(25, 37)
     frames, truth = _moving_target_sequence(60, hidden, (2.0, 0.0))
     box = (truth[0, 0] - 20, truth[0, 1] - 20, 40.0, 40.0)
-    cv = dataclasses.replace(MFAKCF_MOTION, motion=MotionModel(rho=1.0, q=0.01))
+    cv = dataclasses.replace(MFAKCF, motion=MotionModel(rho=1.0, q=0.01))
     errors = {}
-    for name, config in (("hold", MFAKCF), ("cv", cv)):
+    for name, config in (("hold", MFAKCF_HOLD), ("cv", cv), ("mfakcf", MFAKCF)):
         tracker = Tracker(frames[0], box, config)
         ests = [tracker.step(f) for f in frames[1:]]
         centres = np.array([e.centre for e in ests])
@@ -86,3 +87,5 @@ def test_prediction_follows_constant_velocity_target_through_occlusion() -> None
     assert errors["hold"][end] > 20.0
     assert errors["cv"][end] < 3.0
     assert errors["cv"][-1] < 1.0
+    assert errors["hold"][-1] < 1.0
+    assert errors["mfakcf"][-1] < 1.0

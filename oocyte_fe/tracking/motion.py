@@ -12,7 +12,7 @@ and a measured centre ``z`` (the correlation filter's peak) enters with the vari
     K = P_pred H^T / (H P_pred H^T + R0),   H = [1, 0]
     s = s_pred + K (z - p_pred),   P = (I - K H) P_pred
 
-How the tracker (:mod:`.tracker`, ``MFAKCF_MOTION``) uses it, by the reliability ``r`` of the
+How the tracker (:mod:`.tracker`, ``MFAKCF``) uses it, by the reliability ``r`` of the
 response (:mod:`.update`):
 
 - ``r >= r_stop`` (the template learns): the peak corrects the filter;

@@ -8,7 +8,7 @@ filter with the adaptive learning rate (:mod:`.update`). When the reliability fa
 ``r_lost`` the target is lost: the position is held and each frame a grid of
 ``(2 k + 1)^2`` windows, spaced half a window apart around the last position, is searched;
 the best candidate is taken back when its reliability reaches ``r_found``. With a motion
-model (:mod:`.motion`, ``MFAKCF_MOTION``) the window is cut at the predicted centre, a lost
+model (:mod:`.motion`, as in ``MFAKCF``) the window is cut at the predicted centre, a lost
 target coasts on the prediction, and the grid is centred on the prediction, plus one window
 where the target was lost (the spindle may have stopped under the droplet).
 
@@ -69,15 +69,16 @@ class TrackerConfig:
             raise ValueError("cell must be >= 1 px and padding >= 0")
 
 
-MFAKCF = TrackerConfig(smooth_px=1.0)
+MFAKCF = TrackerConfig(smooth_px=1.0, motion=MotionModel())
 """The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update; the window
-is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients)."""
+is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients),
+and the centre is predicted by the damped constant-velocity Kalman filter of :mod:`.motion`
+(window cut at the prediction; on a doubtful peak and while lost the centre coasts, and the
+lost target is searched for around the prediction and where it was lost)."""
 
-MFAKCF_MOTION = TrackerConfig(smooth_px=1.0, motion=MotionModel())
-"""MFAKCF with the damped constant-velocity prediction of :mod:`.motion` (window cut at the
-predicted centre; a lost target coasts and is searched for around the prediction and where
-it was lost). Not the default: on the benchmark's tuning subset it did not beat MFAKCF
-(docs/tracking.md); the benchmark reports it beside MFAKCF."""
+MFAKCF_HOLD = TrackerConfig(smooth_px=1.0)
+"""MFAKCF without the motion model (the lost target's position is held), as first built;
+the benchmark reports it as ``MFAKCF (no motion)``."""
 
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
