@@ -10,7 +10,12 @@ filter with the adaptive learning rate (:mod:`.update`). When the reliability fa
 the best candidate is taken back when its reliability reaches ``r_found``. With a motion
 model (:mod:`.motion`, as in ``MFAKCF``) the window is cut at the predicted centre, a lost
 target coasts on the prediction, and the grid is centred on the prediction, plus one window
-where the target was lost (the spindle may have stopped under the droplet).
+where the target was lost (the spindle may have stopped under the droplet); a peak with
+``r_lost <= r < r_stop`` is doubtful and the centre coasts, and a lost target is taken back
+inside the motion model's validation gate at ``r >= r_lost``. The motion model's form and
+settings were chosen on the benchmark's 6-sequence tuning subset (:mod:`.motion`,
+docs/tracking.md); ``r_lost`` / ``r_found`` on 5 sequences by the first version
+(:mod:`.update`).
 
 With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
 seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
