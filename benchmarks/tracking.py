@@ -1,6 +1,7 @@
 """Spindle-tracking benchmark (issue 21): MFAKCF against our single-feature KCF (HOG, fixed
 learning rate: the seed's "original KCF") and, when opencv-contrib-python-headless is installed
-(extra ``tracking-opencv``), OpenCV's KCF and CSRT, on the 24 synthetic polarized-light
+(extra ``tracking-opencv``), OpenCV's KCF and CSRT, and MFAKCF without its motion
+prediction (``MFAKCF (no motion)``, the ablation), on the 24 synthetic polarized-light
 sequences of :func:`oocyte_fe.tracking.synthetic.benchmark_grid` (300 frames each).
 
 Prints the OTB table (precision at 20 px and 2 um, success rate IoU > 0.5, success AUC,
@@ -18,7 +19,7 @@ import time
 
 from oocyte_fe.tracking import benchmark as bench
 from oocyte_fe.tracking.synthetic import benchmark_grid
-from oocyte_fe.tracking.tracker import MFAKCF, SINGLE_KCF
+from oocyte_fe.tracking.tracker import MFAKCF, MFAKCF_HOLD, SINGLE_KCF
 
 
 def main() -> None:
@@ -31,14 +32,18 @@ def main() -> None:
     if args.only:
         specs = [s for s in specs if s.name in args.only]
     t0 = time.perf_counter()
-    result = bench.run_benchmark(specs, not args.no_opencv, notify=print)
+    result = bench.run_benchmark(specs, not args.no_opencv, bench.ABLATION, notify=print)
     print(f"\n{len(specs)} sequences x {args.frames} frames in {time.perf_counter() - t0:.0f} s")
     print(f"OpenCV: {result.opencv or 'not used'}\n")
     print(bench.table(result))
     print("\nMFAKCF over KCF (HOG), % (seed 000: precision +45.63, success +49.89):")
     for key, value in bench.gains(result).items():
         print(f"  {key}: {value:+.1f}")
-    for name, config in (("MFAKCF", MFAKCF), ("KCF (HOG)", SINGLE_KCF)):
+    for name, config in (
+        ("MFAKCF", MFAKCF),
+        ("MFAKCF (no motion)", MFAKCF_HOLD),
+        ("KCF (HOG)", SINGLE_KCF),
+    ):
         cpu, wall = bench.fps_at_window(config, 128)
         print(
             f"{name}: 128 x 128 window: {cpu:.0f} frames per CPU second (one core), "

@@ -126,4 +126,23 @@ def test_benchmark_summary_pools_frames_and_gains() -> None:
     a, b = summary["precision_20px"], result.summary("KCF (HOG)")["precision_20px"]
     assert bench.gains(result)["precision_gain_all_pct"] == pytest.approx(100 * (a - b) / b)
     assert bench.gain_pct(0.5, 0.25) == pytest.approx(100.0)
-    assert bench.table(result).count("| MFAKCF |") == 3
+    # all, occlusion, light drift, held out; no row for the (here empty) tuning subset
+    assert bench.table(result).count("| MFAKCF |") == 4
+
+
+def test_tuning_subset_is_six_balanced_grid_sequences() -> None:
+    """The motion model's tuning subset: indices 1, 6, 10, 13, 16, 23 of the grid, two per
+    occluder level, and each level of light drift, contrast and speed three times."""
+    from oocyte_fe.tracking import benchmark as bench
+
+    specs = benchmark_grid(300)
+    tune = [i for i, s in enumerate(specs) if bench.is_tuning(s)]
+    assert tune == [1, 6, 10, 13, 16, 23]
+    assert sum(bench.is_held_out(s) for s in specs) == 18
+    chosen = [specs[i] for i in tune]
+    assert sorted(s.n_occluders for s in chosen) == [0, 0, 1, 1, 2, 2]
+    for level in (0.0, 0.3):
+        assert sum(s.light_drift == level for s in chosen) == 3
+    for level in (0.04, 0.08):
+        assert sum(s.contrast == level for s in chosen) == 3
+    assert sum(s.name.endswith("fast") for s in chosen) == 3

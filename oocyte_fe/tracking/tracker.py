@@ -7,7 +7,15 @@ move to the sub-cell peak, then cut the window again at the new position and upd
 filter with the adaptive learning rate (:mod:`.update`). When the reliability falls below
 ``r_lost`` the target is lost: the position is held and each frame a grid of
 ``(2 k + 1)^2`` windows, spaced half a window apart around the last position, is searched;
-the best candidate is taken back when its reliability reaches ``r_found``.
+the best candidate is taken back when its reliability reaches ``r_found``. With a motion
+model (:mod:`.motion`, as in ``MFAKCF``) the window is cut at the predicted centre, a lost
+target coasts on the prediction, and the grid is centred on the prediction, plus one window
+where the target was lost (the spindle may have stopped under the droplet); a peak with
+``r_lost <= r < r_stop`` is doubtful and the centre coasts, and a lost target is taken back
+inside the motion model's validation gate at ``r >= r_lost``. The motion model's form and
+settings were chosen on the benchmark's 6-sequence tuning subset (:mod:`.motion`,
+docs/tracking.md); ``r_lost`` / ``r_found`` on 5 sequences by the first version
+(:mod:`.update`).
 
 With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
 seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
@@ -25,6 +33,7 @@ from scipy import ndimage
 from oocyte_fe.tracking import kcf
 from oocyte_fe.tracking.features import FEATURES
 from oocyte_fe.tracking.fusion import apce, fuse, fusion_weights
+from oocyte_fe.tracking.motion import CentreFilter, MotionModel
 from oocyte_fe.tracking.update import ReliabilityHistory, UpdatePolicy
 
 
@@ -40,6 +49,9 @@ class TrackerConfig:
     adaptive: APCE fusion weights, adaptive learning rate and re-detection (MFAKCF); False
         gives a fixed learning rate ``policy.eta0`` and equal weights.
     redetect_radius: k of the ``(2k+1)^2`` re-detection grid, windows.
+    motion: Kalman prediction of the centre (:mod:`.motion`; adaptive trackers only): the
+        window is cut at the predicted centre and a lost target coasts on the prediction;
+        None holds the last position.
     """
 
     features: tuple[str, ...] = ("hog", "gray")
@@ -51,6 +63,7 @@ class TrackerConfig:
     adaptive: bool = True
     smooth_px: float = 0.0
     redetect_radius: int = 1
+    motion: MotionModel | None = None
     policy: UpdatePolicy = field(default_factory=UpdatePolicy)
 
     def __post_init__(self) -> None:
@@ -61,9 +74,16 @@ class TrackerConfig:
             raise ValueError("cell must be >= 1 px and padding >= 0")
 
 
-MFAKCF = TrackerConfig(smooth_px=1.0)
+MFAKCF = TrackerConfig(smooth_px=1.0, motion=MotionModel())
 """The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update; the window
-is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients)."""
+is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients),
+and the centre is predicted by the damped constant-velocity Kalman filter of :mod:`.motion`
+(window cut at the prediction; on a doubtful peak and while lost the centre coasts, and the
+lost target is searched for around the prediction and where it was lost)."""
+
+MFAKCF_HOLD = TrackerConfig(smooth_px=1.0)
+"""MFAKCF without the motion model (the lost target's position is held), as first built;
+the benchmark reports it as ``MFAKCF (no motion)``."""
 
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
@@ -128,6 +148,7 @@ class Tracker:
         sigma_y = config.label_sigma_factor * np.sqrt(w * h) / config.cell
         self.yf = np.fft.fft2(kcf.gaussian_labels(grid, sigma_y))
         self.lost = False
+        self.lost_at = self.centre
         feats, _ = self._features(np.asarray(frame, dtype=np.float64), self.centre)
         self.models = [
             kcf.KcfModel.fit(xf, self.yf, config.kernel_sigma, config.lam) for xf in feats
@@ -135,6 +156,8 @@ class Tracker:
         self.history = ReliabilityHistory(config.policy)
         self.apce_ref = np.zeros(len(feats))
         self.apce_n = 0
+        use_motion = config.motion is not None and config.adaptive
+        self.motion = CentreFilter(self.centre, config.motion) if use_motion else None
 
     def _features(
         self, frame: np.ndarray, centre: tuple[float, float]
@@ -166,14 +189,17 @@ class Tracker:
         a = apce(fused)
         return new, peak, a, self.history.reliability(peak, a), weights, apces
 
-    def _redetect(self, frame: np.ndarray):
-        """Best of the ``(2k+1)^2`` windows around the held position (module doc)."""
+    def _redetect(self, frame: np.ndarray, around: tuple[float, float]):
+        """Best of the ``(2k+1)^2`` windows around ``around`` px and the window at the
+        position where the target was lost (module doc)."""
         k = self.config.redetect_radius
         step_y, step_x = self.shape[0] / 2, self.shape[1] / 2
         best = None
+        if self.motion is not None:
+            best = self._detect(frame, self.lost_at)
         for i in range(-k, k + 1):
             for j in range(-k, k + 1):
-                c = (self.centre[0] + j * step_x, self.centre[1] + i * step_y)
+                c = (around[0] + j * step_x, around[1] + i * step_y)
                 cand = self._detect(frame, c)
                 if best is None or cand[3] > best[3]:
                     best = cand
@@ -183,19 +209,35 @@ class Tracker:
         """Track one frame (Algorithm 1, lines 5-9)."""
         frame = np.asarray(frame, dtype=np.float64)
         cfg = self.config
+        predicted = self.motion.predict() if self.motion else self.centre
         if self.lost:
-            new, peak, a, r, weights, apces = self._redetect(frame)
+            new, peak, a, r, weights, apces = self._redetect(frame, predicted)
         else:
-            new, peak, a, r, weights, apces = self._detect(frame, self.centre)
+            new, peak, a, r, weights, apces = self._detect(frame, predicted)
         if cfg.adaptive:
-            if self.lost and r < cfg.policy.r_found:
-                eta = 0.0
-            elif r < cfg.policy.r_lost:
-                self.lost = True
+            p = cfg.policy
+            in_gate = (
+                self.lost
+                and self.motion is not None
+                and self.motion.gate_distance(new) < self.motion.model.gate
+            )
+            if (self.lost and r < p.r_found and not in_gate) or r < p.r_lost:
+                if not self.lost:
+                    self.lost_at = self.centre
+                self.lost = True  # coast on the prediction (hold without motion model)
+                self.centre = predicted
                 eta = 0.0
             else:
+                if self.motion is None:
+                    self.centre = new
+                elif self.lost:
+                    self.motion.reset(new)
+                    self.centre = new
+                elif r >= p.r_stop:
+                    self.centre = self.motion.correct(new)
+                else:  # doubtful peak (a droplet drags it): coast, keep the target
+                    self.centre = predicted
                 self.lost = False
-                self.centre = new
                 eta = self.history.learning_rate(r)
                 if r >= 1.0 or self.history.n < cfg.policy.warmup:
                     self.apce_ref = self.apce_ref + apces

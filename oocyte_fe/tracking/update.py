@@ -20,7 +20,10 @@ area (a grid of windows around the last position, :mod:`.tracker`) each frame an
 best candidate back once its ``r >= r_found``. ``r_lost`` = 0.42 and ``r_found`` = 0.7 were
 chosen on 5 of the 24 benchmark sequences among (0.5, 0.8), (0.42, 0.7) and (0.35, 0.6): mean
 precision at 20 px about 0.73, 0.89 and 0.76 on those five (docs/tracking.md says so beside the
-table); ``beta_1``, ``beta_2`` are LMCF's.
+table); ``beta_1``, ``beta_2`` are LMCF's. With the motion model (:mod:`.motion`) ``r_stop``
+also bounds the doubtful band ``r_lost <= r < r_stop`` in which the centre coasts, and inside
+the validation gate a lost target is taken back at ``r_lost``: both rules were chosen on the
+benchmark's 6-sequence tuning subset (docs/tracking.md).
 """
 
 from __future__ import annotations
