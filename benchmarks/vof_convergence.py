@@ -41,7 +41,9 @@ def main() -> None:
     ap.add_argument("--pressure", type=float, default=300.0, help="hPa")
     ap.add_argument("--dx", type=float, nargs="+", default=[25.0, 12.5, 6.25], help="um")
     ap.add_argument("--travel", type=float, default=560.0, help="um of travel at the mean U")
-    ap.add_argument("--x", type=float, default=0.0, help="centroid position of the ratio, um")
+    ap.add_argument(
+        "--x", type=float, nargs="+", default=[-200.0, 0.0], help="centroid positions, um"
+    )
     ap.add_argument("--dt", type=float, default=1e-6, help="s")
     ap.add_argument("--outer", type=int, default=1)
     ap.add_argument("--correctors", type=int, default=3)
@@ -61,10 +63,14 @@ def main() -> None:
     print(
         f"p = {args.pressure:g} hPa, U = {u * 1e-6:.4f} m/s, {end * 1e3:.3f} ms, "
         f"dt = {args.dt:g} s, PIMPLE {args.outer} outer x {args.correctors},"
-        f" ratio at x = {args.x:g} um"
+        f" 1 - b/a when the centroid crosses x = {args.x} um"
     )
-    print("| dx (um) | cells | steps | b/a | 1 - b/a | CPU s | CPU s per ms | cell volume error |")
-    print("|---|---|---|---|---|---|---|---|")
+    cols = " | ".join(f"1 - b/a at {x:g}" for x in args.x)
+    print(
+        f"| dx (um) | cells | steps | 1 - b/a at t = 0 | {cols} "
+        "| CPU s | CPU s per ms | volume error |"
+    )
+    print("|---" * (7 + len(args.x)) + "|")
     deformation = []
     with tempfile.TemporaryDirectory() as tmp:
         for dx in args.dx:
@@ -72,25 +78,30 @@ def main() -> None:
             cpu0 = _cpu_children()
             run = run_junction(foam, Path(tmp) / f"dx{dx:g}", setup, nice=10)
             cpu = _cpu_children() - cpu0
-            _, ratio = run.history.at_x(args.x)
+            values = [1.0 - run.history.at_x(x)[1] for x in args.x]
             err = max(abs(e[-1]) for e in run.history.volume_error.values())
-            deformation.append(1.0 - ratio)
+            deformation.append(values)
+            cells = " | ".join(f"{v:.4f}" for v in values)
             print(
-                f"| {dx:g} | {run.n_cells} | {run.steps} | {ratio:.4f} | {1 - ratio:.4f} "
-                f"| {cpu:.0f} | {cpu / (end * 1e3):.0f} | {err:.1e} |",
+                f"| {dx:g} | {run.n_cells} | {run.steps} | {1 - run.history.ratio[0]:.4f} "
+                f"| {cells} | {cpu:.0f} | {cpu / (end * 1e3):.0f} | {err:.1e} |",
                 flush=True,
             )
-    if len(deformation) >= 3:
-        f4, f2, f1 = deformation[-3:]
-        if (f4 - f2) * (f2 - f1) > 0:
-            p = math.log2((f4 - f2) / (f2 - f1))
-            rich = f1 + (f1 - f2) / (2**p - 1)
-            print(
-                f"observed order p = {p:.2f}; Richardson 1 - b/a = {rich:.4f} "
-                f"(finest {f1:.4f}: {100 * (f1 / rich - 1):+.1f} %)"
-            )
-        else:
-            print("non-monotone over the meshes: no observed order")
+    for k, x in enumerate(args.x):
+        if len(deformation) >= 3:
+            print(f"x = {x:g} um: {_richardson(*[d[k] for d in deformation[-3:]])}")
+
+
+def _richardson(f4: float, f2: float, f1: float) -> str:
+    """Observed order and Richardson estimate from three meshes h, 2h, 4h (f_4h, f_2h, f_h)."""
+    if (f4 - f2) * (f2 - f1) <= 0:
+        return "non-monotone over the meshes: no observed order"
+    p = math.log2((f4 - f2) / (f2 - f1))
+    rich = f1 + (f1 - f2) / (2**p - 1)
+    return (
+        f"observed order p = {p:.2f}; Richardson 1 - b/a = {rich:.4f} "
+        f"(finest {f1:.4f}: {100 * (f1 / rich - 1):+.1f} %)"
+    )
 
 
 if __name__ == "__main__":
