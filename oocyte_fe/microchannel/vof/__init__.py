@@ -9,6 +9,10 @@ Modules, one idea each:
 - :mod:`.monitor` -- progress and the silent failure modes from the solver log
 - :mod:`.runner` -- finding OpenFOAM, meshing, running serial or with MPI
 - :mod:`.post` -- axis ratio, centroid path and speed, phase volumes, snapshots
+- :mod:`.junction` -- the oocyte at the junction: set up, run and measure one pressure
+- :mod:`.verification` -- single-phase slit flow against the closed forms
+- :mod:`.drop` -- a two-phase drop in simple shear against the 2-D small-deformation result
+- :mod:`.extrude` -- a planar layout extruded into a 3-D duct (timing runs)
 
 Internal units: um, nN, kPa, s; SI only in the files OpenFOAM reads and writes.
 """

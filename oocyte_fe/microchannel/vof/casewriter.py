@@ -89,7 +89,8 @@ class VofSetup:
         return alpha
 
 
-def _phases_text(phases: tuple[Phase, ...]) -> str:
+def phases_text(phases: tuple[Phase, ...]) -> str:
+    """The ``phases`` list of ``transportProperties``: each phase's viscosity model, rho."""
     lines = ["("]
     for p in phases:
         visc = foam_viscosity(p.rheology, p.density)
@@ -142,8 +143,8 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
     layout, num = setup.layout, setup.numerics
     write_dictionary(d / "system" / "blockMeshDict", layout.block_mesh_dict())
     write_dictionary(d / "system" / "controlDict", control_dict(num))
-    write_dictionary(d / "system" / "fvSchemes", _schemes())
-    write_dictionary(d / "system" / "fvSolution", _solution(num))
+    write_dictionary(d / "system" / "fvSchemes", schemes())
+    write_dictionary(d / "system" / "fvSolution", solution(num))
     write_dictionary(
         d / "system" / "decomposeParDict",
         {"numberOfSubdomains": ranks, "method": "simple", "coeffs": {"n": f"({ranks} 1 1)"}},
@@ -160,7 +161,7 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
     ]
     write_dictionary(
         d / "constant" / "transportProperties",
-        {"phases": _phases_text(setup.phases), "sigmas": "(\n" + "\n".join(sigmas) + "\n)"},
+        {"phases": phases_text(setup.phases), "sigmas": "(\n" + "\n".join(sigmas) + "\n)"},
     )
     inlets = list(layout.inlets)
     outlet = layout.outlet_name
@@ -253,7 +254,8 @@ def control_dict(num: Numerics) -> dict:
     }
 
 
-def _schemes() -> dict:
+def schemes() -> dict:
+    """``system/fvSchemes``: Euler, vanLeer alpha, linearUpwind U (docs, VOF numerics)."""
     return {
         "ddtSchemes": {"default": "Euler"},
         "gradSchemes": {"default": "Gauss linear"},
@@ -269,7 +271,8 @@ def _schemes() -> dict:
     }
 
 
-def _solution(num: Numerics) -> dict:
+def solution(num: Numerics) -> dict:
+    """``system/fvSolution``: GAMG pressure, PIMPLE correctors from ``num``."""
     gamg = {"solver": "GAMG", "smoother": "GaussSeidel", "tolerance": 1e-8, "relTol": 0.01}
     return {
         "solvers": {

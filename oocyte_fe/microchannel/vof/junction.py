@@ -18,10 +18,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetup, write_case
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
 from oocyte_fe.microchannel.vof.post import CellHistory, cell_history, time_directories
+from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
     OpenFoam,
     project_initial_flow,
@@ -112,3 +114,37 @@ def run_junction(
         t_j,
         float(history.ratio.min()),
     )
+
+
+PA_S, KG_M3 = 1e-3, 1e-15  # Pa s -> kPa s, kg/m^3 -> nN s^2/um^4
+VELOCITY_300_HPA = 0.7015e6  # um/s: mean velocity of the calibrated device at 300 hPa
+
+
+def seed_phases(cap_pa_s: float = 46.0) -> tuple[Phase, Phase, Phase]:
+    """Medium, ZP and cytoplasm as the cases read Table 3 (densities 1008/1047/1020 kg/m^3;
+    medium 1.66e-3 Pa s; ZP eta0/eta_inf 4617.93/3.371 Pa s, cytoplasm 59.89/1.368 Pa s,
+    Carreau lambda = 661 s, n = 0.047 from our Table 2 fit), eta0 capped at ``cap_pa_s``; for
+    benchmarks and examples (the cases build theirs from case.toml)."""
+    carreau = {"time_constant": 661.0, "n": 0.047}
+    cell = [
+        Phase(
+            name,
+            cap_zero_shear(
+                Rheology.of("carreau", eta0=eta0 * PA_S, eta_inf=eta_inf * PA_S, **carreau),
+                cap_pa_s * PA_S,
+            ),
+            rho * KG_M3,
+        )
+        for name, eta0, eta_inf, rho in (
+            ("zp", 4617.93, 3.371, 1047.0),
+            ("cytoplasm", 59.89, 1.368, 1020.0),
+        )
+    ]
+    medium = Phase("medium", Rheology.of("newtonian", mu=1.66e-3 * PA_S), 1008.0 * KG_M3)
+    return medium, cell[0], cell[1]
+
+
+def mean_velocity(pressure_hpa: float) -> float:
+    """Mean inlet velocity (um/s) at a box pressure (hPa): ``U = p R^2/(8 mu L)`` of the
+    calibrated device, linear in p (0.7015 m/s at 300 hPa)."""
+    return VELOCITY_300_HPA * pressure_hpa / 300.0
