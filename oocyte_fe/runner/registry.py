@@ -13,6 +13,7 @@ from __future__ import annotations
 import difflib
 import functools
 import importlib
+import importlib.util
 import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -20,8 +21,6 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
-from afm.errors import AfmInputError
-from nmsd.errors import NmsdInputError
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.schema import CaseInputs
 
@@ -176,7 +175,12 @@ def _naming_the_case_file(
     def guarded(ctx: CaseContext) -> CaseOutcome:
         try:
             return run(ctx)
-        except (AfmInputError, NmsdInputError) as exc:
+        except ValueError as exc:  # AfmInputError and NmsdInputError are ValueErrors
+            from afm.errors import AfmInputError  # loaded already when one was raised
+            from nmsd.errors import NmsdInputError
+
+            if not isinstance(exc, AfmInputError | NmsdInputError):
+                raise
             source = exc.file if isinstance(exc, AfmInputError) else exc.source
             if source not in ("<input>", ""):
                 raise  # it names a data file already
@@ -187,7 +191,13 @@ def _naming_the_case_file(
 
 
 def _load_builtins() -> None:
-    importlib.import_module(_BUILTINS)
+    importlib.import_module(_BUILTINS).import_all()
+
+
+def _load_module_of(name: str) -> None:
+    """Import the built-in module named like kind ``name``, if there is one."""
+    if name.isidentifier() and importlib.util.find_spec(f"{_BUILTINS}.{name}") is not None:
+        importlib.import_module(f"{_BUILTINS}.{name}")
 
 
 def kinds() -> dict[str, CaseKind]:
@@ -200,6 +210,11 @@ def get_kind(name: str, file: str | Path = "case.toml", module: str | None = Non
     """Look a kind up by name; ``module`` is imported first (kinds registered outside)."""
     if module is not None:
         importlib.import_module(module)
+    if name in _KINDS:
+        return _KINDS[name]
+    _load_module_of(name)
+    if name in _KINDS:
+        return _KINDS[name]
     known = kinds()
     if name not in known:
         close = difflib.get_close_matches(str(name), list(known), n=1)

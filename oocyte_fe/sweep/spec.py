@@ -33,7 +33,6 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
-from scipy import stats
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.sweep.paths import PathError, set_path
@@ -68,6 +67,8 @@ class Normal(_Distribution):
         return self
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
+        from scipy import stats  # loaded only when a sweep is sampled (slow to import)
+
         a = (self.lower - self.mean) / self.sd
         return stats.truncnorm.ppf(u, a, np.inf, loc=self.mean, scale=self.sd)
 
