@@ -207,9 +207,14 @@ def test_neck_case_runs_on_its_own_material_files(tmp_path: Path) -> None:
     out = tmp_path / "out"
     out.mkdir()
     ctx = CaseContext(loaded.name, case, out, inputs, True, logging.getLogger("neck"))
-    metrics = loaded.kind.run(ctx).metrics
+    outcome = loaded.kind.run(ctx)
+    metrics = outcome.metrics
     assert not (out / "material").exists()  # no AFM case was re-run
     assert 0 < metrics["deformation_min_um"] <= metrics["deformation_max_um"] < 100
+    # the report names the files the materials came from, not an AFM re-run
+    [materials] = [text for title, text in outcome.sections if title == "Materials"]
+    assert "`material_zp.toml` and `material_cytoplasm.toml`" in materials
+    assert "regenerated" not in materials
 
 
 def test_tolerance_given_as_text_is_refused(tmp_path: Path) -> None:

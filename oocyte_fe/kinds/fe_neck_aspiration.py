@@ -218,10 +218,15 @@ def run(ctx: CaseContext) -> CaseOutcome:
         zp, cy = inp.zona_material_file, inp.cytoplasm_material_file
         ctx.step(f"materials: {zp.name}, {cy.name}")
         mats = OocyteMaterials(read_material_file(zp), read_material_file(cy), zp, cy)
+        origin = f"read from the case's files `{zp.name}` and `{cy.name}`"
     else:
         afm_dir = (ctx.case_dir / inp.material_case).resolve()
         ctx.step(f"materials: re-running {afm_dir.name} into material/")
         mats = materials_from_afm_case(afm_dir, ctx.output("material"), ctx.log, ctx.quick)
+        origin = (
+            f"regenerated through afm by re-running `{inp.material_case}`: files "
+            "`material/material_zp.toml`, `material/material_cytoplasm.toml`"
+        )
     mats = mats.with_moduli(inp.zona_E_kPa, inp.cytoplasm_E_kPa)
     pipette = NeckedPipette(inp.bore_diameter_um / 2, inp.neck_diameter_um / 2, inp.taper_length_um)
     geometry = {"cytoplasm_radius_um": inp.cytoplasm_radius_um, "zona_um": inp.zona_thickness_um}
@@ -361,7 +366,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         sections.append(report.mesh_section(study))
 
     figures.append(report.periphery_figure(ctx.output, main.points.polar_deg, runs))
-    sections = report.neck_sections(main, radial, deform, mats, sections, failures)
+    sections = report.neck_sections(main, radial, deform, mats, sections, failures, origin)
     checks = [
         Check(
             "volume conserved (nu = 0.5) within 0.5 %",

@@ -137,9 +137,11 @@ def neck_sections(
     mats: OocyteMaterials,
     comparisons: list[Section],
     failures: list[str],
+    materials_origin: str,
 ) -> list[Section]:
-    """The report's sections: the main run's points and materials, the ``comparisons``
-    (elastic, sensitivity, mesh study), the solver's cost and the runs that stopped early."""
+    """The report's sections: the main run's points and materials (``materials_origin``: where
+    they came from), the ``comparisons`` (elastic, sensitivity, mesh study), the solver's cost
+    and the runs that stopped early."""
     pts = table(
         ["polar angle (deg)", "radial inward -u_R (um)", "deformation (um)"],
         [
@@ -150,8 +152,7 @@ def neck_sections(
     materials = (
         f"ZP: E0 = {mats.zona.E_kPa:.4g} kPa, g = {mats.zona.prony.g}, "
         f"tau = {mats.zona.prony.tau_s} s; cytoplasm: E = "
-        f"{mats.cytoplasm.E_kPa:.4g} kPa (elastic). Files: "
-        "`material/material_zp.toml`, `material/material_cytoplasm.toml`."
+        f"{mats.cytoplasm.E_kPa:.4g} kPa (elastic); {materials_origin}."
     )
     steps = main.steps
     body = main.problem.body
@@ -162,7 +163,7 @@ def neck_sections(
     )
     sections = [
         ("Peripheral deformation at t_end (main run)", pts),
-        ("Materials (regenerated through afm)", materials),
+        ("Materials", materials),
         *comparisons,
         ("Solver", solver),
     ]
