@@ -20,7 +20,7 @@ import numpy as np
 
 from oocyte_fe.microchannel.vof.casewriter import UM, VofSetup, write_case
 from oocyte_fe.microchannel.vof.foamfile import field_values, read_internal_field, write_dictionary
-from oocyte_fe.microchannel.vof.geometry import _SIDES, Layout, _cells, _patch
+from oocyte_fe.microchannel.vof.geometry import _SIDES, Layout, _cells, block_mesh_dict
 from oocyte_fe.microchannel.vof.runner import OpenFoam, run_utility
 
 _Z_SIDES = {"zmin": (0, 3, 2, 1), "zmax": (4, 5, 6, 7)}
@@ -50,14 +50,7 @@ def extruded_mesh_dict(layout: Layout, depth: float) -> dict:
     walls = [face(i, _SIDES[s]) for i, s in layout.exterior_sides() if (i, s) not in named]
     walls += [face(i, c) for i in range(len(layout.blocks)) for c in _Z_SIDES.values()]
     boundary["walls"] = {"type": "wall", "faces": walls}
-    return {
-        "scale": 1e-6,
-        "vertices": "(\n" + "\n".join(vertices) + "\n)",
-        "blocks": "(\n" + "\n".join(blocks) + "\n)",
-        "edges": "()",
-        "boundary": "(\n" + "\n".join(_patch(k, v) for k, v in boundary.items()) + "\n)",
-        "mergePatchPairs": "()",
-    }
+    return block_mesh_dict(vertices, blocks, boundary)
 
 
 def _outlet(layout: Layout) -> tuple[int, tuple[int, ...]]:

@@ -153,14 +153,7 @@ class Layout:
             "(" + " ".join(str(lab[k]) for k in (4, 5, 6, 7)) + ")" for lab in labels
         ]
         boundary["frontAndBack"] = {"type": "empty", "faces": front}
-        return {
-            "scale": 1e-6,
-            "vertices": "(\n" + "\n".join(vertices) + "\n)",
-            "blocks": "(\n" + "\n".join(blocks) + "\n)",
-            "edges": "()",
-            "boundary": "(\n" + "\n".join(_patch(k, v) for k, v in boundary.items()) + "\n)",
-            "mergePatchPairs": "()",
-        }
+        return block_mesh_dict(vertices, blocks, boundary)
 
     def inlet_velocity(self, name: str) -> np.ndarray:
         """(n_faces, 3) plane-Poiseuille velocity (um/s) on inlet ``name``: 1.5 U (1 - s^2)."""
@@ -173,6 +166,19 @@ class Layout:
         speed = 1.5 * inlet.velocity * (1.0 - s**2)
         normal = {"xmin": (1, 0), "xmax": (-1, 0), "ymin": (0, 1), "ymax": (0, -1)}[inlet.side]
         return np.column_stack([speed * normal[0], speed * normal[1], 0.0 * speed])
+
+
+def block_mesh_dict(vertices: list[str], blocks: list[str], boundary: dict[str, dict]) -> dict:
+    """The entries of ``system/blockMeshDict`` (coordinates in um, ``scale`` to m) from the
+    vertex and block lines and the patches (name -> type and face lines)."""
+    return {
+        "scale": 1e-6,
+        "vertices": "(\n" + "\n".join(vertices) + "\n)",
+        "blocks": "(\n" + "\n".join(blocks) + "\n)",
+        "edges": "()",
+        "boundary": "(\n" + "\n".join(_patch(k, v) for k, v in boundary.items()) + "\n)",
+        "mergePatchPairs": "()",
+    }
 
 
 def _patch(name: str, spec: dict) -> str:
