@@ -10,11 +10,10 @@ nanite's default preprocessing on its side (``compute_tip_position``, ``correct_
 and retract as one segment), its fit (lmfit, free baseline offset, contact-point weight
 ``weight_cp``) over the whole approach; on our side ``read_curves`` (height channel chosen as
 nanite does) and ``fit_indentation`` (baseline line removed, contact point free) over the
-whole approach. Models: Sneddon cone 30 deg, Hertz paraboloid R = 10 um, pyramid 25 deg; nu 0.5.
-
-nanite's pyramid is three-sided (F = 0.8887 tan(a) E/(1-nu^2) delta^2), ours four-sided
-(Bilodeau, 0.7453): both are the same delta^2 law, so nanite's E is compared after the exact
-rescaling E * 0.8887 / 0.7453.
+whole approach. Models: Sneddon cone 30 deg, Hertz paraboloid R = 10 um, three-sided pyramid
+25 deg (nanite's only pyramid, ``hertz_pyr3s``; ours ``pyramid_3s``); nu 0.5. The four-sided
+pyramid (``pyramid``) is the same delta^2 law with another constant (0.7453 for 0.8887), so its E
+is the three-sided one times 0.8887 / 0.7453 exactly: it is not a separate row of the table.
 
 Files without the spring constant or sensitivity are read with the values afmformats' own
 tests pass for them (:data:`METADATA`). Prints a table: file, curve, model, E ours, E nanite,
@@ -38,10 +37,10 @@ from afm.fit import fit_indentation
 from afm.nanite_pipeline import fit_nanite_default
 
 MODELS = {
-    # ours: (nanite key, our geometry, nanite geometry parameter and value, E factor)
-    "sneddon_cone": ("hertz_cone", {"half_angle_deg": 30.0}, ("alpha", 30.0), 1.0),
-    "hertz_paraboloid": ("hertz_para", {"radius_um": 10.0}, ("R", 10e-6), 1.0),
-    "pyramid": ("hertz_pyr3s", {"face_angle_deg": 25.0}, ("alpha", 25.0), 0.8887 / 0.7453),
+    # ours: (nanite key, our geometry, nanite geometry parameter and value)
+    "sneddon_cone": ("hertz_cone", {"half_angle_deg": 30.0}, ("alpha", 30.0)),
+    "hertz_paraboloid": ("hertz_para", {"radius_um": 10.0}, ("R", 10e-6)),
+    "pyramid_3s": ("hertz_pyr3s", {"face_angle_deg": 25.0}, ("alpha", 25.0)),
 }
 
 METADATA = {
@@ -92,14 +91,14 @@ def metadata_for(path: Path) -> tuple[float | None, float | None]:
 def nanite_fit(
     idnt, model: str, weight_cp_m: float = NANITE_WEIGHT_CP_M
 ) -> tuple[float, float, float]:
-    """nanite's E [kPa] (rescaled to our tip model), contact point [um] and baseline [nN].
+    """nanite's E [kPa], contact point [um] and baseline [nN].
 
     ``weight_cp_m = 0`` switches nanite's contact-point weighting off.
 
     The contact point is in nanite's tip position, turned to our sign (increasing towards the
     sample).
     """
-    key, _, (gname, gvalue), factor = MODELS[model]
+    key, _, (gname, gvalue) = MODELS[model]
     params = idnt.get_initial_fit_parameters(model_key=key)
     for param in params.values():  # float32 columns (HDF5) give float32 values nanite can't hash
         param.set(value=float(param.value))
@@ -113,7 +112,7 @@ def nanite_fit(
         weight_cp=weight_cp_m,
     )
     fitted = idnt.fit_properties["params_fitted"]
-    e = fitted["E"].value * 1e-3 * factor
+    e = fitted["E"].value * 1e-3
     return e, -fitted["contact_point"].value * 1e6, fitted["baseline"].value * 1e9
 
 
@@ -156,7 +155,7 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
         # nanite clips the whole record (approach and retract) at its largest force
         n_max = int(np.argmax(idnt["force"]))
         for model in models:
-            _, geometry, _, _ = MODELS[model]
+            _, geometry, _ = MODELS[model]
             note = ""
             try:
                 ours = fit_nanite_default(curve, model, geometry, 0.5, n_max=n_max)
@@ -206,10 +205,13 @@ def main(folder: str | None = None) -> None:
         f"{'diff':>8s} {'x0 diff nm':>10s} {'E default':>10s} {'vs nanite':>9s} "
         f"{'E nanite w=0':>12s} {'vs w=0':>8s}  default quality"
     )
+    compared = []
     for path in sorted(data.iterdir()):
         if "-fd" not in path.name:
             continue
         for r in parity_rows(path):
+            if np.isfinite(r.difference):
+                compared.append(r)
             print(
                 f"{r.file[:58]:58s} {r.curve:5d} {r.model:17s} {r.E_ours_kPa:10.4g} "
                 f"{r.E_nanite_kPa:10.4g} {r.difference:8.2%} {r.contact_diff_nm:10.2f} "
@@ -217,6 +219,14 @@ def main(folder: str | None = None) -> None:
                 f"{r.E_nanite_unweighted_kPa:12.4g} {r.default_unweighted_difference:8.1%}  "
                 f"{r.default_quality[:70]} {r.note[:60]}"
             )
+    if compared:
+        d_e = max(abs(r.difference) for r in compared)
+        within = sum(abs(r.contact_diff_nm) < 10.0 for r in compared)
+        d_x = max(abs(r.contact_diff_nm) for r in compared)
+        print(
+            f"\n{len(compared)} fits: max |dE| {d_e:.2%} (goal 1 %), contact point within 10 nm "
+            f"on {within} of {len(compared)} (max {d_x:.2f} nm)"
+        )
 
 
 if __name__ == "__main__":

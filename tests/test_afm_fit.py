@@ -20,6 +20,7 @@ GEOMETRIES = {
     "hertz_paraboloid": {"radius_um": 5.0},
     "hertz_sphere": {"radius_um": 5.0},
     "pyramid": {"face_angle_deg": 35.0},
+    "pyramid_3s": {"face_angle_deg": 35.0},
 }
 
 

@@ -14,11 +14,18 @@ GEOMETRIES = {
     "hertz_paraboloid": {"radius_um": 5.0},
     "hertz_sphere": {"radius_um": 5.0},
     "pyramid": {"face_angle_deg": 35.0},
+    "pyramid_3s": {"face_angle_deg": 35.0},
 }
 
 
-def test_registry_lists_the_four_tip_models():
-    assert set(MODELS) == {"sneddon_cone", "hertz_paraboloid", "hertz_sphere", "pyramid"}
+def test_registry_lists_the_five_tip_models():
+    assert set(MODELS) == {
+        "sneddon_cone",
+        "hertz_paraboloid",
+        "hertz_sphere",
+        "pyramid",
+        "pyramid_3s",
+    }
 
 
 @pytest.mark.parametrize("key", sorted(MODELS))
@@ -68,6 +75,8 @@ def test_pyramid_and_paraboloid_closed_forms():
     d = np.array([1.0])
     pyr = get_model("pyramid").force(d, 2.0, {"face_angle_deg": 35.0}, 0.5)[0]
     assert pyr == pytest.approx(0.7453 * 2.0 / 0.75 * math.tan(math.radians(35.0)))
+    pyr3 = get_model("pyramid_3s").force(d, 2.0, {"face_angle_deg": 35.0}, 0.5)[0]
+    assert pyr3 == pytest.approx(0.8887 * 2.0 / 0.75 * math.tan(math.radians(35.0)))
     par = get_model("hertz_paraboloid").force(d, 2.0, {"radius_um": 4.0}, 0.5)[0]
     assert par == pytest.approx(4 / 3 * 2.0 / 0.75 * 2.0)
 

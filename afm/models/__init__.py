@@ -3,7 +3,7 @@
 Importing this package imports every model module so that the registry is complete.
 """
 
-from afm.models import hertz_paraboloid, hertz_sphere, pyramid, sneddon_cone
+from afm.models import hertz_paraboloid, hertz_sphere, pyramid, pyramid_3s, sneddon_cone
 from afm.models.registry import (
     CONTACT_POINT,
     FIT_PARAMETERS,
@@ -29,5 +29,6 @@ __all__ = [
     "hertz_sphere",
     "indentation_model",
     "pyramid",
+    "pyramid_3s",
     "sneddon_cone",
 ]
