@@ -151,12 +151,16 @@ def fit_batch(
 
 
 def write_batch_table(
-    result: BatchResult, path: str | Path, relative_to: str | Path | None = None
+    result: BatchResult,
+    path: str | Path,
+    relative_to: str | Path | None = None,
+    plot_links: Mapping[int, str] | None = None,
 ) -> Path:
     """One CSV row per curve: moduli, contact points, R^2, residual, quality, height channel,
     map index and position, error.
 
-    File names are written relative to ``relative_to`` when given.
+    File names are written relative to ``relative_to`` when given. ``plot_links`` (row index ->
+    path of the row's plot) adds a ``plot`` column before ``error``.
     """
     path = Path(path)
     header = [
@@ -175,14 +179,15 @@ def write_batch_table(
         "curve_index",
         "map_x_um",
         "map_y_um",
+        *(["plot"] if plot_links is not None else []),
         "error",
     ]
     with path.open("w", newline="") as fh:
         writer = csv.writer(fh)
         writer.writerow(header)
-        for r in result.rows:
+        for i, r in enumerate(result.rows):
             f, c, pos = r.fit, r.cytoplasm, r.map_position_um
-            name = Path(r.file).relative_to(relative_to) if relative_to else r.file
+            name = Path(r.file).relative_to(relative_to).as_posix() if relative_to else r.file
             writer.writerow(
                 [
                     str(name),
@@ -200,6 +205,7 @@ def write_batch_table(
                     "" if r.curve_index is None else r.curve_index,
                     f"{pos[0]:.6g}" if pos else "",
                     f"{pos[1]:.6g}" if pos else "",
+                    *([plot_links.get(i, "")] if plot_links is not None else []),
                     r.error,
                 ]
             )

@@ -69,7 +69,9 @@ def run(
     ),
     quick: bool = typer.Option(False, "--quick", help="Coarse settings (the [quick] table)."),
     full: bool = typer.Option(
-        False, "--full", help="Also run the heavy extras: the cases marked full = true."
+        False,
+        "--full",
+        help="The heavy extras too: the [full] overrides (fine meshes) and the heavy = true cases.",
     ),
     quiet: bool = typer.Option(False, "-q", "--quiet", help="No progress; the summary only."),
     verbose: bool = typer.Option(
@@ -101,14 +103,14 @@ def run(
                 highlight=False,
             )
         for name in run_plan.skipped:
-            console.print(f"{name:32s} [dim]full only (run with --full)[/]", highlight=False)
+            console.print(f"{name:32s} [dim]heavy (run with --full)[/]", highlight=False)
         for name, err in run_plan.invalid:
             console.print(f"{name:32s} [red]INVALID[/] {escape(err)}", highlight=False)
         raise typer.Exit(0 if not run_plan.invalid else 2)
     for name, err in run_plan.invalid:
         err_console.print(f"[bold red]invalid case {name}:[/] {escape(err)}", highlight=False)
     if run_plan.skipped and not quiet:
-        console.print(f"Not run (full only, add --full): {', '.join(run_plan.skipped)}")
+        console.print(f"Not run (heavy, add --full): {', '.join(run_plan.skipped)}")
     n = len(run_plan.cases)
     live = console.is_terminal and not quiet and not verbose
     display = (

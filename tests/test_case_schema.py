@@ -237,3 +237,30 @@ def test_library_argument_errors_inside_a_run_name_the_case_file(tmp_path: Path)
     with pytest.raises(InputError) as err:
         loaded.kind.run(ctx)
     assert str(err.value).startswith(str(case / "case.toml") + ": inputs (passed on as argument")
+
+
+def test_full_table_overrides_inputs_and_quick_overrides_both(tmp_path: Path) -> None:
+    case = _copy(tmp_path, "fe_verification")
+    assert load_case(case).inputs.hertz_fractions == [1.0, 0.5, 0.25]
+    assert load_case(case, full=True).inputs.hertz_fractions == [0.5, 0.25, 0.125]
+    both = load_case(case, quick=True, full=True)
+    assert both.inputs.shell_size_um == 4.0  # [quick] over [full] over [inputs]
+    assert both.full and both.quick
+    assert both.raw_inputs["hertz_fractions"] == [1.0, 0.5, 0.25]
+
+
+def test_bad_full_override_is_named_in_its_table_even_without_full(tmp_path: Path) -> None:
+    case = _copy(tmp_path, "fe_verification")
+    _edit(case, "hertz_fractions = [0.5, 0.25, 0.125]", "hertz_fractions = [0.5, -1.0]")
+    with pytest.raises(InputError, match=r"full\.hertz_fractions"):
+        load_case(case)
+    _edit(case, "hertz_fractions = [0.5, -1.0]", "hertz_fraction = [0.5]")
+    with pytest.raises(InputError, match=r"full\.hertz_fraction: .*did you mean 'hertz_fractions'"):
+        load_case(case)
+
+
+def test_old_full_flag_points_to_heavy(tmp_path: Path) -> None:
+    case = _copy(tmp_path, "sweep_spindle_offset")
+    _edit(case, "heavy = true", "full = true")
+    with pytest.raises(InputError, match=r"full: .*heavy = true"):
+        load_case(case)

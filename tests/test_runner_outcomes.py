@@ -257,7 +257,7 @@ def test_full_only_cases_run_with_full_only_or_by_folder(tmp_path: Path) -> None
     cases = tmp_path / "cases"
     make_case(cases, "light", GOOD)
     heavy = make_case(
-        cases, "heavy", GOOD.replace('description = "echo"', 'description = "e"\nfull = true')
+        cases, "heavy", GOOD.replace('description = "echo"', 'description = "e"\nheavy = true')
     )
     assert [c.name for c in plan([cases]).cases] == ["light"]
     assert plan([cases]).skipped == ["heavy"]

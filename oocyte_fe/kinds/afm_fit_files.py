@@ -22,7 +22,7 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 
 from afm import plotting
-from afm.batch import BatchResult, curve_files, fit_batch
+from afm.batch import BatchResult, curve_files, fit_batch, write_batch_table
 from afm.creep import fit_creep
 from afm.curve_io import read_creep
 from afm.curve_plots import plot_curves, plot_name
@@ -132,23 +132,6 @@ METRICS = {
     "max_known_error_pct": "largest |E / E_known - 1| over curves with a known modulus, %",
 }
 
-TABLE_COLUMNS = [
-    "file",
-    "group",
-    "E_kPa",
-    "contact_point_um",
-    "r_squared",
-    "residual_rms_nN",
-    "quality",
-    "contact_method",
-    "height_channel",
-    "curve_index",
-    "map_x_um",
-    "map_y_um",
-    "plot",
-    "error",
-]
-
 
 def _inside(case_dir: Path, path: Path, field: str) -> Path:
     resolved = path.resolve()
@@ -183,36 +166,6 @@ def _regroup(result: BatchResult, case_dir: Path, groups: dict[str, str]) -> Non
             if fnmatch.fnmatch(relative, pattern):
                 result.rows[i] = replace(row, group=name)
                 break
-
-
-def write_fit_table(result: BatchResult, path: Path, case_dir: Path, plots: set[str]) -> Path:
-    """``fits.csv``: one row per curve (columns :data:`TABLE_COLUMNS`; empty where unknown)."""
-    with path.open("w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(TABLE_COLUMNS)
-        for r in result.rows:
-            f = r.fit
-            pos, index = r.map_position_um, r.curve_index
-            plot = f"curve_plots/{plot_name(r)}" if plot_name(r) in plots else ""
-            writer.writerow(
-                [
-                    Path(r.file).relative_to(case_dir).as_posix(),
-                    r.group,
-                    f"{f.E_kPa:.6g}" if f else "",
-                    f"{f.contact_point_um:.6g}" if f else "",
-                    f"{f.r_squared:.6f}" if f else "",
-                    f"{f.residual_rms_nN:.4g}" if f else "",
-                    f.quality if f else "error",
-                    f.contact_method if f else "",
-                    r.height_channel,
-                    "" if index is None else index,
-                    f"{pos[0]:.6g}" if pos else "",
-                    f"{pos[1]:.6g}" if pos else "",
-                    plot,
-                    r.error,
-                ]
-            )
-    return path
 
 
 def _known(path: Path) -> dict[str, float]:
@@ -291,7 +244,10 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("plots")
     plot_dir = ctx.output("curve_plots/.keep").parent
     plots = {p.name for p in plot_curves(result, plot_dir, workers=PLOT_WORKERS)}
-    write_fit_table(result, ctx.output("fits.csv"), case_dir, plots)
+    links = {
+        i: f"curve_plots/{plot_name(r)}" for i, r in enumerate(result.rows) if plot_name(r) in plots
+    }
+    write_batch_table(result, ctx.output("fits.csv"), case_dir, links)
     groups = sorted({r.group for r in good})
     by_group = {g: np.array([r.fit.E_kPa for r in good if r.group == g]) for g in groups}
     figures = []

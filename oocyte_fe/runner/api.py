@@ -100,13 +100,15 @@ def run_case(
     out: Path | str = "results",
     quick: bool = False,
     events: EventSink = ignore,
+    full: bool = False,
 ) -> CaseRun:
     """Run the case folder ``path`` into ``out/<case>/`` in this process and read it back.
 
+    ``quick``/``full`` apply the case's ``[quick]``/``[full]`` input overrides.
     Raises :class:`oocyte_fe.errors.InputError` for an invalid case; a case that fails or
     raises is returned with status ``FAIL``/``ERROR`` (its reason in ``result.reason``).
     """
-    case = load_case(path, quick=quick)
+    case = load_case(path, quick=quick, full=full)
     out_root = Path(out)
     check_writable(out_root)
     clean_stale(out_root)

@@ -6,9 +6,10 @@ The format (see ``docs/cases.md``)::
     description = "..."
     reading = "..."                    # optional: how an ambiguous paper was read
     timeout_s = 600                    # optional (default 1800 s)
-    full = true                        # optional: a heavy extra, run only with --full
+    heavy = true                       # optional: a heavy extra, run only with --full
     [inputs]   ...                     # checked against the kind's schema
     [quick]    ...                     # optional: input overrides for ``--quick``
+    [full]     ...                     # optional: input overrides for ``--full`` (fine meshes)
     [reference.NAME]  value = 7.01, source = "seed 001, Section 3.1", unit = "kPa"
     [tolerances.NAME] rel = 0.05       # or abs, min, max (any combination)
     [sweep]    ...                     # optional: a parameter sweep (see docs/sweeps.md)
@@ -173,12 +174,13 @@ class CaseSpec(BaseModel):
     kind: str = Field(min_length=1)
     description: str = Field(min_length=1)
     reading: str | None = None
-    full: bool = Field(default=False, strict=True, description="heavy: run only with --full/--only")
+    heavy: bool = Field(default=False, strict=True, description="run only with --full/--only")
     timeout_s: float | None = Field(
         default=DEFAULT_TIMEOUT_S, gt=0, le=MAX_TIMEOUT_S, strict=True, description="limit, s"
     )
     inputs: dict[str, Any] = Field(default_factory=dict)
     quick: dict[str, Any] = Field(default_factory=dict)
+    full: dict[str, Any] = Field(default_factory=dict)
     reference: dict[str, Reference] = Field(default_factory=dict)
     tolerances: dict[str, Tolerance] = Field(default_factory=dict)
     sweep: SweepSpec | None = None
@@ -186,7 +188,8 @@ class CaseSpec(BaseModel):
 
 @dataclass(frozen=True)
 class Case:
-    """A validated case, ready to run (``quick``: loaded with the ``[quick]`` overrides)."""
+    """A validated case, ready to run (``quick``/``full``: loaded with the ``[quick]``/``[full]``
+    overrides)."""
 
     name: str
     directory: Path
@@ -194,6 +197,12 @@ class Case:
     kind: CaseKind
     inputs: BaseModel
     quick: bool = False
+    full: bool = False
+
+    @property
+    def raw_inputs(self) -> dict[str, Any]:
+        """``[inputs]`` as written, with the overrides this case was loaded with."""
+        return overridden(self.spec, self.quick, self.full)
 
     @property
     def file(self) -> Path:
@@ -347,16 +356,34 @@ def check_data_files(file: Path, inputs: BaseModel) -> None:
             check_data_files(file, value)
 
 
-def load_case(directory: Path | str, quick: bool = False, kind_module: str | None = None) -> Case:
+def overridden(spec: CaseSpec, quick: bool = False, full: bool = False) -> dict[str, Any]:
+    """``[inputs]`` with ``[full]`` (if ``full``) and then ``[quick]`` (if ``quick``) merged over
+    it: ``--quick --full`` runs the heavy cases on coarse settings."""
+    return {**spec.inputs, **(spec.full if full else {}), **(spec.quick if quick else {})}
+
+
+def load_case(
+    directory: Path | str, quick: bool = False, kind_module: str | None = None, full: bool = False
+) -> Case:
     """Read, validate and resolve one case folder.
 
-    ``quick`` merges the ``[quick]`` table over ``[inputs]``. Data files are read with the
-    readers ``run`` uses, so a case that loads has readable data. Raises :class:`InputError`.
+    ``full`` merges the ``[full]`` table over ``[inputs]``, ``quick`` the ``[quick]`` table over
+    both. Every override table is validated whichever is asked for (``validate`` sees them all).
+    Data files are read with the readers ``run`` uses, so a case that loads has readable data.
+    Raises :class:`InputError`.
     """
     directory = Path(directory)
     file = directory / CASE_FILE
     raw = read_toml(file)
     _raw_numbers(file, raw)
+    if isinstance(raw.get("full"), bool):
+        raise InputError(
+            file,
+            "full",
+            "a [full] table of input overrides for --full (a case that runs only with --full "
+            "says heavy = true)",
+            got=raw["full"],
+        )
     try:
         spec = CaseSpec.model_validate(raw)
     except ValidationError as exc:
@@ -377,21 +404,34 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
     for key, tol in spec.tolerances.items():
         if tol.needs_reference and key not in spec.reference:
             raise InputError(file, f"tolerances.{key}", f"a [reference.{key}] to be relative to")
-    unknown_quick = set(spec.quick) - set(kind.inputs.model_fields)
-    if unknown_quick:
-        key = sorted(unknown_quick)[0]
-        hint = did_you_mean(key, list(kind.inputs.model_fields))
-        raise InputError(file, f"quick.{key}", f"a key of [inputs] to override{hint}")
-    merged = {**spec.inputs, **spec.quick}
-    tables = [merged] if quick else [dict(spec.inputs)] + ([merged] if spec.quick else [])
+    for table in ("quick", "full"):
+        unknown = set(getattr(spec, table)) - set(kind.inputs.model_fields)
+        if unknown:
+            key = sorted(unknown)[0]
+            hint = did_you_mean(key, list(kind.inputs.model_fields))
+            raise InputError(file, f"{table}.{key}", f"a key of [inputs] to override{hint}")
+    # the asked-for merge first (it is the one used), then each override table alone, so that
+    # `validate` sees them all; a bad value is named in the table it comes from
+    tables = [(overridden(spec, quick, full), quick, full)] + [
+        (overridden(spec, **{name: True}), name == "quick", name == "full")
+        for name in ("quick", "full")
+        if getattr(spec, name) and overridden(spec, **{name: True}) != overridden(spec, quick, full)
+    ]
     validated = []
-    for data in tables:  # [quick] is checked without --quick too: `validate` sees it
+    for data, with_quick, with_full in tables:
         try:
             validated.append(kind.inputs.model_validate(data, context={"case_dir": directory}))
         except ValidationError as exc:
             loc = exc.errors()[0]["loc"]
-            table = "quick." if data is merged and loc and str(loc[0]) in spec.quick else "inputs."
-            raise_validation_error(file, exc, prefix=table, model=kind.inputs)
+            key = str(loc[0]) if loc else ""
+            table = (
+                "quick"
+                if with_quick and key in spec.quick
+                else "full"
+                if with_full and key in spec.full
+                else "inputs"
+            )
+            raise_validation_error(file, exc, prefix=f"{table}.", model=kind.inputs)
     inputs = validated[0]
     check_data_files(file, inputs)
     if spec.sweep:
@@ -403,7 +443,7 @@ def load_case(directory: Path | str, quick: bool = False, kind_module: str | Non
             resolved_inputs(inputs),
             lambda d: kind.inputs.model_validate(d, context={"case_dir": directory}),
         )
-    return Case(directory.name, directory, spec, kind, inputs, quick)
+    return Case(directory.name, directory, spec, kind, inputs, quick, full)
 
 
 def discover(paths: list[Path]) -> list[Path]:

@@ -51,7 +51,8 @@ def run_one(
     verbose: bool = False,
 ) -> CaseResult:
     """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
-    events(ProgressEvent(case.name, "start", "started (quick)" if quick else "started"))
+    settings = ", ".join(name for name, on in (("quick", quick), ("full", case.full)) if on)
+    events(ProgressEvent(case.name, "start", f"started ({settings})" if settings else "started"))
     tmp = partial_folder(out_root, case.name)
     result = execute_case(case, tmp, quick, events, verbose)
     result = place_result(tmp, out_root / case.name, result)
@@ -65,7 +66,7 @@ class RunPlan:
 
     cases: list[Case]
     invalid: list[tuple[str, str]]  # (case name, one-line error)
-    skipped: list[str] = field(default_factory=list)  # full-only cases left out
+    skipped: list[str] = field(default_factory=list)  # heavy cases left out (no --full)
 
 
 def plan(
@@ -73,8 +74,9 @@ def plan(
 ) -> RunPlan:
     """Discover and validate cases. A malformed case is listed as invalid, not fatal.
 
-    Without ``full`` the cases marked ``full = true`` are skipped unless named in ``only`` or
-    given as a case folder of their own.
+    ``full`` loads every case with its ``[full]`` overrides and includes the cases marked
+    ``heavy = true``; without it those are skipped unless named in ``only`` or given as a case
+    folder of their own.
     """
     folders = discover(paths)
     if only:
@@ -90,11 +92,11 @@ def plan(
     cases, invalid, skipped = [], [], []
     for folder in folders:
         try:
-            case = load_case(folder, quick=quick)
+            case = load_case(folder, quick=quick, full=full)
         except InputError as exc:
             invalid.append((folder.name, str(exc)))
             continue
-        if case.spec.full and not (full or only or folder.resolve() in named):
+        if case.spec.heavy and not (full or only or folder.resolve() in named):
             skipped.append(case.name)
         else:
             cases.append(case)

@@ -201,6 +201,9 @@ def new_case(kind: CaseKind, folder: Path) -> list[Path]:
         "[quick]",
         "# overrides of [inputs] for --quick (coarse settings)",
         "",
+        "[full]",
+        "# overrides of [inputs] for --full (fine meshes, long records)",
+        "",
     ]
     folder.mkdir(parents=True, exist_ok=True)
     written = [folder / CASE_FILE]

@@ -65,7 +65,7 @@ def plan_samples(case: Case) -> list[PlannedSample]:
     if sweep is None:
         raise ValueError(f"case {case.name} has no [sweep] table")
     d = design(sweep, case.quick)
-    raw = {**case.spec.inputs, **case.spec.quick} if case.quick else dict(case.spec.inputs)
+    raw = case.raw_inputs
     base = resolved_inputs(case.inputs)
     spec = case.spec.model_copy(update={"reference": {}, "tolerances": {}, "sweep": None})
     planned = []
@@ -78,7 +78,7 @@ def plan_samples(case: Case) -> list[PlannedSample]:
         except (ValidationError, PathError) as exc:
             planned.append(PlannedSample(key, values, unit, None, str(exc).splitlines()[0]))
             continue
-        sample = Case(key, case.directory, spec, case.kind, inputs, case.quick)
+        sample = Case(key, case.directory, spec, case.kind, inputs, case.quick, case.full)
         planned.append(PlannedSample(key, values, unit, sample))
     return planned
 

@@ -22,8 +22,9 @@ STATUS = "status.json"
 def sample_key(kind: str, base_inputs: dict[str, Any], values: dict[str, Any]) -> str:
     """16 hex digits of SHA-256 over the kind, the case's inputs and the sampled values.
 
-    ``base_inputs`` is the raw ``[inputs]`` table (merged with ``[quick]`` when quick), so
-    the key does not depend on where the case folder lies; a changed input changes every key.
+    ``base_inputs`` is the raw ``[inputs]`` table (with the ``[full]``/``[quick]`` overrides the
+    case runs with), so the key does not depend on where the case folder lies; a changed input
+    changes every key.
     """
     text = json.dumps(
         {"kind": kind, "inputs": base_inputs, "values": values}, sort_keys=True, default=str
