@@ -24,58 +24,67 @@ Fraction = Annotated[float, Field(ge=1e-6, lt=1)]
 
 class CreepInputs(CaseInputs):
     E0_kPa: float = Field(
+        7.01,
         gt=0,
         description="instantaneous Young's modulus of the synthetic ZP",
         json_schema_extra={"unit": "kPa"},
     )
-    nu: float = Field(gt=-1, le=0.5, description="Poisson ratio", json_schema_extra={"unit": "1"})
+    nu: float = Field(
+        0.5, gt=-1, le=0.5, description="Poisson ratio", json_schema_extra={"unit": "1"}
+    )
     prony_g: list[Fraction] = Field(
+        default_factory=lambda: [0.3, 0.2],
         min_length=1,
         description="normalised relaxation terms g_i, each in [1e-6, 1), summing below 1",
         json_schema_extra={"unit": "1"},
     )
     prony_tau_s: list[RelaxationTime] = Field(
+        default_factory=lambda: [0.2, 1.5],
         min_length=1,
         description="relaxation times tau_i, each in [1e-4, 1e4] s",
         json_schema_extra={"unit": "s"},
     )
     half_angle_deg: float = Field(
-        gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}
+        10.0, gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}
     )
     clamp_force_nN: float = Field(
-        gt=0, description="force held during the creep", json_schema_extra={"unit": "nN"}
+        5.0, gt=0, description="force held during the creep", json_schema_extra={"unit": "nN"}
     )
     hold_s: float = Field(
-        gt=0, le=1e4, description="duration of the hold", json_schema_extra={"unit": "s"}
+        6.0, gt=0, le=1e4, description="duration of the hold", json_schema_extra={"unit": "s"}
     )
     sample_rate_Hz: float = Field(
+        1000.0,
         gt=0,
         le=1e5,
         description="samples per second of the record",
         json_schema_extra={"unit": "Hz"},
     )
     noise_fraction: float = Field(
+        0.002,
         ge=0,
         le=1,
         description="indentation noise SD / indentation",
         json_schema_extra={"unit": "1"},
     )
     force_noise_nN: float = Field(
-        ge=0, description="force noise SD during the clamp", json_schema_extra={"unit": "nN"}
+        0.02, ge=0, description="force noise SD during the clamp", json_schema_extra={"unit": "nN"}
     )
     plateau_height_um: float = Field(
-        description="scanner height at the end of the hold", json_schema_extra={"unit": "um"}
+        8.0, description="scanner height at the end of the hold", json_schema_extra={"unit": "um"}
     )
     spring_constant_N_per_m: float = Field(
-        gt=0, description="cantilever spring constant", json_schema_extra={"unit": "N/m"}
+        0.07, gt=0, description="cantilever spring constant", json_schema_extra={"unit": "N/m"}
     )
     per_decade: int = Field(
+        4,
         ge=1,
         le=20,
         description="NNLS grid: retardation times per decade",
         json_schema_extra={"unit": "1"},
     )
     cytoplasm_E_kPa: float = Field(
+        1.55,
         gt=0,
         description="elastic cytoplasm modulus (seed Table 1)",
         json_schema_extra={"unit": "kPa"},
