@@ -404,6 +404,15 @@ def test_cases_start_longest_first_by_their_last_run(tmp_path: Path) -> None:
         CaseResult(name, "test_echo", "PASS", 1, 1, seconds).write(out / name)
     order = [c.name for c in longest_first(plan([cases]).cases, out)]
     assert order == ["c", "b", "d", "a"]  # never run first, then by last run time
+    # a first run: a declared cost_s orders the cases; a last run time wins over it
+    for name, cost in (("a", 50.0), ("c", 10.0)):
+        text = (cases / name / "case.toml").read_text()
+        (cases / name / "case.toml").write_text(
+            text.replace('description = "echo"', f'description = "echo"\ncost_s = {cost}')
+        )
+    order = [c.name for c in longest_first(plan([cases]).cases, tmp_path / "fresh")]
+    assert order == ["b", "d", "a", "c"]  # no cost (b, d) first, then 50 s, then 10 s
+    assert [c.name for c in longest_first(plan([cases]).cases, out)] == ["b", "c", "d", "a"]
 
 
 def test_kind_text_reads_units_and_data_file_columns(tmp_path: Path) -> None:

@@ -4,8 +4,9 @@ Each step solves ``r(x) = f_int(x) - f_ext(x) = 0`` for ``x = [u | p]`` by Newto
 the exact tangent of :mod:`~oocyte_fe.fe.forms`, :mod:`~oocyte_fe.fe.contact` and
 :mod:`~oocyte_fe.fe.loads`; prescribed displacements enter as the first increment. The sparse
 system is saddle-point (indefinite at ``nu = 0.5``) and unsymmetric (friction, follower
-pressure), so it is solved with SuperLU (``scipy.sparse.linalg.splu``, partial pivoting,
-COLAMD ordering), which handles both; Cholesky or symmetric solvers would not.
+pressure), so it is solved with SuperLU and threshold partial pivoting on a nested-dissection
+order (:mod:`~oocyte_fe.fe.linear`), which handles both; Cholesky or symmetric solvers would
+not.
 
 A step converges when ``|r_u| <= rtol * max(|f_int|, |f_ext|, f_floor)`` and
 ``|r_p| <= rtol * V``, with the floor ``f_floor = 1e-6 E_max L^2`` (``2 pi`` more in
@@ -25,7 +26,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.sparse.linalg import splu
 from skfem import asm, condense
 
 from oocyte_fe.errors import InputError, SolverError
@@ -36,6 +36,7 @@ from oocyte_fe.fe.forms import (
     volume_constraint,
 )
 from oocyte_fe.fe.kinematics import Kinematics
+from oocyte_fe.fe.linear import SparseLU
 from oocyte_fe.fe.loads import (
     FollowerPressure,
     PinnedPoint,
@@ -140,6 +141,7 @@ class Problem:
             for b in prescribed
         ]
         self.control = control
+        self._linear = SparseLU()
         self.control_value = 0.0  # the controlled pressure [kPa] at the current state
         self._control_value = 0.0  # within a step (Newton iterate)
         if control is not None:
@@ -371,7 +373,7 @@ class Problem:
             dx[D] = target[D] - x[D]
             A, b, _, I = condense(K, -r, x=dx, D=D)
             try:
-                lu = splu(A.tocsc())
+                lu = self._linear.factorize(A)
                 dx[I] = lu.solve(b)
             except RuntimeError as exc:
                 raise _StepFailed(f"singular tangent ({exc})", res) from None

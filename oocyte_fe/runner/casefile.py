@@ -6,6 +6,7 @@ The format (see ``docs/cases.md``)::
     description = "..."
     reading = "..."                    # optional: how an ambiguous paper was read
     timeout_s = 600                    # optional (default 1800 s)
+    cost_s = 90                        # optional: typical run time, orders a first run
     heavy = true                       # optional: a heavy extra, run only with --full
     [inputs]   ...                     # checked against the kind's schema
     [quick]    ...                     # optional: input overrides for ``--quick``
@@ -177,6 +178,13 @@ class CaseSpec(BaseModel):
     heavy: bool = Field(default=False, strict=True, description="run only with --full/--only")
     timeout_s: float | None = Field(
         default=DEFAULT_TIMEOUT_S, gt=0, le=MAX_TIMEOUT_S, strict=True, description="limit, s"
+    )
+    cost_s: float | None = Field(
+        default=None,
+        gt=0,
+        le=MAX_TIMEOUT_S,
+        strict=True,
+        description="typical run time, s: cases never run before start longest first by it",
     )
     inputs: dict[str, Any] = Field(default_factory=dict)
     quick: dict[str, Any] = Field(default_factory=dict)

@@ -112,12 +112,15 @@ def default_jobs() -> int:
 
 
 def longest_first(cases: list[Case], out_root: Path) -> list[Case]:
-    """Cases ordered by their last run time in ``out_root`` (longest first, so parallel runs
-    end together); cases never run before go first, in their given order."""
+    """Cases ordered by their last run time in ``out_root``, or their ``cost_s`` when they have
+    not run there (longest first, so parallel runs end together, as CTest's COST property);
+    cases with neither go first, in their given order."""
 
     def last_seconds(case: Case) -> float:
         found = read_result(out_root / case.name)
-        return found.seconds if found is not None else math.inf
+        if found is not None:
+            return found.seconds
+        return case.spec.cost_s if case.spec.cost_s is not None else math.inf
 
     return sorted(cases, key=last_seconds, reverse=True)
 
