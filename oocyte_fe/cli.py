@@ -98,9 +98,13 @@ def run(
         raise _fail(exc, debug) from None
     if list_:
         for case in run_plan.cases:
+            # one line a case: cut to the terminal's width there, whole in a file or pipe
             console.print(
                 f"{case.name:32s} {case.kind.name:28s} {escape(case.spec.description)}",
                 highlight=False,
+                no_wrap=True,
+                overflow="ellipsis" if console.is_terminal else "ignore",
+                crop=console.is_terminal,
             )
         for name in run_plan.skipped:
             console.print(f"{name:32s} [dim]heavy (run with --full)[/]", highlight=False)

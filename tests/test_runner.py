@@ -192,3 +192,7 @@ def test_cli_run_exit_codes_and_one_line_errors(tmp_path: Path) -> None:
     assert missing.exit_code == 2 and "a case folder" in missing.output
     listed = cli.invoke(app, ["run", str(cases), "--list"])
     assert "good" in listed.output and "INVALID" in listed.output
+    long = make_case(cases, "long", GOOD.replace('"echo"', '"' + "a long description " * 12 + '"'))
+    listed = cli.invoke(app, ["run", str(long), "--list"])  # not a terminal: one whole line
+    assert listed.output.strip().splitlines() == [listed.output.strip()]
+    assert listed.output.strip().endswith("a long description")
