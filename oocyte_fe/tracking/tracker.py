@@ -264,7 +264,7 @@ class Tracker:
         cfg = self.config
         self.n_frame += 1
         predicted = self.motion.predict() if self.motion else self.centre
-        rejected = False
+        rejected = note = False
         if self.lost:
             self.n_lost += 1
             cands = self._redetect(frame, predicted)
@@ -300,8 +300,7 @@ class Tracker:
                 self.n_lost = 0
                 eta = self.history.learning_rate(r)
                 anchor = self.anchor
-                if anchor and anchor.complete and r >= 1.0 and self.n_frame % 4 == 0:
-                    anchor.note(anchor.score(self._features(frame, self.centre)[0]))
+                note = anchor and anchor.complete and r >= 1.0 and self.n_frame % 4 == 0
                 if r >= 1.0 or self.history.n < cfg.policy.warmup:
                     self.apce_ref = self.apce_ref + apces
                     self.apce_n += 1
@@ -313,6 +312,8 @@ class Tracker:
             feats, _ = self._features(frame, self.centre)
             for model, xf in zip(self.models, feats, strict=True):
                 model.update(xf, self.yf, eta)
+            if note:  # the anchor's reference <A>, on the window just learnt from
+                self.anchor.note(self.anchor.score(feats))
             if self.anchor and r >= 1.0:
                 self.anchor.learn(feats, self.yf)
         w, h = self.size
