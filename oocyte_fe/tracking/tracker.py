@@ -12,7 +12,9 @@ model (:mod:`.motion`, as in ``MFAKCF``) the window is cut at the predicted cent
 target coasts on the prediction, and the grid is centred on the prediction, plus one window
 where the target was lost (the spindle may have stopped under the droplet); a peak with
 ``r_lost <= r < r_stop`` is doubtful and the centre coasts, and a lost target is taken back
-inside the motion model's validation gate at ``r >= r_lost``. The motion model's form and
+inside the motion model's validation gate at ``r >= r_lost``. In ``MFAKCF`` the grid widens
+the longer the target is lost, and a candidate is taken back only if the anchor template
+(the first reliable frames, :mod:`.anchor`) also recognises it. The motion model's form and
 settings were chosen on the benchmark's 6-sequence tuning subset (:mod:`.motion`,
 docs/tracking.md); ``r_lost`` / ``r_found`` on 5 sequences by the first version
 (:mod:`.update`).
@@ -31,6 +33,7 @@ import numpy as np
 from scipy import ndimage
 
 from oocyte_fe.tracking import kcf
+from oocyte_fe.tracking.anchor import Anchor
 from oocyte_fe.tracking.features import FEATURES
 from oocyte_fe.tracking.fusion import apce, fuse, fusion_weights
 from oocyte_fe.tracking.motion import CentreFilter, MotionModel
@@ -49,6 +52,12 @@ class TrackerConfig:
     adaptive: APCE fusion weights, adaptive learning rate and re-detection (MFAKCF); False
         gives a fixed learning rate ``policy.eta0`` and equal weights.
     redetect_radius: k of the ``(2k+1)^2`` re-detection grid, windows.
+    redetect_grow, redetect_max: while lost, k grows by one every ``redetect_grow`` frames
+        (0: never) up to ``redetect_max``, so the search widens the longer the target is
+        lost (a spindle pushed out of the window by the pipette).
+    verify, anchor_frames: a re-detected candidate is taken back only if the anchor
+        template (the mean filter of the first ``anchor_frames`` reliable frames) scores it
+        at least ``verify`` times its mean on tracked frames (:mod:`.anchor`; 0: no check).
     motion: Kalman prediction of the centre (:mod:`.motion`; adaptive trackers only): the
         window is cut at the predicted centre and a lost target coasts on the prediction;
         None holds the last position.
@@ -63,6 +72,10 @@ class TrackerConfig:
     adaptive: bool = True
     smooth_px: float = 0.0
     redetect_radius: int = 1
+    redetect_grow: int = 0
+    redetect_max: int = 1
+    verify: float = 0.0
+    anchor_frames: int = 30
     motion: MotionModel | None = None
     policy: UpdatePolicy = field(default_factory=UpdatePolicy)
 
@@ -74,12 +87,26 @@ class TrackerConfig:
             raise ValueError("cell must be >= 1 px and padding >= 0")
 
 
-MFAKCF = TrackerConfig(smooth_px=1.0, motion=MotionModel())
+MFAKCF = TrackerConfig(
+    smooth_px=1.0,
+    motion=MotionModel(),
+    redetect_grow=10,
+    redetect_max=3,
+    verify=0.6,
+    anchor_frames=30,
+)
 """The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update; the window
 is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients),
 and the centre is predicted by the damped constant-velocity Kalman filter of :mod:`.motion`
 (window cut at the prediction; on a doubtful peak and while lost the centre coasts, and the
-lost target is searched for around the prediction and where it was lost)."""
+lost target is searched for around the prediction and where it was lost). The search
+widens by one ring of windows every 10 lost frames up to 7 x 7 windows, and a candidate is
+taken back only if the anchor template of the first 30 reliable frames scores it at least
+0.6 times its mean (:mod:`.anchor`; chosen on the tuning subset, docs/tracking.md)."""
+
+MFAKCF_NO_ANCHOR = TrackerConfig(smooth_px=1.0, motion=MotionModel())
+"""MFAKCF before the anchor check and the widening search (the previous default); the
+benchmark script reports it as ``MFAKCF (no anchor)``."""
 
 MFAKCF_HOLD = TrackerConfig(smooth_px=1.0)
 """MFAKCF without the motion model (the lost target's position is held), as first built;
@@ -154,6 +181,9 @@ class Tracker:
             kcf.KcfModel.fit(xf, self.yf, config.kernel_sigma, config.lam) for xf in feats
         ]
         self.history = ReliabilityHistory(config.policy)
+        self.anchor = Anchor(self.models, config.anchor_frames) if config.verify > 0 else None
+        self.n_lost = 0
+        self.n_frame = 0
         self.apce_ref = np.zeros(len(feats))
         self.apce_n = 0
         use_motion = config.motion is not None and config.adaptive
@@ -189,29 +219,58 @@ class Tracker:
         a = apce(fused)
         return new, peak, a, self.history.reliability(peak, a), weights, apces
 
+    def _verified(self, frame: np.ndarray, cands: list):
+        """The best candidate (by r) that passes the re-find thresholds and the anchor check
+        ``A(z) >= verify <A>`` (:mod:`.anchor`); None if none does."""
+        p = self.config.policy
+        reference = self.anchor.reference
+        if reference is None:
+            return cands[0]
+        for cand in cands:
+            if cand[3] < p.r_lost:
+                return None
+            in_gate = (
+                self.motion is not None
+                and self.motion.gate_distance(cand[0]) < self.motion.model.gate
+            )
+            if cand[3] < p.r_found and not in_gate:
+                continue
+            feats, _ = self._features(frame, cand[0])
+            if self.anchor.score(feats) >= self.config.verify * reference:
+                return cand
+        return None
+
     def _redetect(self, frame: np.ndarray, around: tuple[float, float]):
-        """Best of the ``(2k+1)^2`` windows around ``around`` px and the window at the
-        position where the target was lost (module doc)."""
-        k = self.config.redetect_radius
+        """Candidates (best first by r) from the ``(2k+1)^2`` windows around ``around`` px
+        and the window at the position where the target was lost (module doc)."""
+        cfg = self.config
+        k = cfg.redetect_radius
+        if cfg.redetect_grow > 0:
+            k = min(k + self.n_lost // cfg.redetect_grow, max(cfg.redetect_max, k))
         step_y, step_x = self.shape[0] / 2, self.shape[1] / 2
-        best = None
+        cands = []
         if self.motion is not None:
-            best = self._detect(frame, self.lost_at)
+            cands.append(self._detect(frame, self.lost_at))
         for i in range(-k, k + 1):
             for j in range(-k, k + 1):
                 c = (around[0] + j * step_x, around[1] + i * step_y)
-                cand = self._detect(frame, c)
-                if best is None or cand[3] > best[3]:
-                    best = cand
-        return best
+                cands.append(self._detect(frame, c))
+        cands.sort(key=lambda c: -c[3])
+        return cands
 
     def step(self, frame: np.ndarray) -> FrameEstimate:
         """Track one frame (Algorithm 1, lines 5-9)."""
         frame = np.asarray(frame, dtype=np.float64)
         cfg = self.config
+        self.n_frame += 1
         predicted = self.motion.predict() if self.motion else self.centre
+        rejected = note = False
         if self.lost:
-            new, peak, a, r, weights, apces = self._redetect(frame, predicted)
+            self.n_lost += 1
+            cands = self._redetect(frame, predicted)
+            chosen = self._verified(frame, cands) if self.anchor else cands[0]
+            rejected = chosen is None
+            new, peak, a, r, weights, apces = cands[0] if rejected else chosen
         else:
             new, peak, a, r, weights, apces = self._detect(frame, predicted)
         if cfg.adaptive:
@@ -221,7 +280,7 @@ class Tracker:
                 and self.motion is not None
                 and self.motion.gate_distance(new) < self.motion.model.gate
             )
-            if (self.lost and r < p.r_found and not in_gate) or r < p.r_lost:
+            if rejected or (self.lost and r < p.r_found and not in_gate) or r < p.r_lost:
                 if not self.lost:
                     self.lost_at = self.centre
                 self.lost = True  # coast on the prediction (hold without motion model)
@@ -238,7 +297,10 @@ class Tracker:
                 else:  # doubtful peak (a droplet drags it): coast, keep the target
                     self.centre = predicted
                 self.lost = False
+                self.n_lost = 0
                 eta = self.history.learning_rate(r)
+                anchor = self.anchor
+                note = anchor and anchor.complete and r >= 1.0 and self.n_frame % 4 == 0
                 if r >= 1.0 or self.history.n < cfg.policy.warmup:
                     self.apce_ref = self.apce_ref + apces
                     self.apce_n += 1
@@ -250,6 +312,10 @@ class Tracker:
             feats, _ = self._features(frame, self.centre)
             for model, xf in zip(self.models, feats, strict=True):
                 model.update(xf, self.yf, eta)
+            if note:  # the anchor's reference <A>, on the window just learnt from
+                self.anchor.note(self.anchor.score(feats))
+            if self.anchor and r >= 1.0:
+                self.anchor.learn(feats, self.yf)
         w, h = self.size
         box = (self.centre[0] - w / 2, self.centre[1] - h / 2, w, h)
         return FrameEstimate(self.centre, box, r, eta, tuple(weights), self.lost)
