@@ -86,7 +86,7 @@ def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) ->
 
 @pytest.mark.slow
 def test_quick_vof_case_passes(tmp_path: Path) -> None:
-    """The quick junction case (coarse mesh, 300 hPa, 150 um of travel, second mesh and cap):
+    """The quick junction case (coarse mesh, 300 hPa, 150 um of travel, second mesh):
     cell-phase volumes conserved to 1e-3, ratio change between meshes <= 2 %."""
     from oocyte_fe.runner.run import plan, run_cases
 
