@@ -12,8 +12,11 @@ and the solver's CPU seconds. The studies (``--study``, several allowed):
   momentum predictor each pressure corrector is one Jacobi sweep of the (very viscous)
   momentum equation, so what matters is the sweeps per unit time N/dt, not dt.
 * ``chosen``: the chosen setting (1 x ``--correctors``) at dt and dt/2: its dt convergence.
-* ``parity``: 1 x 3 on meshes with an even and an odd number of cells across the channel
-  (dx = 12.5, 11.9, 10.4, 10 um): the dx = 10 um outlier.
+* ``cell``: 1 x 24 with Newtonian cell phases (at Table 3's eta_inf, at dt and dt/2; and at
+  46 Pa s, near rigid): does the number depend on the cell's viscosity?
+* ``alpha``: 1 x 24 with 2 alpha sub-cycles, and with interface compression cAlpha = 0.5.
+* ``parity``: 1 x 3 and 1 x 24 on meshes with an even and an odd number of cells across the
+  channel (dx = 12.5, 11.9, 10.4, 10 um): the dx = 10 um outlier.
 
     nice -n 10 python benchmarks/vof_convergence.py --study chosen   # 1 x 24, dt, dt/2: 4 CPU-min
     nice -n 10 python benchmarks/vof_convergence.py --study correctors parity
@@ -27,7 +30,8 @@ import tempfile
 from pathlib import Path
 
 from oocyte_fe.errors import SolverError
-from oocyte_fe.microchannel.vof.casewriter import Numerics
+from oocyte_fe.microchannel.viscosity import Rheology
+from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.junction import (
     junction_setup,
@@ -46,8 +50,10 @@ def _cpu_children() -> float:
 
 
 def studies(correctors: int) -> dict[str, list[tuple[str, float, float, dict]]]:
-    """Each study: (label, dx um, dt s, Numerics keywords)."""
+    """Each study: (label, dx um, dt s, Numerics keywords; ``cell``: Newtonian viscosities of
+    the ZP and the cytoplasm in Pa s in place of the capped Carreau phases)."""
     fast = {"pressure_rel_tol": 0.05}  # the correctors before the last: GAMG to 5 %
+    c24 = {"correctors": 24, **fast}
     return {
         "schemes": [
             ("1 x 3, Euler", 12.5, 1e-6, {}),
@@ -66,11 +72,33 @@ def studies(correctors: int) -> dict[str, list[tuple[str, float, float, dict]]]:
             (f"1 x {correctors}", 12.5, dt, {"correctors": correctors, **fast})
             for dt in (1e-6, 5e-7)
         ],
+        "cell": [
+            ("1 x 24, Newtonian eta_inf", 12.5, 1e-6, {**c24, "cell": (3.371, 1.368)}),
+            ("1 x 24, Newtonian eta_inf", 12.5, 5e-7, {**c24, "cell": (3.371, 1.368)}),
+            ("1 x 24, Newtonian 46 Pa s", 12.5, 1e-6, {**c24, "cell": (46.0, 46.0)}),
+        ],
+        "alpha": [
+            ("1 x 24, 2 alpha sub-cycles", 12.5, 1e-6, {**c24, "alpha_subcycles": 2}),
+            ("1 x 24, cAlpha 0.5", 12.5, 1e-6, {**c24, "compression": 0.5}),
+        ],
         "parity": [
-            (f"1 x 3, {round(250 / dx)} cells across", dx, 1e-6, {})
+            (f"1 x {n}, {round(250 / dx)} cells across", dx, 1e-6, kw)
+            for n, kw in ((3, {}), (24, c24))
             for dx in (12.5, 250 / 21, 250 / 24, 10.0)
         ],
     }
+
+
+def _phases(cell: tuple[float, float] | None) -> tuple[Phase, Phase, Phase]:
+    medium, zp, cytoplasm = seed_phases()
+    if cell is None:
+        return medium, zp, cytoplasm
+    newtonian = [Rheology.of("newtonian", mu=mu * 1e-3) for mu in cell]  # Pa s -> kPa s
+    return (
+        medium,
+        Phase(zp.name, newtonian[0], zp.density),
+        Phase(cytoplasm.name, newtonian[1], cytoplasm.density),
+    )
 
 
 def main() -> None:
@@ -91,10 +119,12 @@ def main() -> None:
     print("|---" * (6 + len(POSITIONS)) + "|")
     table = studies(args.correctors)
     with tempfile.TemporaryDirectory() as tmp:
-        for k, (label, dx, dt, kw) in enumerate(run for s in args.study for run in table[s]):
+        for k, (label, dx, dt, spec) in enumerate(run for s in args.study for run in table[s]):
+            kw = dict(spec)
+            cell = kw.pop("cell", None)
             numerics = Numerics(time_step=dt, end_time=end, write_interval=end / args.writes, **kw)
             sweeps = numerics.outer_correctors * numerics.correctors * 1e-6 / dt
-            setup = junction_setup(JunctionGeometry(), dx, *seed_phases(), u, u, numerics)
+            setup = junction_setup(JunctionGeometry(), dx, *_phases(cell), u, u, numerics)
             head = f"| {label} | {dx:.4g} | {dt:g} | {sweeps:g} |"
             cpu0 = _cpu_children()
             try:
