@@ -1,26 +1,37 @@
-"""Mesh and time-step convergence of the VOF junction's axis ratio (issue 20, verification 4).
+"""Why the VOF junction's deformation depended on dt, and the setting that converges (issue 20).
 
-The quick/Table 4 junction (2-D, three phases, seed_phases: eta0 capped at 46 Pa s) at one
-pressure, run until the cell has moved ``--travel`` um, on meshes of ratio 2 (default 25, 12.5,
-6.25 um); each reports the ratio b/a when the centroid crosses ``--x`` (um; 0 = the junction
-centre), the deformation 1 - b/a there, CPU-seconds and the cell's volume error. With three
-meshes: the observed order ``p = log2((f_4h - f_2h)/(f_2h - f_h))`` and the Richardson estimate
-``f_h + (f_h - f_2h)/(2^p - 1)`` of the deformation; ``--outer``/``--dt`` repeat the finest
-two meshes with another PIMPLE or time-step setting.
+The quick/Table 4 junction (2-D, three phases, seed_phases: eta0 capped at 46 Pa s) at 300 hPa,
+run until the cell has moved ``--travel`` um; each run prints the deformation 1 - b/a when the
+cell's centroid crosses x = -300, -150 and 0 um (0 = the junction centre, where Table 4 is
+read; the same position in every run, interpolated between writes), the time it gets to x = 0,
+and the solver's CPU seconds. The studies (``--study``, several allowed):
 
-    nice -n 10 python benchmarks/vof_convergence.py                  # 300 hPa, 3 meshes
-    nice -n 10 python benchmarks/vof_convergence.py --outer 3 --correctors 2
+* ``schemes``: the cases' old setting (PIMPLE 1 outer x 3 correctors, no momentum predictor)
+  at dt and dt/2, with Crank-Nicolson 0.9 in place of Euler, and with the momentum predictor.
+* ``correctors``: 1 x N at dt = 1e-6 s for N = 3 ... 48, and 1 x 3 at dt/2: without the
+  momentum predictor each pressure corrector is one Jacobi sweep of the (very viscous)
+  momentum equation, so what matters is the sweeps per unit time N/dt, not dt.
+* ``chosen``: the chosen setting (1 x ``--correctors``) at dt and dt/2: its dt convergence.
+* ``cell``: 1 x 24 with Newtonian cell phases (at Table 3's eta_inf, at dt and dt/2; and at
+  46 Pa s, near rigid): does the number depend on the cell's viscosity?
+* ``alpha``: 1 x 24 with 2 alpha sub-cycles, and with interface compression cAlpha = 0.5.
+* ``parity``: 1 x 3 and 1 x 24 on meshes with an even and an odd number of cells across the
+  channel (dx = 12.5, 11.9, 10.4, 10 um): the dx = 10 um outlier.
+
+    nice -n 10 python benchmarks/vof_convergence.py --study chosen   # 1 x 24, dt, dt/2: 4 CPU-min
+    nice -n 10 python benchmarks/vof_convergence.py --study correctors parity
 """
 
 from __future__ import annotations
 
 import argparse
-import math
 import resource
 import tempfile
 from pathlib import Path
 
-from oocyte_fe.microchannel.vof.casewriter import Numerics
+from oocyte_fe.errors import SolverError
+from oocyte_fe.microchannel.viscosity import Rheology
+from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.junction import (
     junction_setup,
@@ -30,78 +41,102 @@ from oocyte_fe.microchannel.vof.junction import (
 )
 from oocyte_fe.microchannel.vof.runner import find_openfoam
 
+POSITIONS = (-300.0, -150.0, 0.0)  # um, centroid x where 1 - b/a is read
+
 
 def _cpu_children() -> float:
     r = resource.getrusage(resource.RUSAGE_CHILDREN)
     return r.ru_utime + r.ru_stime
 
 
+def studies(correctors: int) -> dict[str, list[tuple[str, float, float, dict]]]:
+    """Each study: (label, dx um, dt s, Numerics keywords; ``cell``: Newtonian viscosities of
+    the ZP and the cytoplasm in Pa s in place of the capped Carreau phases)."""
+    fast = {"pressure_rel_tol": 0.05}  # the correctors before the last: GAMG to 5 %
+    c24 = {"correctors": 24, **fast}
+    return {
+        "schemes": [
+            ("1 x 3, Euler", 12.5, 1e-6, {}),
+            ("1 x 3, Euler", 12.5, 5e-7, {}),
+            ("1 x 3, Crank-Nicolson 0.9", 12.5, 1e-6, {"ddt": "CrankNicolson 0.9"}),
+            ("1 x 3, momentum predictor", 12.5, 1e-6, {"momentum_predictor": True}),
+        ],
+        "correctors": [
+            *[
+                (f"1 x {n}", 12.5, 1e-6, {"correctors": n, **(fast if n >= 12 else {})})
+                for n in (3, 6, 12, 24, 48)
+            ],
+            ("1 x 3", 12.5, 5e-7, {}),
+        ],
+        "chosen": [
+            (f"1 x {correctors}", 12.5, dt, {"correctors": correctors, **fast})
+            for dt in (1e-6, 5e-7)
+        ],
+        "cell": [
+            ("1 x 24, Newtonian eta_inf", 12.5, 1e-6, {**c24, "cell": (3.371, 1.368)}),
+            ("1 x 24, Newtonian eta_inf", 12.5, 5e-7, {**c24, "cell": (3.371, 1.368)}),
+            ("1 x 24, Newtonian 46 Pa s", 12.5, 1e-6, {**c24, "cell": (46.0, 46.0)}),
+        ],
+        "alpha": [
+            ("1 x 24, 2 alpha sub-cycles", 12.5, 1e-6, {**c24, "alpha_subcycles": 2}),
+            ("1 x 24, cAlpha 0.5", 12.5, 1e-6, {**c24, "compression": 0.5}),
+        ],
+        "parity": [
+            (f"1 x {n}, {round(250 / dx)} cells across", dx, 1e-6, kw)
+            for n, kw in ((3, {}), (24, c24))
+            for dx in (12.5, 250 / 21, 250 / 24, 10.0)
+        ],
+    }
+
+
+def _phases(cell: tuple[float, float] | None) -> tuple[Phase, Phase, Phase]:
+    medium, zp, cytoplasm = seed_phases()
+    if cell is None:
+        return medium, zp, cytoplasm
+    newtonian = [Rheology.of("newtonian", mu=mu * 1e-3) for mu in cell]  # Pa s -> kPa s
+    return (
+        medium,
+        Phase(zp.name, newtonian[0], zp.density),
+        Phase(cytoplasm.name, newtonian[1], cytoplasm.density),
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--study", nargs="+", default=["chosen"], choices=list(studies(24)))
+    ap.add_argument("--correctors", type=int, default=24, help="the chosen setting: 1 x N")
     ap.add_argument("--pressure", type=float, default=300.0, help="hPa")
-    ap.add_argument("--dx", type=float, nargs="+", default=[25.0, 12.5, 6.25], help="um")
     ap.add_argument("--travel", type=float, default=560.0, help="um of travel at the mean U")
-    ap.add_argument(
-        "--x", type=float, nargs="+", default=[-200.0, 0.0], help="centroid positions, um"
-    )
-    ap.add_argument("--dt", type=float, default=1e-6, help="s")
-    ap.add_argument("--outer", type=int, default=1)
-    ap.add_argument("--correctors", type=int, default=3)
     ap.add_argument("--writes", type=int, default=40)
     args = ap.parse_args()
 
     foam = find_openfoam()
     u = mean_velocity(args.pressure)
     end = args.travel / u
-    numerics = Numerics(
-        time_step=args.dt,
-        end_time=end,
-        write_interval=end / args.writes,
-        outer_correctors=args.outer,
-        correctors=args.correctors,
-    )
-    print(
-        f"p = {args.pressure:g} hPa, U = {u * 1e-6:.4f} m/s, {end * 1e3:.3f} ms, "
-        f"dt = {args.dt:g} s, PIMPLE {args.outer} outer x {args.correctors},"
-        f" 1 - b/a when the centroid crosses x = {args.x} um"
-    )
-    cols = " | ".join(f"1 - b/a at {x:g}" for x in args.x)
-    print(
-        f"| dx (um) | cells | steps | 1 - b/a at t = 0 | {cols} "
-        "| CPU s | CPU s per ms | volume error |"
-    )
-    print("|---" * (7 + len(args.x)) + "|")
-    deformation = []
+    print(f"p = {args.pressure:g} hPa, U = {u * 1e-6:.4f} m/s, {end * 1e3:.3f} ms simulated")
+    cols = " | ".join(f"1 - b/a at x = {x:g}" for x in POSITIONS)
+    print(f"| run | dx (um) | dt (s) | sweeps per us | {cols} | t at x = 0 (ms) | CPU s |")
+    print("|---" * (6 + len(POSITIONS)) + "|")
+    table = studies(args.correctors)
     with tempfile.TemporaryDirectory() as tmp:
-        for dx in args.dx:
-            setup = junction_setup(JunctionGeometry(), dx, *seed_phases(), u, u, numerics)
+        for k, (label, dx, dt, spec) in enumerate(run for s in args.study for run in table[s]):
+            kw = dict(spec)
+            cell = kw.pop("cell", None)
+            numerics = Numerics(time_step=dt, end_time=end, write_interval=end / args.writes, **kw)
+            sweeps = numerics.outer_correctors * numerics.correctors * 1e-6 / dt
+            setup = junction_setup(JunctionGeometry(), dx, *_phases(cell), u, u, numerics)
+            head = f"| {label} | {dx:.4g} | {dt:g} | {sweeps:g} |"
             cpu0 = _cpu_children()
-            run = run_junction(foam, Path(tmp) / f"dx{dx:g}", setup, nice=10)
+            try:
+                run = run_junction(foam, Path(tmp) / f"run{k}", setup, nice=10)
+            except SolverError as exc:  # the momentum predictor diverges: say where
+                why = str(exc).splitlines()[0].split(" (log:")[0].replace("|", "\\|")
+                print(f"{head} {why} |", flush=True)
+                continue
             cpu = _cpu_children() - cpu0
-            values = [1.0 - run.history.at_x(x)[1] for x in args.x]
-            err = max(abs(e[-1]) for e in run.history.volume_error.values())
-            deformation.append(values)
-            cells = " | ".join(f"{v:.4f}" for v in values)
-            print(
-                f"| {dx:g} | {run.n_cells} | {run.steps} | {1 - run.history.ratio[0]:.4f} "
-                f"| {cells} | {cpu:.0f} | {cpu / (end * 1e3):.0f} | {err:.1e} |",
-                flush=True,
-            )
-    for k, x in enumerate(args.x):
-        if len(deformation) >= 3:
-            print(f"x = {x:g} um: {_richardson(*[d[k] for d in deformation[-3:]])}")
-
-
-def _richardson(f4: float, f2: float, f1: float) -> str:
-    """Observed order and Richardson estimate from three meshes h, 2h, 4h (f_4h, f_2h, f_h)."""
-    if (f4 - f2) * (f2 - f1) <= 0:
-        return "non-monotone over the meshes: no observed order"
-    p = math.log2((f4 - f2) / (f2 - f1))
-    rich = f1 + (f1 - f2) / (2**p - 1)
-    return (
-        f"observed order p = {p:.2f}; Richardson 1 - b/a = {rich:.4f} "
-        f"(finest {f1:.4f}: {100 * (f1 / rich - 1):+.1f} %)"
-    )
+            values = " | ".join(f"{1 - run.history.at_x(x)[1]:.5f}" for x in POSITIONS)
+            t0 = run.history.at_x(0.0)[0] * 1e3
+            print(f"{head} {values} | {t0:.4f} | {cpu:.0f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 """Case kind ``microchannel_vof``: three-phase VOF of the oocyte at the junction (OpenFOAM).
 
-Runs :func:`oocyte_fe.microchannel.vof.junction.run_junction` for each pressure (concurrently,
-``concurrent`` at a time, each with ``ranks`` MPI ranks), one extra run at a second mesh and
+Runs :func:`oocyte_fe.microchannel.vof.junction.run_junction` for each pressure (on Dask,
+:mod:`oocyte_fe.microchannel.vof.pool`: ``concurrent`` at a time locally or on the workers of
+``scheduler``, each with ``ranks`` MPI ranks), one extra run at a second mesh and
 one at a second viscosity cap (first pressure), and the reduced Kelvin-Voigt model beside it.
 Without OpenFOAM the case is SKIPPED (not a failure) with the install line as its reason; the
 reduced model still runs and its table is in the report.
@@ -10,7 +11,7 @@ reduced model still runs and its table is in the report.
 from __future__ import annotations
 
 import math
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Callable
 
 import numpy as np
 from pydantic import Field
@@ -26,13 +27,13 @@ from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.junction import JunctionRun, junction_setup, run_junction
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
+from oocyte_fe.microchannel.vof.pool import run_concurrently
 from oocyte_fe.microchannel.vof.post import snapshot, time_directories
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
     INSTALL_HINT,
     OpenFoamMissing,
     find_openfoam,
-    terminate_active,
 )
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
@@ -118,8 +119,14 @@ class VofInputs(CaseInputs):
     writes: int = _f(20, "number of written times", "1", ge=2)
     outer_correctors: int = _f(1, "PIMPLE outer correctors", "1", ge=1)
     correctors: int = _f(3, "pressure correctors", "1", ge=1)
+    pressure_rel_tol: float = _f(
+        0.0, "GAMG relative tolerance of the correctors before the last", "1", ge=0, lt=1
+    )
     ranks: int = _f(1, "MPI ranks per run (decomposePar + mpirun)", "1", ge=1)
-    concurrent: int = _f(1, "pressures run at the same time", "1", ge=1)
+    concurrent: int = _f(1, "runs at the same time (local Dask cluster of threads)", "1", ge=1)
+    scheduler: str | None = _f(
+        None, "Dask scheduler address (a cluster); none: a local cluster", "address"
+    )
     nice: int = _f(0, "niceness of the OpenFOAM processes", "1", ge=0, le=19)
     openfoam: str | None = _f(None, "OpenFOAM directory (else env var / WM_PROJECT_DIR)", "path")
     modulus_kPa: float = _f(1.55, "Kelvin-Voigt estimate: cell modulus (AFM)", "kPa", gt=0)
@@ -194,9 +201,11 @@ def _kelvin_voigt(inp: VofInputs, source: str) -> tuple[np.ndarray, np.ndarray]:
     return table.pressure, fit.ratio
 
 
-def _run_one(
+def _job(
     ctx: CaseContext, inp: VofInputs, label: str, p_hpa: float, dx: float, cap: float
-) -> JunctionRun:
+) -> tuple:
+    """Arguments of :func:`run_junction` for one run (plain data: they may go to a remote
+    Dask worker)."""
     channel = inp.channel.to_internal()
     u = float(channel.mean_velocity(p_hpa * HPA))
     end = inp.travel_um / u
@@ -206,20 +215,18 @@ def _run_one(
         write_interval=end / inp.writes,
         outer_correctors=inp.outer_correctors,
         correctors=inp.correctors,
+        pressure_rel_tol=inp.pressure_rel_tol,
     )
     setup = junction_setup(
         inp.geometry.to_geometry(), dx, *_phases(inp, cap), u, inp.b_ratio * u, numerics
     )
     foam = find_openfoam(inp.openfoam)
     ctx.step(f"{label}: {setup.layout.n_cells} cells, {end * 1e3:.3g} ms")
-    return run_junction(
-        foam,
-        ctx.output(f"openfoam/{label}"),
-        setup,
-        ranks=inp.ranks,
-        nice=inp.nice,
-        progress=lambda msg: ctx.step(f"{label}: {msg}"),
-    )
+    return (foam, ctx.output(f"openfoam/{label}"), setup, inp.ranks, inp.nice)
+
+
+def _progress(ctx: CaseContext, label: str) -> Callable[[str], None]:
+    return lambda msg: ctx.step(f"{label}: {msg}")
 
 
 @case_kind("microchannel_vof", inputs=VofInputs, metrics=METRICS)
@@ -259,12 +266,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 inp.cap_sensitivity_Pa_s,
             )
         )
-    with ThreadPoolExecutor(max_workers=inp.concurrent) as pool:
-        try:
-            runs = list(pool.map(lambda job: _run_one(ctx, inp, *job), jobs))
-        except BaseException:  # a failed run, the case's timeout: stop the others
-            terminate_active()
-            raise
+    runs = run_concurrently(
+        run_junction,
+        [_job(ctx, inp, *job) for job in jobs],
+        inp.concurrent,
+        inp.scheduler,
+        [_progress(ctx, job[0]) for job in jobs],
+    )
     main = runs[: len(pressures)]
     extra = dict(zip([j[0] for j in jobs[len(pressures) :]], runs[len(pressures) :], strict=True))
     return _report(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra)

@@ -65,6 +65,8 @@ class Numerics:
     compression: float = 1.0
     surface_tension: float = 0.0  # N/m, every pair
     momentum_predictor: bool = False
+    ddt: str = "Euler"  # fvSchemes ddtSchemes default, e.g. "CrankNicolson 0.9"
+    pressure_rel_tol: float = 0.0  # p_rgh relTol of the correctors before the last
 
 
 @dataclass(frozen=True)
@@ -143,7 +145,7 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
     layout, num = setup.layout, setup.numerics
     write_dictionary(d / "system" / "blockMeshDict", layout.block_mesh_dict())
     write_dictionary(d / "system" / "controlDict", control_dict(num))
-    write_dictionary(d / "system" / "fvSchemes", schemes())
+    write_dictionary(d / "system" / "fvSchemes", schemes(num.ddt))
     write_dictionary(d / "system" / "fvSolution", solution(num))
     write_dictionary(
         d / "system" / "decomposeParDict",
@@ -254,10 +256,10 @@ def control_dict(num: Numerics) -> dict:
     }
 
 
-def schemes() -> dict:
-    """``system/fvSchemes``: Euler, vanLeer alpha, linearUpwind U (docs, VOF numerics)."""
+def schemes(ddt: str = "Euler") -> dict:
+    """``system/fvSchemes``: ``ddt`` (Euler), vanLeer alpha, linearUpwind U (docs, VOF numerics)."""
     return {
-        "ddtSchemes": {"default": "Euler"},
+        "ddtSchemes": {"default": ddt},
         "gradSchemes": {"default": "Gauss linear"},
         "divSchemes": {
             "div(rhoPhi,U)": "Gauss linearUpwind grad(U)",
@@ -278,7 +280,7 @@ def solution(num: Numerics) -> dict:
         "solvers": {
             '"alpha.*"': {"nAlphaSubCycles": num.alpha_subcycles, "cAlpha": num.compression},
             '"pcorr.*"': {**gamg, "tolerance": 1e-6, "relTol": 0},
-            "p_rgh": {**gamg, "relTol": 0},
+            "p_rgh": {**gamg, "relTol": num.pressure_rel_tol},
             "p_rghFinal": {**gamg, "relTol": 0},
             "U": {
                 "solver": "smoothSolver",

@@ -1,0 +1,64 @@
+"""Running VOF runs concurrently on Dask (vof.pool) and the numerics options the convergence
+study added (no OpenFOAM needed)."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import pytest
+
+from oocyte_fe.microchannel.vof.casewriter import Numerics, schemes, solution
+from oocyte_fe.microchannel.vof.pool import run_concurrently
+
+_lock = threading.Lock()
+_running = {"now": 0, "most": 0}
+
+
+def _square_slowly(x: float, delay: float, progress=None) -> float:
+    with _lock:
+        _running["now"] += 1
+        _running["most"] = max(_running["most"], _running["now"])
+    if progress is not None:
+        progress(f"squaring {x:g}")
+    time.sleep(delay)
+    with _lock:
+        _running["now"] -= 1
+    return x * x
+
+
+def test_runs_come_back_in_job_order_two_at_a_time() -> None:
+    _running.update(now=0, most=0)
+    jobs = [(3.0, 0.3), (1.0, 0.05), (2.0, 0.15), (4.0, 0.05)]
+    said: list[str] = []
+    guard = threading.Lock()  # the callback holds a lock: it cannot be pickled
+
+    def say(msg: str) -> None:
+        with guard:
+            said.append(msg)
+
+    lines = [say, None, say, say]
+    result = run_concurrently(_square_slowly, jobs, concurrent=2, progress=lines)
+    assert result == [9.0, 1.0, 4.0, 16.0]
+    assert _running["most"] == 2
+    assert sorted(said) == ["squaring 2", "squaring 3", "squaring 4"]
+
+
+def _fail_on_two(x: float, progress=None) -> float:
+    if x == 2:
+        raise RuntimeError("run 2 diverged")
+    return x
+
+
+def test_a_failed_run_raises_its_own_error() -> None:
+    with pytest.raises(RuntimeError, match="run 2 diverged"):
+        run_concurrently(_fail_on_two, [(1.0,), (2.0,), (3.0,)], concurrent=2)
+
+
+def test_corrector_tolerance_and_time_scheme_reach_the_dictionaries() -> None:
+    num = Numerics(correctors=24, pressure_rel_tol=0.05, ddt="CrankNicolson 0.9")
+    sol = solution(num)
+    assert sol["PIMPLE"]["nCorrectors"] == 24
+    assert sol["solvers"]["p_rgh"]["relTol"] == 0.05  # the correctors before the last
+    assert sol["solvers"]["p_rghFinal"]["relTol"] == 0  # the last one: to 1e-8
+    assert schemes(num.ddt)["ddtSchemes"]["default"] == "CrankNicolson 0.9"
