@@ -55,10 +55,16 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     d = columns["displacement_um"]
     if len(d) < 2 or np.any(np.diff(d) <= 0) or d[0] < 0:
         raise NmsdInputError(str(path), "displacement_um", "non-negative, strictly increasing")
-    paper = columns.get("force_simulation_uN")
+    forces = {}
+    for name in ("force_experiment_uN", "force_simulation_uN"):
+        if name in columns:
+            with np.errstate(over="ignore"):
+                forces[name] = columns[name] * UN_TO_NN
+            if not np.all(np.isfinite(forces[name])):  # finite in uN, beyond float range in nN
+                raise NmsdInputError(str(path), name, "forces of a physical size (|F| < 1e300 uN)")
     return ForceDisplacement(
         d,
-        columns["force_experiment_uN"] * UN_TO_NN,
-        None if paper is None else paper * UN_TO_NN,
+        forces["force_experiment_uN"],
+        forces.get("force_simulation_uN"),
         str(path),
     )

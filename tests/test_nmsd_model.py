@@ -169,6 +169,12 @@ def test_pipette_starting_inside_is_refused():
     [
         ("displacement_um,force_experiment_uN\n0,0\n2,1\n1,2\n", "displacement_um"),
         ("displacement_um,force_uN\n0,0\n1,1\n", "force_experiment_uN"),
+        # finite in uN but not in nN: was an inf force (and a numpy overflow warning)
+        ("displacement_um,force_experiment_uN\n0,0\n1,1e307\n", "force_experiment_uN"),
+        (
+            "displacement_um,force_experiment_uN,force_simulation_uN\n0,0,0\n1,1,-1e307\n",
+            "force_simulation_uN",
+        ),
     ],
 )
 def test_bad_csv(tmp_path, text, field):
