@@ -24,13 +24,14 @@ FACE_ANGLE = Parameter("face_angle_deg", "deg", 0.0, 90.0, "face angle of the py
 BILODEAU = 0.7453
 
 
-def _prefactor(geometry: Mapping[str, float], nu: float) -> float:
-    return BILODEAU * math.tan(math.radians(geometry["face_angle_deg"])) / (1.0 - nu**2)
+def prefactor(c: float, geometry: Mapping[str, float], nu: float) -> float:
+    """``c tan(theta) / (1 - nu^2)``: F/E per delta^2 of a pyramid with Bilodeau's constant c."""
+    return c * math.tan(math.radians(geometry["face_angle_deg"])) / (1.0 - nu**2)
 
 
 def dshape(delta: np.ndarray, geometry: Mapping[str, float], nu: float) -> np.ndarray:
     """d(F/E)/d(delta) = 2 * 0.7453 tan(theta) delta / (1 - nu^2), um."""
-    return 2.0 * _prefactor(geometry, nu) * delta
+    return 2.0 * prefactor(BILODEAU, geometry, nu) * delta
 
 
 @indentation_model(
@@ -44,4 +45,4 @@ def dshape(delta: np.ndarray, geometry: Mapping[str, float], nu: float) -> np.nd
 )
 def shape(delta: np.ndarray, geometry: Mapping[str, float], nu: float) -> np.ndarray:
     """F/E = 0.7453 tan(theta) delta^2 / (1 - nu^2), um^2."""
-    return _prefactor(geometry, nu) * delta**2
+    return prefactor(BILODEAU, geometry, nu) * delta**2

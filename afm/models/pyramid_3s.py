@@ -15,24 +15,19 @@ Reference: G. G. Bilodeau, J. Appl. Mech. 59 (1992) 519-523.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import numpy as np
 
-from afm.models.pyramid import FACE_ANGLE
+from afm.models.pyramid import FACE_ANGLE, prefactor
 from afm.models.registry import indentation_model
 
 BILODEAU_THREE_SIDED = 0.8887
 
 
-def _prefactor(geometry: Mapping[str, float], nu: float) -> float:
-    return BILODEAU_THREE_SIDED * math.tan(math.radians(geometry["face_angle_deg"])) / (1.0 - nu**2)
-
-
 def dshape(delta: np.ndarray, geometry: Mapping[str, float], nu: float) -> np.ndarray:
     """d(F/E)/d(delta) = 2 * 0.8887 tan(theta) delta / (1 - nu^2), um."""
-    return 2.0 * _prefactor(geometry, nu) * delta
+    return 2.0 * prefactor(BILODEAU_THREE_SIDED, geometry, nu) * delta
 
 
 @indentation_model(
@@ -46,4 +41,4 @@ def dshape(delta: np.ndarray, geometry: Mapping[str, float], nu: float) -> np.nd
 )
 def shape(delta: np.ndarray, geometry: Mapping[str, float], nu: float) -> np.ndarray:
     """F/E = 0.8887 tan(theta) delta^2 / (1 - nu^2), um^2."""
-    return _prefactor(geometry, nu) * delta**2
+    return prefactor(BILODEAU_THREE_SIDED, geometry, nu) * delta**2

@@ -216,6 +216,11 @@ class Case:
     def file(self) -> Path:
         return self.directory / CASE_FILE
 
+    def started(self, quick: bool) -> str:
+        """``started``, with the override tables the run uses: ``started (quick, full)``."""
+        tables = ", ".join(name for name, on in (("quick", quick), ("full", self.full)) if on)
+        return f"started ({tables})" if tables else "started"
+
 
 def _loc(loc: tuple[Any, ...]) -> str:
     return ".".join(str(p) for p in loc) if loc else "(top level)"

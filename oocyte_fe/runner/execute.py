@@ -196,8 +196,7 @@ def execute_case(
     ctx = _context(case, tmp, quick, logger, Throttle(events))
     start = time.perf_counter()
     try:
-        settings = ", ".join(n for n, on in (("quick", quick), ("full", case.full)) if on)
-        logger.info("started%s", f" ({settings})" if settings else "")
+        logger.info(case.started(quick))
         with _time_limit(case.spec.timeout_s, logger), reporting(ctx.progress):
             outcome = case.kind.run(ctx)
         checks = [] if outcome.skipped else evaluate_checks(case, outcome)

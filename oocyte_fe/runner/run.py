@@ -51,8 +51,7 @@ def run_one(
     verbose: bool = False,
 ) -> CaseResult:
     """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
-    settings = ", ".join(name for name, on in (("quick", quick), ("full", case.full)) if on)
-    events(ProgressEvent(case.name, "start", f"started ({settings})" if settings else "started"))
+    events(ProgressEvent(case.name, "start", case.started(quick)))
     tmp = partial_folder(out_root, case.name)
     result = execute_case(case, tmp, quick, events, verbose)
     result = place_result(tmp, out_root / case.name, result)
