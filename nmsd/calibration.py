@@ -5,7 +5,11 @@ displacements ``d_i`` (forces in nN). Constraints (eq 8): ``d0 >= 0``, ``d1 >= 0
 ``k2 >= 50 k1``. With the change of variables ``s = k1 / k2`` the constraints become simple
 bounds (``0 <= s <= 1/50``, ``k2, d0, d1 >= 0``), solved by the bounded trust-region
 least-squares of ``scipy.optimize.least_squares`` from several Latin-hypercube starts; the
-best end point wins.
+best end point wins. A start whose first press diverges (too stiff or too lightly damped
+for the press's steps) gives the trust region nothing to follow (a penalty residual with a
+zero Jacobian): it is replaced by a draw of a further Latin hypercube, so that ``n_starts``
+starts run (up to ``n_starts`` replacements; ``CalibrationResult.diverged_starts`` counts
+them).
 
 Three model families (Section II.B.3):
 
@@ -87,11 +91,23 @@ class FitMetrics:
 
 
 @dataclass(frozen=True)
+class StartEnd:
+    """Where one start ended: RMSE over all fitted curves (nN), constants, gap (um or None)."""
+
+    rmse_nN: float
+    params: NmsdParameters
+    gap_um: float | None = None
+
+
+@dataclass(frozen=True)
 class CalibrationResult:
     """Best constants, their fit, the model forces at the table points (nN) and the cost.
 
     ``metrics`` and ``force_nN`` are for the main curve; ``also_force_nN`` the model forces at
-    the points of each further curve fitted with it (``calibrate(also=...)``).
+    the points of each further curve fitted with it (``calibrate(also=...)``);
+    ``diverged_starts`` the starts whose first press diverged and were replaced; ``ends`` the
+    end point of every start, best first: where eq 7 is flat, near-equal fits with other
+    constants, whose predictions show how far the data pin them (:func:`near_best`).
     """
 
     model: str
@@ -104,6 +120,8 @@ class CalibrationResult:
     message: str
     gap_um: float | None = None
     also_force_nN: tuple[np.ndarray, ...] = ()
+    diverged_starts: int = 0
+    ends: tuple[StartEnd, ...] = ()
 
 
 def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
@@ -234,51 +252,70 @@ def calibrate(
     lower = np.array([bounds[n][0] for n in names])
     upper = np.array([bounds[n][1] for n in names])
     box = np.array([start_box[n] for n in names])
-    starts = 10.0 ** qmc.scale(qmc.LatinHypercube(len(names), seed=seed).random(n_starts), *box.T)
+
+    def draws(generation: int) -> np.ndarray:
+        rng = np.random.default_rng([seed, generation]) if generation else seed
+        lhs = qmc.LatinHypercube(len(names), seed=rng)
+        return 10.0 ** qmc.scale(lhs.random(n_starts), *box.T)
+
+    starts, spares = list(draws(0)), list(draws(1))
     measured = np.concatenate([curve.force_nN for _, curve in curves])
     penalty = 10.0 * (np.abs(measured) + np.abs(measured).max())
     count = 0
-    cache: dict[bytes, np.ndarray] = {}
+    last: dict[bytes, tuple[np.ndarray, np.ndarray, bool]] = {}  # the last point pressed
 
-    def residual(values: np.ndarray) -> np.ndarray:
+    def press(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+        """Residual, Jacobian (exact, or None for 2-point) and whether the press diverged."""
         nonlocal count
+        key = values.tobytes()
+        if key in last:  # least_squares asks again for the point it was given or just had
+            return last[key]
         count += len(curves)
         if on_press is not None:
-            on_press(count, len(curves) * max_evaluations * len(starts))
+            on_press(count, len(curves) * max_evaluations * n_starts)
         try:
             if jacobian == "2-point":
-                forces = [model_forces(*press_for(values, p), c) for p, c in curves]
-                return np.concatenate(forces) - measured
-            parts = [
-                model_forces_and_jacobian(*press_for(values, p), c, model, extra) for p, c in curves
-            ]
-            forces = np.concatenate([f for f, _ in parts])
-            jac = np.vstack([j for _, j in parts])
+                forces = np.concatenate([model_forces(*press_for(values, p), c) for p, c in curves])
+                jac = None
+            else:
+                parts = [
+                    model_forces_and_jacobian(*press_for(values, p), c, model, extra)
+                    for p, c in curves
+                ]
+                forces = np.concatenate([f for f, _ in parts])
+                jac = np.vstack([j for _, j in parts])
+            failed = False
         except NmsdDivergence:
             forces, jac = measured + penalty, np.zeros((len(measured), len(names)))
-        cache.clear()  # least_squares asks for the Jacobian at the point it just evaluated
-        cache[values.tobytes()] = jac
-        return forces - measured
-
-    def exact_jacobian(values: np.ndarray) -> np.ndarray:
-        if values.tobytes() not in cache:
-            residual(values)
-        return cache[values.tobytes()]
+            failed = True
+        last.clear()
+        last[key] = (forces - measured, jac, failed)
+        return last[key]
 
     tic = time.perf_counter()
     best = None
-    for start in starts:
+    replaced = 0
+    ends = []
+    while starts:
+        x0 = np.clip(starts.pop(0), lower, upper)
+        if press(x0)[2] and spares:  # nothing to follow from here: draw another start
+            starts.append(spares.pop(0))
+            replaced += 1
+            continue
         fit = least_squares(
-            residual,
-            np.clip(start, lower, upper),
-            jac="2-point" if jacobian == "2-point" else exact_jacobian,
+            lambda v: press(v)[0].copy(),
+            x0,
+            jac="2-point" if jacobian == "2-point" else (lambda v: press(v)[1].copy()),
             bounds=(lower, upper),
-            x_scale=start,
+            x_scale=x0,
             diff_step=1e-3,
             ftol=tolerance,
             xtol=tolerance,
             max_nfev=max_evaluations,
         )
+        rmse = float(np.sqrt(2.0 * fit.cost / len(measured)))
+        gap = float(fit.x[-1]) if "gap_um" in extra else None
+        ends.append(StartEnd(rmse, press_for(fit.x, setup)[1], gap))
         if best is None or fit.cost < best.cost:
             best = fit
     params = press_for(best.x, setup)[1]
@@ -294,4 +331,30 @@ def calibrate(
         str(best.message),
         float(best.x[-1]) if "gap_um" in extra else None,
         tuple(forces[1:]),
+        replaced,
+        tuple(sorted(ends, key=lambda end: end.rmse_nN)),
+    )
+
+
+def near_best(result: CalibrationResult, within: float = 0.1) -> list[StartEnd]:
+    """The starts whose RMSE is within ``within`` (fraction) of the best one's, best first.
+
+    Eq 7 cannot tell these fits apart at that level; a prediction made with each of them
+    (a spindle path, a force at another speed) shows how far the calibration fixes it.
+    """
+    within = checks.number("near_best", "within", within, ge=0)
+    best = result.ends[0].rmse_nN if result.ends else np.inf
+    return [end for end in result.ends if end.rmse_nN <= (1.0 + within) * best]
+
+
+def describe_starts(result: CalibrationResult) -> str:
+    """One sentence on how the starts ended: RMSE range (uN), near-best count, replacements."""
+    if not result.ends:
+        return ""
+    rmse = [end.rmse_nN * 1e-3 for end in result.ends]
+    near = len(near_best(result, 0.1))
+    return (
+        f"{len(rmse)} starts ended at RMSE {rmse[0]:.3g}-{rmse[-1]:.3g} uN (all fitted curves), "
+        f"{near} within 10 % of the best; {result.diverged_starts} replaced (first press "
+        "diverged)."
     )

@@ -14,7 +14,13 @@ from nmsd.area import (
     cell_areas,
     poisson_ratio,
 )
-from nmsd.calibration import calibrate, fit_metrics, params_for
+from nmsd.calibration import (
+    calibrate,
+    describe_starts,
+    fit_metrics,
+    near_best,
+    params_for,
+)
 from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.damping import link_damping, nodal_damping
 from nmsd.errors import NmsdDivergence, NmsdInputError
@@ -547,3 +553,42 @@ def test_joint_calibration_fits_two_speeds_together():
     # 2 % on both curves: a fit to the 30 um/s curve alone misses the 3 um/s one by 5 %
     for model, curve in zip((cal.force_nN, cal.also_force_nN[0]), curves, strict=True):
         assert np.abs(model - curve.force_nN).max() < 0.02 * curve.force_nN.max()
+
+
+def test_a_start_whose_first_press_diverges_is_replaced(monkeypatch):
+    # The trust region gets a penalty residual and a zero Jacobian at a start that cannot be
+    # pressed, and stops at once: such a start was a wasted start (3 of 6 in nmsd_vs_fe's
+    # quick fit). Here every press with k2 > 3e3 "diverges"; n_starts starts must still run
+    # from pressable points, and the replacements are counted.
+    import nmsd.calibration as cal_mod
+
+    setup = press_setup(circular_lattice(40.0, 5), n_steps=6, travel_um=6.0)
+    truth = NmsdParameters(k1=20.0, k2=2000.0, dl_c=0.8, d0=20.0, d1=0.5)
+    advances = np.array([2.0, 4.0, 6.0])
+    curve = ForceDisplacement(advances, setup.run(truth, record_um=advances).force_at(advances))
+    real_press, real_lsq = cal_mod.model_forces_and_jacobian, cal_mod.least_squares
+    x0s = []
+
+    def press(setup_, params, data, model, extra):
+        if params.k2 > 3e3:
+            raise NmsdDivergence(1, 0.1, "too stiff for this test", 0.05)
+        return real_press(setup_, params, data, model, extra)
+
+    def lsq(fun, x0, **kw):
+        x0s.append(np.array(x0))
+        return real_lsq(fun, x0, **kw)
+
+    monkeypatch.setattr(cal_mod, "model_forces_and_jacobian", press)
+    monkeypatch.setattr(cal_mod, "least_squares", lsq)
+    result = calibrate(setup, curve, "nmsd", NmsdParameters(dl_c=0.8), 3, max_evaluations=8)
+    assert result.diverged_starts >= 1  # the LHS over k2 in 1e2-1e6 puts starts above 3e3
+    assert len(x0s) == 3 and all(x[0] <= 3e3 for x in x0s)
+    # every start's end is kept, best first; the best is the result
+    rmse = [end.rmse_nN for end in result.ends]
+    assert len(rmse) == 3 and rmse == sorted(rmse)
+    assert rmse[0] == pytest.approx(result.metrics.rmse_nN, rel=1e-9)
+    assert result.ends[0].params == result.params
+    assert near_best(result, 0.0) == [result.ends[0]]
+    assert len(near_best(result, 1e6)) == 3
+    text = describe_starts(result)
+    assert text.startswith("3 starts ended") and f"{result.diverged_starts} replaced" in text

@@ -117,6 +117,12 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_pa
     # (MISS, within its regression bound), the only check not passed
     assert checks["spindle_goal_ratio_max"]["status"] == "MISS"
     assert result.status == "MISS" and result.ok
+    # the fits eq 7 cannot tell apart (within 10 % of the best RMSE) predict nearly the same
+    # spindle path: 4 of 6 starts, 2.71-2.80 x measured (with 25 NMSD steps and diverging
+    # starts kept, round-off of the FE curve alone moved the best fit's figure 2.77 -> 3.25 x)
+    lo, hi = m["near_best_spindle_goal_ratio_min"], m["near_best_spindle_goal_ratio_max"]
+    assert m["near_best_fits"] >= 2 and lo <= m["spindle_goal_ratio_max"] <= hi
+    assert hi - lo < 0.3
     assert [n for n, c in checks.items() if not c["passed"]] == ["spindle_goal_ratio_max"]
     assert {p.name for p in (tmp_path / "nmsd_vs_fe").glob("*.png")} >= {
         "force_curves.png",

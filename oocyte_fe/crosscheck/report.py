@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from nmsd.area import poisson_ratio
-from nmsd.calibration import CalibrationResult, FitMetrics
+from nmsd.calibration import CalibrationResult, FitMetrics, describe_starts
 from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement
 from oocyte_fe.crosscheck.agreement import DisplacementAgreement
@@ -161,7 +161,7 @@ def params_text(cal: CalibrationResult, metrics: FitMetrics) -> str:
         f"k1 = {p.k1:.4g} nN, k2 = {p.k2:.4g} nN, dl_c = {p.dl_c:g}, d0 = {p.d0:.4g} nN s/um, "
         f"d1 = {p.d1:.4g} nN s/um^2; {area}RMSE {metrics.rmse_nN * UN:.3f} uN, "
         f"R^2 {metrics.r2:.4f}, S {metrics.similarity:.5f}; {cal.evaluations} presses in "
-        f"{cal.seconds:.1f} s."
+        f"{cal.seconds:.1f} s. {describe_starts(cal)}"
     )
 
 

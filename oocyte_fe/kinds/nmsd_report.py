@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from nmsd.approach_pid import ApproachTrace
-from nmsd.calibration import CalibrationResult, FitMetrics
+from nmsd.calibration import CalibrationResult, FitMetrics, describe_starts
 from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.lattice import Lattice
 from nmsd.plotting import plot_force_curves, plot_snapshots, plot_spindle
@@ -82,7 +82,7 @@ def calibration_report(
         f"- {k}: force at {travel_um:g} um = {f[-1]:.2f} uN" for k, (_, f) in rate_curves.items()
     )
     cost = "\n".join(
-        f"- {n}: {r.evaluations} presses in {r.seconds:.1f} s ({r.message})"
+        f"- {n}: {r.evaluations} presses in {r.seconds:.1f} s ({r.message}). {describe_starts(r)}"
         for n, r in results.items()
     )
     figures = [
