@@ -65,7 +65,7 @@ class TrackerConfig:
     context, context_offset: lambda_2 of the context-aware filter (:mod:`.context`: four
         context windows ``context_offset`` target sizes up, down, left and right are
         regressed to zero; 0: the plain KCF). Off in every tracker here: on the tuning
-        cells it lost accuracy at every setting tried and cost 2-3 x the time per frame
+        cells it lost accuracy at every setting tried and cost about 5 x the time per frame
         (docs/tracking.md).
     """
 
