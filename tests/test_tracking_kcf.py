@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -50,7 +52,11 @@ def _texture(seed: int, shape: tuple[int, int] = (240, 240)) -> np.ndarray:
     return 100.0 + 20.0 * ndimage.gaussian_filter(rng.normal(size=shape), 2.0)
 
 
-@pytest.mark.parametrize("config", [MFAKCF_HOLD, SINGLE_KCF], ids=["mfakcf_hold", "kcf"])
+@pytest.mark.parametrize(
+    "config",
+    [MFAKCF_HOLD, SINGLE_KCF, replace(MFAKCF_HOLD, context=0.01, context_offset=1.75)],
+    ids=["mfakcf_hold", "kcf", "mfakcf_hold_context"],
+)
 @pytest.mark.parametrize("shift", [(2.6, -1.3), (-5.2, 3.7), (7.5, 6.25)])
 def test_translated_image_found_to_subpixel_accuracy(config, shift) -> None:
     """A band-limited texture moved by a non-integer shift (Fourier shift theorem): the

@@ -2,6 +2,7 @@
 
 Trackers: ``MFAKCF`` (:data:`.tracker.MFAKCF`, with the Kalman prediction of
 :mod:`.motion` and the anchor check of :mod:`.anchor`), the benchmark script's ablations
+``MFAKCF (rate 0.02)`` (:data:`.tracker.MFAKCF_RATE_002`, the previous default),
 ``MFAKCF (no anchor)`` (:data:`.tracker.MFAKCF_NO_ANCHOR`) and ``MFAKCF (no motion)``
 (:data:`.tracker.MFAKCF_HOLD`), ``KCF (HOG)`` (our single-feature KCF with a fixed learning
 rate, the seed's "original KCF", :data:`.tracker.SINGLE_KCF`) and, when opencv-contrib is
@@ -26,6 +27,7 @@ from oocyte_fe.tracking.tracker import (
     MFAKCF,
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
+    MFAKCF_RATE_002,
     SINGLE_KCF,
     TrackerConfig,
     track,
@@ -40,6 +42,7 @@ SEED_SUCCESS_GAIN_PCT = 49.89
 OURS = {"MFAKCF": MFAKCF, "KCF (HOG)": SINGLE_KCF}
 ABLATION = {
     **OURS,
+    "MFAKCF (rate 0.02)": MFAKCF_RATE_002,
     "MFAKCF (no anchor)": MFAKCF_NO_ANCHOR,
     "MFAKCF (no motion)": MFAKCF_HOLD,
 }

@@ -27,13 +27,14 @@ size is fixed (no scale search), as in KCF.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import ndimage
 
 from oocyte_fe.tracking import kcf
 from oocyte_fe.tracking.anchor import Anchor
+from oocyte_fe.tracking.context import CONTEXT_OFFSETS, ContextKcfModel
 from oocyte_fe.tracking.features import FEATURES
 from oocyte_fe.tracking.fusion import apce, fuse, fusion_weights
 from oocyte_fe.tracking.motion import CentreFilter, MotionModel
@@ -61,6 +62,11 @@ class TrackerConfig:
     motion: Kalman prediction of the centre (:mod:`.motion`; adaptive trackers only): the
         window is cut at the predicted centre and a lost target coasts on the prediction;
         None holds the last position.
+    context, context_offset: lambda_2 of the context-aware filter (:mod:`.context`: four
+        context windows ``context_offset`` target sizes up, down, left and right are
+        regressed to zero; 0: the plain KCF). Off in every tracker here: on the tuning
+        cells it lost accuracy at every setting tried and cost about 5 x the time per frame
+        (docs/tracking.md).
     """
 
     features: tuple[str, ...] = ("hog", "gray")
@@ -77,6 +83,8 @@ class TrackerConfig:
     verify: float = 0.0
     anchor_frames: int = 30
     motion: MotionModel | None = None
+    context: float = 0.0
+    context_offset: float = 1.0
     policy: UpdatePolicy = field(default_factory=UpdatePolicy)
 
     def __post_init__(self) -> None:
@@ -85,6 +93,8 @@ class TrackerConfig:
             raise ValueError(f"features must be among {sorted(FEATURES)}, got {self.features}")
         if self.cell < 1 or self.padding < 0:
             raise ValueError("cell must be >= 1 px and padding >= 0")
+        if self.context < 0 or self.context_offset <= 0:
+            raise ValueError("context (lambda_2) must be >= 0 and context_offset > 0")
 
 
 MFAKCF = TrackerConfig(
@@ -94,8 +104,11 @@ MFAKCF = TrackerConfig(
     redetect_max=3,
     verify=0.6,
     anchor_frames=30,
+    policy=UpdatePolicy(eta0=0.01),
 )
-"""The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update; the window
+"""The seed's tracker: HOG + grayscale histogram, APCE fusion, adaptive update (full
+learning rate 0.01, half KCF's 0.02: the template absorbs less of the static structure
+around a faint spindle; chosen on the tuning cells, docs/tracking.md); the window
 is smoothed over 1 px first (shot noise otherwise dominates the faint spindle's gradients),
 and the centre is predicted by the damped constant-velocity Kalman filter of :mod:`.motion`
 (window cut at the prediction; on a doubtful peak and while lost the centre coasts, and the
@@ -104,8 +117,12 @@ widens by one ring of windows every 10 lost frames up to 7 x 7 windows, and a ca
 taken back only if the anchor template of the first 30 reliable frames scores it at least
 0.6 times its mean (:mod:`.anchor`; chosen on the tuning subset, docs/tracking.md)."""
 
+MFAKCF_RATE_002 = replace(MFAKCF, policy=UpdatePolicy())
+"""MFAKCF with KCF's full learning rate 0.02 (the previous default); the benchmark script
+reports it as ``MFAKCF (rate 0.02)``."""
+
 MFAKCF_NO_ANCHOR = TrackerConfig(smooth_px=1.0, motion=MotionModel())
-"""MFAKCF before the anchor check and the widening search (the previous default); the
+"""MFAKCF before the anchor check and the widening search (with the rate 0.02); the
 benchmark script reports it as ``MFAKCF (no anchor)``."""
 
 MFAKCF_HOLD = TrackerConfig(smooth_px=1.0)
@@ -176,12 +193,17 @@ class Tracker:
         self.yf = np.fft.fft2(kcf.gaussian_labels(grid, sigma_y))
         self.lost = False
         self.lost_at = self.centre
-        feats, _ = self._features(np.asarray(frame, dtype=np.float64), self.centre)
-        self.models = [
-            kcf.KcfModel.fit(xf, self.yf, config.kernel_sigma, config.lam) for xf in feats
-        ]
+        frame = np.asarray(frame, dtype=np.float64)
+        feats, _ = self._features(frame, self.centre)
+        plain = [kcf.KcfModel.fit(xf, self.yf, config.kernel_sigma, config.lam) for xf in feats]
+        self.models = plain
+        if config.context > 0:
+            self.models = [
+                ContextKcfModel.fit(xfs, self.yf, config.kernel_sigma, config.lam, config.context)
+                for xfs in self._with_context(frame, self.centre, feats)
+            ]
         self.history = ReliabilityHistory(config.policy)
-        self.anchor = Anchor(self.models, config.anchor_frames) if config.verify > 0 else None
+        self.anchor = Anchor(plain, config.anchor_frames) if config.verify > 0 else None
         self.n_lost = 0
         self.n_frame = 0
         self.apce_ref = np.zeros(len(feats))
@@ -201,6 +223,19 @@ class Tracker:
             for name in self.config.features
         ]
         return feats, at
+
+    def _with_context(
+        self, frame: np.ndarray, centre: tuple[float, float], feats: list[np.ndarray]
+    ) -> list[np.ndarray]:
+        """Per feature, the target window's DFT ``feats`` stacked with the context windows'
+        (:data:`.context.CONTEXT_OFFSETS`, target sizes away from ``centre``)."""
+        w, h = self.size
+        w, h = w * self.config.context_offset, h * self.config.context_offset
+        around = [
+            self._features(frame, (centre[0] + ox * w, centre[1] + oy * h))[0]
+            for ox, oy in CONTEXT_OFFSETS
+        ]
+        return [np.array([xf] + [c[k] for c in around]) for k, xf in enumerate(feats)]
 
     def _detect(self, frame: np.ndarray, centre: tuple[float, float]):
         """Fused response at ``centre``: (new centre, peak, APCE, r, weights, feature APCEs)."""
@@ -310,7 +345,8 @@ class Tracker:
             eta = cfg.policy.eta0
         if eta > 0:
             feats, _ = self._features(frame, self.centre)
-            for model, xf in zip(self.models, feats, strict=True):
+            train = self._with_context(frame, self.centre, feats) if cfg.context > 0 else feats
+            for model, xf in zip(self.models, train, strict=True):
                 model.update(xf, self.yf, eta)
             if note:  # the anchor's reference <A>, on the window just learnt from
                 self.anchor.note(self.anchor.score(feats))
