@@ -2,8 +2,9 @@
 
 Runs :func:`oocyte_fe.microchannel.vof.junction.run_junction` for each pressure (on Dask,
 :mod:`oocyte_fe.microchannel.vof.pool`: ``concurrent`` at a time locally or on the workers of
-``scheduler``, each with ``ranks`` MPI ranks), one extra run at a second mesh and
-one at a second viscosity cap (first pressure), and the reduced Kelvin-Voigt model beside it.
+a scheduler: the CLI's ``--scheduler``, else the ``scheduler`` input; each with ``ranks`` MPI
+ranks), one extra run at a second mesh and one at a second viscosity cap (first pressure), and
+the reduced Kelvin-Voigt model beside it.
 Without OpenFOAM the case is SKIPPED (not a failure) with the install line as its reason; the
 reduced model still runs and its table is in the report.
 """
@@ -125,7 +126,9 @@ class VofInputs(CaseInputs):
     ranks: int = _f(1, "MPI ranks per run (decomposePar + mpirun)", "1", ge=1)
     concurrent: int = _f(1, "runs at the same time (local Dask cluster of threads)", "1", ge=1)
     scheduler: str | None = _f(
-        None, "Dask scheduler address (a cluster); none: a local cluster", "address"
+        None,
+        "Dask scheduler address (a cluster); none: a local cluster; the CLI's --scheduler wins",
+        "address",
     )
     nice: int = _f(0, "niceness of the OpenFOAM processes", "1", ge=0, le=19)
     openfoam: str | None = _f(None, "OpenFOAM directory (else env var / WM_PROJECT_DIR)", "path")
@@ -225,6 +228,12 @@ def _job(
     return (foam, ctx.output(f"openfoam/{label}"), setup, inp.ranks, inp.nice)
 
 
+def run_scheduler(ctx: CaseContext, inp: VofInputs) -> str | None:
+    """The Dask scheduler the runs go to: the CLI's ``--scheduler`` (``ctx.scheduler``) when
+    given, else the case's ``scheduler`` input, else none (a local cluster)."""
+    return ctx.scheduler or inp.scheduler
+
+
 def _progress(ctx: CaseContext, label: str) -> Callable[[str], None]:
     return lambda msg: ctx.step(f"{label}: {msg}")
 
@@ -266,11 +275,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 inp.cap_sensitivity_Pa_s,
             )
         )
+    scheduler = run_scheduler(ctx, inp)
+    ctx.step(f"{len(jobs)} runs on " + (scheduler or f"a local cluster of {inp.concurrent}"))
     runs = run_concurrently(
         run_junction,
         [_job(ctx, inp, *job) for job in jobs],
         inp.concurrent,
-        inp.scheduler,
+        scheduler,
         [_progress(ctx, job[0]) for job in jobs],
     )
     main = runs[: len(pressures)]
