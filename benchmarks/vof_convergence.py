@@ -81,6 +81,13 @@ def studies(correctors: int) -> dict[str, list[tuple[str, float, float, dict]]]:
             ("1 x 24, 2 alpha sub-cycles", 12.5, 1e-6, {**c24, "alpha_subcycles": 2}),
             ("1 x 24, cAlpha 0.5", 12.5, 1e-6, {**c24, "compression": 0.5}),
         ],
+        "dt": [
+            *[(f"1 x 24", 12.5, 1e-6 / k, c24) for k in (1, 2, 4)],
+            ("1 x 48", 12.5, 5e-7, {**c24, "correctors": 48}),
+        ],
+        "compression": [
+            ("1 x 24, cAlpha 0.5", 12.5, dt, {**c24, "compression": 0.5}) for dt in (1e-6, 5e-7)
+        ],
         "parity": [
             (f"1 x {n}, {round(250 / dx)} cells across", dx, 1e-6, kw)
             for n, kw in ((3, {}), (24, c24))
