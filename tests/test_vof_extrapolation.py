@@ -45,8 +45,9 @@ def test_richardson_refuses_bad_input(values: list[float], ratio: float, field: 
         richardson(values, ratio)
 
 
-def _run(ratio: float) -> SimpleNamespace:
-    return SimpleNamespace(ratio_at_junction=ratio, steps=800, wall_seconds=100.0)
+def _run(ratio: float, end: float = 0.9) -> SimpleNamespace:
+    history = SimpleNamespace(ratio=[1.0, end])
+    return SimpleNamespace(ratio_at_junction=ratio, history=history, steps=800, wall_seconds=1.0)
 
 
 def test_time_step_study_reports_the_limit_next_to_the_case_dt() -> None:
@@ -65,6 +66,9 @@ def test_time_step_study_reports_the_limit_next_to_the_case_dt() -> None:
     wobbly = [_run(0.990), _run(0.995), _run(0.993)]
     text3, m3 = vof_kind._dt_study(dt, wobbly)  # type: ignore[arg-type]
     assert "not monotone" in text3 and "ratio_dt_limit" not in m3
+    short = [_run(math.nan, 0.97), _run(math.nan, 0.98), _run(math.nan, 0.985)]  # x = 0 not reached
+    text4, m4 = vof_kind._dt_study(dt, short)  # type: ignore[arg-type]
+    assert "at the end of the run" in text4 and m4["ratio_dt_limit"] == pytest.approx(0.99)
 
 
 def test_dt_refinements_add_runs_at_halved_steps(
