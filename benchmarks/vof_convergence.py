@@ -15,8 +15,9 @@ and the solver's CPU seconds. The studies (``--study``, several allowed):
 * ``cell``: 1 x 24 with Newtonian cell phases (at Table 3's eta_inf, at dt and dt/2; and at
   46 Pa s, near rigid): does the number depend on the cell's viscosity?
 * ``alpha``: 1 x 24 with 2 alpha sub-cycles, and with interface compression cAlpha = 0.5.
-* ``dt``: 1 x 24 at dt, dt/2 and dt/4 (the Richardson limit dt -> 0 of 1 - b/a at x = 0 and
-  its observed order are printed after the table), and 1 x 48 at dt/2.
+* ``dt``: 1 x 24 at dt, dt/2 and dt/4 (the limit dt -> 0 of 1 - b/a at x = 0, the factor by
+  which its differences shrink and the observed order, :mod:`.vof.extrapolation`, are
+  printed after the table), and 1 x 48 at dt/2.
 * ``compression``: 1 x 24 with interface compression cAlpha = 0.5 at dt and dt/2.
 * ``parity``: 1 x 3 and 1 x 24 on meshes with an even and an odd number of cells across the
   channel (dx = 12.5, 11.9, 10.4, 10 um): the dx = 10 um outlier.
@@ -160,8 +161,9 @@ def main() -> None:
         print(
             f"\n1 x 24, 1 - b/a at x = 0 over dt, dt/2, dt/4: {series[0]:.5f}, {series[1]:.5f}, "
             f"{series[2]:.5f}; changes {100 * (series[1] / series[0] - 1):+.1f} %, "
-            f"{100 * (series[2] / series[1] - 1):+.1f} %; Richardson: observed order "
-            f"{ex.order:.2f}, limit dt -> 0 {ex.limit:.5f} (b/a {1 - ex.limit:.5f})"
+            f"{100 * (series[2] / series[1] - 1):+.1f} %; differences shrink by q = "
+            f"{ex.factor:.3f} per halving (observed order {ex.order:.2f}; nan: alternating); "
+            f"limit dt -> 0 {ex.limit:.5f} (b/a {1 - ex.limit:.5f})"
         )
 
 

@@ -30,10 +30,24 @@ def test_richardson_recovers_order_and_limit_of_a_power_law(order: float, ratio:
     assert ex.finest == f[2]
 
 
-def test_richardson_gives_no_limit_when_the_solutions_alternate() -> None:
-    for values in ([1.0, 1.2, 1.1], [1.0, 1.0, 1.1], [2.0, 1.5, 1.5]):
+@pytest.mark.parametrize("q", [-0.5, -0.126, 0.3])
+def test_limit_of_a_geometric_sequence_alternating_or_not(q: float) -> None:
+    f = [1.5 - 0.2 * q**k for k in range(3)]  # f0 = 1.5, differences shrink by q
+    ex = richardson(f)
+    assert ex.factor == pytest.approx(q, rel=1e-12)
+    assert ex.limit == pytest.approx(1.5, rel=1e-12)
+    assert ex.monotone == (q > 0) and ex.converging
+    assert math.isnan(ex.order) if q < 0 else ex.order == pytest.approx(-math.log2(q))
+    if q < 0:  # alternating: the limit lies between the two finest solutions
+        assert min(f[1:]) < ex.limit < max(f[1:])
+
+
+def test_no_limit_when_the_differences_do_not_shrink() -> None:
+    for values in ([1.0, 1.1, 1.3], [1.0, 1.2, 0.9], [1.0, 1.0, 1.1]):
         ex = richardson(values)
-        assert not ex.monotone and math.isnan(ex.limit) and math.isnan(ex.order)
+        assert not ex.converging and math.isnan(ex.limit) and math.isnan(ex.order)
+    settled = richardson([1.0, 1.1, 1.1])  # the last two agree: the limit is the finest
+    assert settled.limit == 1.1 and settled.order == math.inf
 
 
 @pytest.mark.parametrize(
@@ -63,9 +77,13 @@ def test_time_step_study_reports_the_limit_next_to_the_case_dt() -> None:
     assert "p = 1.00" in text and "1 - b/a = 0.00200" in text and "+500 % in 1 - b/a" in text
     two, m2 = vof_kind._dt_study(dt, runs[:2])  # type: ignore[arg-type]
     assert "no dt -> 0 estimate" in two and set(m2) == {"dt_change_pct"}
-    wobbly = [_run(0.990), _run(0.995), _run(0.993)]
+    wobbly = [_run(0.990), _run(0.995), _run(0.994)]  # alternating, q = -0.2
     text3, m3 = vof_kind._dt_study(dt, wobbly)  # type: ignore[arg-type]
-    assert "not monotone" in text3 and "ratio_dt_limit" not in m3
+    assert "alternate" in text3 and math.isnan(m3["dt_order"])
+    assert m3["dt_factor"] == pytest.approx(-0.2) and 0.994 < m3["ratio_dt_limit"] < 0.995
+    away = [_run(0.990), _run(0.995), _run(0.985)]  # q = -2: no limit
+    text5, m5 = vof_kind._dt_study(dt, away)  # type: ignore[arg-type]
+    assert "do not shrink" in text5 and "ratio_dt_limit" not in m5
     short = [_run(math.nan, 0.97), _run(math.nan, 0.98), _run(math.nan, 0.985)]  # x = 0 not reached
     text4, m4 = vof_kind._dt_study(dt, short)  # type: ignore[arg-type]
     assert "at the end of the run" in text4 and m4["ratio_dt_limit"] == pytest.approx(0.99)

@@ -160,6 +160,7 @@ METRICS = {
     "seconds_per_ms": "wall seconds per simulated ms (first pressure, one run)",
     "dt_change_pct": "change of 1 - b/a at x = 0 from dt to dt/2 (first pressure), %",
     "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
+    "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
     "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",
     "deformation_dt_limit": "1 - b/a at x = 0 extrapolated to dt -> 0 (first pressure)",
     "ratio_dt_error_pct": "b/a at x = 0 with the case's dt against its dt -> 0 limit, %",
@@ -492,11 +493,11 @@ def _dt_study(dt: float, runs: list[JunctionRun]) -> tuple[str, dict[str, float]
         lines.append("Two time steps: no observed order, no dt -> 0 estimate (set 2 refinements).")
     else:
         ex = richardson(ratios[-3:])
-        metrics["dt_order"] = ex.order
-        if not ex.monotone:
+        metrics.update(dt_order=ex.order, dt_factor=ex.factor)
+        if not ex.converging:
             lines.append(
-                "b/a is not monotone over the finest three time steps: no observed order, "
-                "no dt -> 0 estimate."
+                f"The differences of b/a do not shrink over the finest three time steps (factor "
+                f"{ex.factor:.2f} per halving): no dt -> 0 estimate."
             )
         else:
             base = ratios[0]
@@ -505,12 +506,18 @@ def _dt_study(dt: float, runs: list[JunctionRun]) -> tuple[str, dict[str, float]
                 deformation_dt_limit=1 - ex.limit,
                 ratio_dt_error_pct=_pct(base, ex.limit),
             )
+            how = (
+                f"Richardson over the finest three, observed order p = {ex.order:.2f}"
+                if ex.monotone
+                else f"the differences alternate, factor q = {ex.factor:.2f} per halving: no "
+                "observed order; the geometric (Aitken) limit, which lies between the two "
+                "finest values, is an estimate only"
+            )
             lines.append(
-                f"**dt -> 0 at {where} (Richardson over the finest three, observed order p = "
-                f"{ex.order:.2f}): b/a = {ex.limit:.5f}, 1 - b/a = {1 - ex.limit:.5f}**, "
-                f"against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the case's dt = {dt:g} s: "
-                f"its dt error is {100 * (base / ex.limit - 1):+.2f} % in b/a and "
-                f"{100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
+                f"**dt -> 0 at {where} ({how}): b/a = {ex.limit:.5f}, 1 - b/a = "
+                f"{1 - ex.limit:.5f}**, against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the "
+                f"case's dt = {dt:g} s: its dt error is {100 * (base / ex.limit - 1):+.2f} % in "
+                f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
             )
     return "\n".join(lines), metrics
 
