@@ -15,11 +15,19 @@ and the solver's CPU seconds. The studies (``--study``, several allowed):
 * ``cell``: 1 x 24 with Newtonian cell phases (at Table 3's eta_inf, at dt and dt/2; and at
   46 Pa s, near rigid): does the number depend on the cell's viscosity?
 * ``alpha``: 1 x 24 with 2 alpha sub-cycles, and with interface compression cAlpha = 0.5.
+* ``dt``: 1 x 24 at dt, dt/2 and dt/4 (the limit dt -> 0 of 1 - b/a at x = 0, the factor by
+  which its differences shrink and the observed order, :mod:`.vof.extrapolation`, are
+  printed after the table), and 1 x 48 at dt/2.
+* ``compression``: 1 x 24 with interface compression cAlpha = 0.5 at dt and dt/2.
 * ``parity``: 1 x 3 and 1 x 24 on meshes with an even and an odd number of cells across the
   channel (dx = 12.5, 11.9, 10.4, 10 um): the dx = 10 um outlier.
 
     nice -n 10 python benchmarks/vof_convergence.py --study chosen   # 1 x 24, dt, dt/2: 4 CPU-min
     nice -n 10 python benchmarks/vof_convergence.py --study correctors parity
+    nice -n 10 python benchmarks/vof_convergence.py --study dt   # ~10 CPU-min
+
+(``MULESCorr``/``nAlphaCorr``, semi-implicit MULES, are not read by v1912's multiphaseInterFoam:
+``benchmarks/vof_alpha_keywords.py`` shows it.)
 """
 
 from __future__ import annotations
@@ -32,6 +40,7 @@ from pathlib import Path
 from oocyte_fe.errors import SolverError
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
+from oocyte_fe.microchannel.vof.extrapolation import richardson
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.junction import (
     junction_setup,
@@ -81,6 +90,13 @@ def studies(correctors: int) -> dict[str, list[tuple[str, float, float, dict]]]:
             ("1 x 24, 2 alpha sub-cycles", 12.5, 1e-6, {**c24, "alpha_subcycles": 2}),
             ("1 x 24, cAlpha 0.5", 12.5, 1e-6, {**c24, "compression": 0.5}),
         ],
+        "dt": [
+            *[("1 x 24", 12.5, 1e-6 / k, c24) for k in (1, 2, 4)],
+            ("1 x 48", 12.5, 5e-7, {**c24, "correctors": 48}),
+        ],
+        "compression": [
+            ("1 x 24, cAlpha 0.5", 12.5, dt, {**c24, "compression": 0.5}) for dt in (1e-6, 5e-7)
+        ],
         "parity": [
             (f"1 x {n}, {round(250 / dx)} cells across", dx, 1e-6, kw)
             for n, kw in ((3, {}), (24, c24))
@@ -118,6 +134,7 @@ def main() -> None:
     print(f"| run | dx (um) | dt (s) | sweeps per us | {cols} | t at x = 0 (ms) | CPU s |")
     print("|---" * (6 + len(POSITIONS)) + "|")
     table = studies(args.correctors)
+    at_junction: dict[tuple[str, float], float] = {}  # (label, dt): 1 - b/a at x = 0
     with tempfile.TemporaryDirectory() as tmp:
         for k, (label, dx, dt, spec) in enumerate(run for s in args.study for run in table[s]):
             kw = dict(spec)
@@ -137,6 +154,17 @@ def main() -> None:
             values = " | ".join(f"{1 - run.history.at_x(x)[1]:.5f}" for x in POSITIONS)
             t0 = run.history.at_x(0.0)[0] * 1e3
             print(f"{head} {values} | {t0:.4f} | {cpu:.0f} |", flush=True)
+            at_junction[(label, dt)] = 1 - run.history.at_x(0.0)[1]
+    series = [at_junction.get(("1 x 24", 1e-6 / k)) for k in (1, 2, 4)]
+    if all(v is not None for v in series):
+        ex = richardson(series)  # type: ignore[arg-type]
+        print(
+            f"\n1 x 24, 1 - b/a at x = 0 over dt, dt/2, dt/4: {series[0]:.5f}, {series[1]:.5f}, "
+            f"{series[2]:.5f}; changes {100 * (series[1] / series[0] - 1):+.1f} %, "
+            f"{100 * (series[2] / series[1] - 1):+.1f} %; differences shrink by q = "
+            f"{ex.factor:.3f} per halving (observed order {ex.order:.2f}; nan: alternating); "
+            f"limit dt -> 0 {ex.limit:.5f} (b/a {1 - ex.limit:.5f})"
+        )
 
 
 if __name__ == "__main__":

@@ -78,7 +78,9 @@ def run(
         False, "-v", "--verbose", help="Step counters in the log lines; VTK warnings to vtk.log."
     ),
     scheduler: str = typer.Option(
-        None, "--scheduler", help="Dask scheduler address for sweeps (default: local cluster)."
+        None,
+        "--scheduler",
+        help="Dask scheduler address for sweeps and VOF runs (default: local cluster).",
     ),
     workers: int = typer.Option(
         None, "--workers", min=1, help="Worker processes of the local sweep cluster (one per core)."

@@ -25,6 +25,7 @@ def run_echo(ctx: CaseContext) -> CaseOutcome:
     """Echo kind used by the runner tests."""
     inp = ctx.inputs
     ctx.output("partial.txt").write_text("written before any crash")
+    ctx.output("scheduler.txt").write_text(str(ctx.scheduler))  # the CLI's --scheduler
     ctx.step("computing")
     for i in range(inp.steps):
         time.sleep(0.01)

@@ -2,8 +2,9 @@
 
 Runs :func:`oocyte_fe.microchannel.vof.junction.run_junction` for each pressure (on Dask,
 :mod:`oocyte_fe.microchannel.vof.pool`: ``concurrent`` at a time locally or on the workers of
-``scheduler``, each with ``ranks`` MPI ranks), one extra run at a second mesh and
-one at a second viscosity cap (first pressure), and the reduced Kelvin-Voigt model beside it.
+a scheduler: the CLI's ``--scheduler``, else the ``scheduler`` input; each with ``ranks`` MPI
+ranks), one extra run at a second mesh and one at a second viscosity cap (first pressure), and
+the reduced Kelvin-Voigt model beside it.
 Without OpenFOAM the case is SKIPPED (not a failure) with the install line as its reason; the
 reduced model still runs and its table is in the report.
 """
@@ -24,6 +25,7 @@ from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
+from oocyte_fe.microchannel.vof.extrapolation import richardson
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.junction import JunctionRun, junction_setup, run_junction
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
@@ -113,6 +115,13 @@ class VofInputs(CaseInputs):
     dx_um: float = _f(10.0, "cell size", "um", gt=0)
     mesh_check_dx_um: float | None = _f(None, "second mesh, first pressure", "um", gt=0)
     time_step_s: float = _f(1e-6, "time step (fixed)", "s", gt=0)
+    dt_refinements: int = _f(
+        0,
+        "extra runs at dt/2, dt/4, ... (first pressure, dx_um); 2 or more: the dt -> 0 limit",
+        "1",
+        ge=0,
+        le=3,
+    )
     travel_um: float = _f(
         600.0, "run until the cell has moved this far at the mean velocity", "um", gt=0
     )
@@ -125,7 +134,9 @@ class VofInputs(CaseInputs):
     ranks: int = _f(1, "MPI ranks per run (decomposePar + mpirun)", "1", ge=1)
     concurrent: int = _f(1, "runs at the same time (local Dask cluster of threads)", "1", ge=1)
     scheduler: str | None = _f(
-        None, "Dask scheduler address (a cluster); none: a local cluster", "address"
+        None,
+        "Dask scheduler address (a cluster); none: a local cluster; the CLI's --scheduler wins",
+        "address",
     )
     nice: int = _f(0, "niceness of the OpenFOAM processes", "1", ge=0, le=19)
     openfoam: str | None = _f(None, "OpenFOAM directory (else env var / WM_PROJECT_DIR)", "path")
@@ -147,6 +158,12 @@ METRICS = {
     "mesh_change_pct": "ratio change between the two meshes at x = 0 (else at the end), %",
     "cap_change_pct": "ratio change between the two caps at x = 0 (else at the end), %",
     "seconds_per_ms": "wall seconds per simulated ms (first pressure, one run)",
+    "dt_change_pct": "change of 1 - b/a at x = 0 from dt to dt/2 (first pressure), %",
+    "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
+    "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
+    "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",
+    "deformation_dt_limit": "1 - b/a at x = 0 extrapolated to dt -> 0 (first pressure)",
+    "ratio_dt_error_pct": "b/a at x = 0 with the case's dt against its dt -> 0 limit, %",
 }
 
 
@@ -202,7 +219,13 @@ def _kelvin_voigt(inp: VofInputs, source: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _job(
-    ctx: CaseContext, inp: VofInputs, label: str, p_hpa: float, dx: float, cap: float
+    ctx: CaseContext,
+    inp: VofInputs,
+    label: str,
+    p_hpa: float,
+    dx: float,
+    cap: float,
+    dt: float,
 ) -> tuple:
     """Arguments of :func:`run_junction` for one run (plain data: they may go to a remote
     Dask worker)."""
@@ -210,7 +233,7 @@ def _job(
     u = float(channel.mean_velocity(p_hpa * HPA))
     end = inp.travel_um / u
     numerics = Numerics(
-        time_step=inp.time_step_s,
+        time_step=dt,
         end_time=end,
         write_interval=end / inp.writes,
         outer_correctors=inp.outer_correctors,
@@ -223,6 +246,12 @@ def _job(
     foam = find_openfoam(inp.openfoam)
     ctx.step(f"{label}: {setup.layout.n_cells} cells, {end * 1e3:.3g} ms")
     return (foam, ctx.output(f"openfoam/{label}"), setup, inp.ranks, inp.nice)
+
+
+def run_scheduler(ctx: CaseContext, inp: VofInputs) -> str | None:
+    """The Dask scheduler the runs go to: the CLI's ``--scheduler`` (``ctx.scheduler``) when
+    given, else the case's ``scheduler`` input, else none (a local cluster)."""
+    return ctx.scheduler or inp.scheduler
 
 
 def _progress(ctx: CaseContext, label: str) -> Callable[[str], None]:
@@ -246,17 +275,12 @@ def run(ctx: CaseContext) -> CaseOutcome:
     except OpenFoamMissing:
         return _skipped(inp, table, kv_p, kv_ratio)
 
-    jobs = [(f"p{p / HPA:g}hPa", p / HPA, inp.dx_um, inp.zero_shear_cap_Pa_s) for p in pressures]
+    dt, cap = inp.time_step_s, inp.zero_shear_cap_Pa_s
+    jobs = [(f"p{p / HPA:g}hPa", p / HPA, inp.dx_um, cap, dt) for p in pressures]
     first = pressures[0] / HPA
     if inp.mesh_check_dx_um:
-        jobs.append(
-            (
-                f"p{first:g}hPa_dx{inp.mesh_check_dx_um:g}",
-                first,
-                inp.mesh_check_dx_um,
-                inp.zero_shear_cap_Pa_s,
-            )
-        )
+        dx = inp.mesh_check_dx_um
+        jobs.append((f"p{first:g}hPa_dx{dx:g}", first, dx, cap, dt))
     if inp.cap_sensitivity_Pa_s:
         jobs.append(
             (
@@ -264,13 +288,18 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 first,
                 inp.dx_um,
                 inp.cap_sensitivity_Pa_s,
+                dt,
             )
         )
+    for k in range(1, inp.dt_refinements + 1):
+        jobs.append((f"p{first:g}hPa_dt{dt / 2**k:g}", first, inp.dx_um, cap, dt / 2**k))
+    scheduler = run_scheduler(ctx, inp)
+    ctx.step(f"{len(jobs)} runs on " + (scheduler or f"a local cluster of {inp.concurrent}"))
     runs = run_concurrently(
         run_junction,
         [_job(ctx, inp, *job) for job in jobs],
         inp.concurrent,
-        inp.scheduler,
+        scheduler,
         [_progress(ctx, job[0]) for job in jobs],
     )
     main = runs[: len(pressures)]
@@ -350,7 +379,8 @@ def _report(
         "seconds_per_ms": runs[0].seconds_per_ms,
     }
     notes = []
-    for label, r in extra.items():
+    dt_runs = [r for label, r in extra.items() if "_dt" in label]
+    for label, r in ((k, v) for k, v in extra.items() if "_dt" not in k):
         # at the junction when both runs reach it, else at the end of the (equal) window
         where = "x = 0" if math.isfinite(r.ratio_at_junction * runs[0].ratio_at_junction) else "end"
         ours, base = (
@@ -392,6 +422,10 @@ def _report(
                 f"<= {inp.max_mesh_change_pct:g} %",
             )
         )
+    dt_text = "not run"
+    if dt_runs:
+        dt_text, dt_metrics = _dt_study(inp.time_step_s, [runs[0], *dt_runs])
+        metrics.update(dt_metrics)
     folders = time_directories(runs[0].case)
     shot = snapshot(
         folders[-1][1],
@@ -423,6 +457,7 @@ def _report(
     sections = [
         ("Per-pressure comparison", "\n".join(rows)),
         ("Mesh and viscosity-cap sensitivity (first pressure)", "\n".join(notes) or "not run"),
+        ("Time-step convergence (first pressure)", dt_text),
         (
             "Files",
             "Each run's OpenFOAM case is in `openfoam/<run>/` (open `case.foam` in ParaView for "
@@ -430,6 +465,61 @@ def _report(
         ),
     ]
     return CaseOutcome(metrics=metrics, figures=figures, sections=sections, checks=checks)
+
+
+def _dt_study(dt: float, runs: list[JunctionRun]) -> tuple[str, dict[str, float]]:
+    """The first pressure at dt, dt/2, ...: b/a and 1 - b/a at x = 0 per dt (at the end of the
+    run when one does not reach x = 0, as the short ``[quick]`` window), the change of 1 - b/a
+    from dt to dt/2, and with three or more runs the Richardson limit dt -> 0 of the finest
+    three (:mod:`oocyte_fe.microchannel.vof.extrapolation`)."""
+    ratios = [r.ratio_at_junction for r in runs]
+    where = "x = 0"
+    if not all(math.isfinite(v) for v in ratios):
+        ratios, where = [float(r.history.ratio[-1]) for r in runs], "the end of the run"
+    rows = [
+        f"| dt (s) | b/a at {where} | 1 - b/a | 1 - b/a against the previous dt | steps "
+        "| wall (s) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for k, r in enumerate(runs):
+        change = f"{100 * ((1 - ratios[k]) / (1 - ratios[k - 1]) - 1):+.1f} %" if k else ""
+        rows.append(
+            f"| {dt / 2**k:g} | {ratios[k]:.5f} | {1 - ratios[k]:.5f} | {change} "
+            f"| {r.steps} | {r.wall_seconds:.0f} |"
+        )
+    metrics = {"dt_change_pct": 100 * abs((1 - ratios[1]) / (1 - ratios[0]) - 1)}
+    lines = ["\n".join(rows), ""]
+    if len(runs) < 3:
+        lines.append("Two time steps: no observed order, no dt -> 0 estimate (set 2 refinements).")
+    else:
+        ex = richardson(ratios[-3:])
+        metrics.update(dt_order=ex.order, dt_factor=ex.factor)
+        if not ex.converging:
+            lines.append(
+                f"The differences of b/a do not shrink over the finest three time steps (factor "
+                f"{ex.factor:.2f} per halving): no dt -> 0 estimate."
+            )
+        else:
+            base = ratios[0]
+            metrics.update(
+                ratio_dt_limit=ex.limit,
+                deformation_dt_limit=1 - ex.limit,
+                ratio_dt_error_pct=_pct(base, ex.limit),
+            )
+            how = (
+                f"Richardson over the finest three, observed order p = {ex.order:.2f}"
+                if ex.monotone
+                else f"the differences alternate, factor q = {ex.factor:.2f} per halving: no "
+                "observed order; the geometric (Aitken) limit, which lies between the two "
+                "finest values, is an estimate only"
+            )
+            lines.append(
+                f"**dt -> 0 at {where} ({how}): b/a = {ex.limit:.5f}, 1 - b/a = "
+                f"{1 - ex.limit:.5f}**, against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the "
+                f"case's dt = {dt:g} s: its dt error is {100 * (base / ex.limit - 1):+.2f} % in "
+                f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
+            )
+    return "\n".join(lines), metrics
 
 
 def _layout(inp: VofInputs, run: JunctionRun):

@@ -157,7 +157,14 @@ def quiet_vtk(log_file: Path | None) -> None:
         vtkLogger.LogToFile(str(log_file), vtkLogger.APPEND, vtkLogger.VERBOSITY_WARNING)
 
 
-def _context(case: Case, tmp: Path, quick: bool, logger: logging.Logger, events: EventSink):
+def _context(
+    case: Case,
+    tmp: Path,
+    quick: bool,
+    logger: logging.Logger,
+    events: EventSink,
+    scheduler: str | None = None,
+):
     stage = {"now": "started"}
 
     def on_step(message: str) -> None:
@@ -174,6 +181,7 @@ def _context(case: Case, tmp: Path, quick: bool, logger: logging.Logger, events:
         inputs=case.inputs,
         quick=quick,
         log=logger,
+        scheduler=scheduler,
         notify=on_step,
         on_progress=on_progress,
     )
@@ -185,15 +193,18 @@ def execute_case(
     quick: bool = False,
     events: EventSink = ignore,
     verbose: bool = False,
+    scheduler: str | None = None,
 ) -> CaseResult:
     """Run one validated case with ``tmp`` as its result folder; never raises for a case failure.
+
+    ``scheduler`` (the CLI's ``--scheduler``) reaches the kind as ``ctx.scheduler``.
 
     Writes ``result.json`` beside the report. On failure ``tmp`` is emptied and holds only
     ``report.md`` (the reason), ``error.log`` and ``result.json``.
     """
     logger, handler = _case_logger(case.name, tmp / "log.txt")
     quiet_vtk(tmp / "vtk.log" if verbose else None)
-    ctx = _context(case, tmp, quick, logger, Throttle(events))
+    ctx = _context(case, tmp, quick, logger, Throttle(events), scheduler)
     start = time.perf_counter()
     try:
         logger.info(case.started(quick))

@@ -97,6 +97,7 @@ class CaseContext:
     inputs: BaseModel
     quick: bool
     log: logging.Logger
+    scheduler: str | None = None  # the CLI's --scheduler: a Dask address for kinds that use one
     notify: Callable[[str], None] = lambda _msg: None
     on_progress: Callable[[int, int, str | None], None] = lambda _done, _total, _stage: None
 

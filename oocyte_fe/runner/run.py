@@ -49,11 +49,13 @@ def run_one(
     quick: bool = False,
     events: EventSink = ignore,
     verbose: bool = False,
+    scheduler: str | None = None,
 ) -> CaseResult:
-    """Run one validated case into ``out_root/<case name>/``; never raises for a case failure."""
+    """Run one validated case into ``out_root/<case name>/``; never raises for a case failure.
+    ``scheduler`` (the CLI's ``--scheduler``) reaches the kind as ``ctx.scheduler``."""
     events(ProgressEvent(case.name, "start", case.started(quick)))
     tmp = partial_folder(out_root, case.name)
-    result = execute_case(case, tmp, quick, events, verbose)
+    result = execute_case(case, tmp, quick, events, verbose, scheduler)
     result = place_result(tmp, out_root / case.name, result)
     events(ProgressEvent(case.name, "end", result.status, result=result))
     return result
@@ -139,7 +141,8 @@ def run_cases(
 
     Cases with a ``[sweep]`` table run after the others, through the registry's batch runner
     (:func:`oocyte_fe.sweep.run.run_sweeps`), their samples on Dask: a local cluster of
-    ``workers`` processes (one per core by default) or the ``scheduler`` address.
+    ``workers`` processes (one per core by default) or the ``scheduler`` address. The other
+    cases get ``scheduler`` as ``ctx.scheduler`` (the VOF kind sends its OpenFOAM runs there).
     """
     check_writable(out_root)
     clean_stale(out_root)
@@ -158,9 +161,9 @@ def run_cases(
     sweeps = [c for c in run_plan.cases if c.spec.sweep is not None]
     if jobs <= 1 or len(plain) <= 1:
         for case in plain:
-            run_one(case, out_root, quick, finished, verbose)
+            run_one(case, out_root, quick, finished, verbose, scheduler)
     else:
-        run_in_processes(plain, out_root, jobs, quick, finished, verbose)
+        run_in_processes(plain, out_root, jobs, quick, finished, verbose, scheduler)
     if sweeps:
         batch_runner("sweep")(sweeps, out_root, finished, scheduler, workers)
     write_summary(results, out_root)

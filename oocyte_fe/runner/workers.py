@@ -29,13 +29,19 @@ GRACE_S = 30.0
 
 
 def _child(
-    directory: Path, tmp: Path, quick: bool, kind_module: str, verbose: bool, q: object
+    directory: Path,
+    tmp: Path,
+    quick: bool,
+    kind_module: str,
+    verbose: bool,
+    q: object,
+    scheduler: str | None = None,
 ) -> None:
     """Process entry point: reload the case and run it into ``tmp``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     put = q.put  # type: ignore[attr-defined]
     case = load_case(directory, quick=quick, kind_module=kind_module)
-    result = execute_case(case, tmp, quick, lambda ev: put(("event", ev)), verbose)
+    result = execute_case(case, tmp, quick, lambda ev: put(("event", ev)), verbose, scheduler)
     put(("result", result))
 
 
@@ -59,9 +65,16 @@ def _death(process: BaseProcess) -> str:
 
 
 def run_in_processes(
-    cases: list[Case], out_root: Path, jobs: int, quick: bool, events: EventSink, verbose: bool
+    cases: list[Case],
+    out_root: Path,
+    jobs: int,
+    quick: bool,
+    events: EventSink,
+    verbose: bool,
+    scheduler: str | None = None,
 ) -> list[CaseResult]:
-    """Run ``cases``, ``jobs`` at a time, each in its own process; never raises for a case."""
+    """Run ``cases``, ``jobs`` at a time, each in its own process; never raises for a case.
+    ``scheduler`` (the CLI's ``--scheduler``) reaches each case as ``ctx.scheduler``."""
     mp = multiprocessing.get_context("spawn")
     q = mp.Queue()
     todo = list(cases)
@@ -90,7 +103,7 @@ def run_in_processes(
             while todo and len(running) < jobs:
                 case = todo.pop(0)
                 tmp = partial_folder(out_root, case.name)
-                args = (case.directory, tmp, quick, case.kind.module, verbose, q)
+                args = (case.directory, tmp, quick, case.kind.module, verbose, q, scheduler)
                 process = mp.Process(target=_child, args=args, name=f"case-{case.name}")
                 process.start()
                 running[case.name] = _Running(case, process, tmp, time.monotonic())

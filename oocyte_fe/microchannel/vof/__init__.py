@@ -13,6 +13,7 @@ Modules, one idea each:
 - :mod:`.verification` -- single-phase slit flow against the closed forms
 - :mod:`.drop` -- a two-phase drop in simple shear against the 2-D small-deformation result
 - :mod:`.extrude` -- a planar layout extruded into a 3-D duct (timing runs)
+- :mod:`.extrapolation` -- the step -> 0 limit and observed order from three solutions
 
 Internal units: um, nN, kPa, s; SI only in the files OpenFOAM reads and writes.
 """

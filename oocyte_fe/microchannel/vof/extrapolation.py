@@ -1,0 +1,69 @@
+"""The step -> 0 limit of a quantity computed at three steps h, h/r, h/r^2.
+
+Three solutions ``f1 = f(h), f2 = f(h/r), f3 = f(h/r^2)`` give the contraction factor of their
+differences and, if it is below 1 in size, the limit of the geometric sequence through them
+(Aitken's delta-squared)::
+
+    q  = (f2 - f3) / (f1 - f2)
+    f0 = f3 - (f2 - f3) q / (1 - q)
+
+For a method whose error is ``f(h) = f0 + C h^p + O(h^(p+1))`` (monotone convergence, q > 0)
+this is Richardson's extrapolation with the observed order ``p = -ln q / ln r``:
+``f0 = f3 + (f3 - f2)/(r^p - 1)``. When the differences alternate (q < 0) there is no observed
+order; the geometric limit then lies between f2 and f3, and is only an estimate (two error
+sources of opposite sign can make the same pattern). With ``|q| >= 1`` the solutions do not
+converge and there is no limit (nan). The VOF Table 4 case applies it to the axis ratio at
+the junction over dt, dt/2, dt/4 (docs/microchannel.md, "Mesh, corrector and time-step
+convergence").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from oocyte_fe.errors import InputError
+
+
+@dataclass(frozen=True)
+class Extrapolation:
+    """Three solutions at steps refined by ``ratio``: the contraction factor ``factor`` (q),
+    the observed order ``order`` (nan unless 0 < q < 1), the limit ``limit`` (nan unless
+    |q| < 1) and the finest solution ``finest``."""
+
+    factor: float
+    order: float
+    limit: float
+    finest: float
+    ratio: float
+
+    @property
+    def monotone(self) -> bool:
+        """The differences keep their sign and shrink: an observed order exists."""
+        return 0 <= self.factor < 1
+
+    @property
+    def converging(self) -> bool:
+        """The differences shrink (|q| < 1): a limit exists (monotone or alternating)."""
+        return abs(self.factor) < 1
+
+
+def richardson(values: Sequence[float], ratio: float = 2.0) -> Extrapolation:
+    """Contraction factor, observed order and limit (module docstring) of ``values`` =
+    f(h), f(h/r), f(h/r^2)."""
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        raise InputError(
+            "richardson", "values", "three finite solutions f(h), f(h/r), f(h/r^2)", list(values)
+        )
+    if not ratio > 1:
+        raise InputError("richardson", "ratio", "a refinement ratio > 1", got=ratio)
+    f1, f2, f3 = (float(v) for v in values)
+    d12, d23 = f1 - f2, f2 - f3
+    if d12 == 0:
+        q = 0.0 if d23 == 0 else math.copysign(math.inf, d23)
+    else:
+        q = d23 / d12
+    order = -math.log(q) / math.log(ratio) if 0 < q < 1 else (math.inf if q == 0 else math.nan)
+    limit = f3 - d23 * q / (1 - q) if abs(q) < 1 else math.nan
+    return Extrapolation(q, order, limit, f3, ratio)

@@ -1,0 +1,113 @@
+"""The dt -> 0 estimate of the VOF Table 4 case: Richardson's limit and observed order from
+three solutions (against a closed-form sequence), the case's time-step study built from its
+runs, and the extra runs the ``dt_refinements`` input adds (no OpenFOAM needed)."""
+
+from __future__ import annotations
+
+import math
+import shutil
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+import oocyte_fe.kinds.microchannel_vof as vof_kind
+from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel.vof.extrapolation import richardson
+from oocyte_fe.microchannel.vof.runner import OpenFoam
+from oocyte_fe.runner.run import plan, run_cases
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+@pytest.mark.parametrize(("order", "ratio"), [(1.0, 2.0), (1.5, 2.0), (2.0, 3.0), (0.5, 2.0)])
+def test_richardson_recovers_order_and_limit_of_a_power_law(order: float, ratio: float) -> None:
+    f = [3.0 - 0.25 * (1.0 / ratio**k) ** order for k in range(3)]  # f0 = 3 exactly
+    ex = richardson(f, ratio)
+    assert ex.monotone
+    assert ex.order == pytest.approx(order, rel=1e-10)
+    assert ex.limit == pytest.approx(3.0, rel=1e-12)
+    assert ex.finest == f[2]
+
+
+@pytest.mark.parametrize("q", [-0.5, -0.126, 0.3])
+def test_limit_of_a_geometric_sequence_alternating_or_not(q: float) -> None:
+    f = [1.5 - 0.2 * q**k for k in range(3)]  # f0 = 1.5, differences shrink by q
+    ex = richardson(f)
+    assert ex.factor == pytest.approx(q, rel=1e-12)
+    assert ex.limit == pytest.approx(1.5, rel=1e-12)
+    assert ex.monotone == (q > 0) and ex.converging
+    assert math.isnan(ex.order) if q < 0 else ex.order == pytest.approx(-math.log2(q))
+    if q < 0:  # alternating: the limit lies between the two finest solutions
+        assert min(f[1:]) < ex.limit < max(f[1:])
+
+
+def test_no_limit_when_the_differences_do_not_shrink() -> None:
+    for values in ([1.0, 1.1, 1.3], [1.0, 1.2, 0.9], [1.0, 1.0, 1.1]):
+        ex = richardson(values)
+        assert not ex.converging and math.isnan(ex.limit) and math.isnan(ex.order)
+    settled = richardson([1.0, 1.1, 1.1])  # the last two agree: the limit is the finest
+    assert settled.limit == 1.1 and settled.order == math.inf
+
+
+@pytest.mark.parametrize(
+    ("values", "ratio", "field"),
+    [([1.0, 2.0], 2.0, "values"), ([1.0, math.nan, 2.0], 2.0, "values"), ([3, 2, 1], 1.0, "ratio")],
+)
+def test_richardson_refuses_bad_input(values: list[float], ratio: float, field: str) -> None:
+    with pytest.raises(InputError, match=f"richardson: {field}: expected"):
+        richardson(values, ratio)
+
+
+def _run(ratio: float, end: float = 0.9) -> SimpleNamespace:
+    history = SimpleNamespace(ratio=[1.0, end])
+    return SimpleNamespace(ratio_at_junction=ratio, history=history, steps=800, wall_seconds=1.0)
+
+
+def test_time_step_study_reports_the_limit_next_to_the_case_dt() -> None:
+    dt = 1e-6
+    # 1 - b/a = 0.002 + 0.01 (dt / 1 us): first order, limit 0.002
+    runs = [_run(1.0 - (0.002 + 0.01 * (dt / 2**k) / 1e-6)) for k in range(3)]
+    text, m = vof_kind._dt_study(dt, runs)  # type: ignore[arg-type]
+    assert m["dt_change_pct"] == pytest.approx(100 * (1 - 0.007 / 0.012))  # 41.7 %
+    assert m["dt_order"] == pytest.approx(1.0)
+    assert m["deformation_dt_limit"] == pytest.approx(0.002)
+    assert m["ratio_dt_limit"] == pytest.approx(0.998)
+    assert m["ratio_dt_error_pct"] == pytest.approx(100 * (1 - 0.988 / 0.998))
+    assert "p = 1.00" in text and "1 - b/a = 0.00200" in text and "+500 % in 1 - b/a" in text
+    two, m2 = vof_kind._dt_study(dt, runs[:2])  # type: ignore[arg-type]
+    assert "no dt -> 0 estimate" in two and set(m2) == {"dt_change_pct"}
+    wobbly = [_run(0.990), _run(0.995), _run(0.994)]  # alternating, q = -0.2
+    text3, m3 = vof_kind._dt_study(dt, wobbly)  # type: ignore[arg-type]
+    assert "alternate" in text3 and math.isnan(m3["dt_order"])
+    assert m3["dt_factor"] == pytest.approx(-0.2) and 0.994 < m3["ratio_dt_limit"] < 0.995
+    away = [_run(0.990), _run(0.995), _run(0.985)]  # q = -2: no limit
+    text5, m5 = vof_kind._dt_study(dt, away)  # type: ignore[arg-type]
+    assert "do not shrink" in text5 and "ratio_dt_limit" not in m5
+    short = [_run(math.nan, 0.97), _run(math.nan, 0.98), _run(math.nan, 0.985)]  # x = 0 not reached
+    text4, m4 = vof_kind._dt_study(dt, short)  # type: ignore[arg-type]
+    assert "at the end of the run" in text4 and m4["ratio_dt_limit"] == pytest.approx(0.99)
+
+
+def test_dt_refinements_add_runs_at_halved_steps(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    case = tmp_path / "microchannel_vof_quick"
+    shutil.copytree(CASES / "microchannel_vof_quick", case)
+    toml = case / "case.toml"
+    toml.write_text(toml.read_text().replace("[inputs]\n", "[inputs]\ndt_refinements = 2\n", 1))
+    seen: list[tuple[str, float]] = []
+
+    def submit(_fn, jobs, concurrent, scheduler, progress=None):
+        seen.extend((job[1].name, job[2].numerics.time_step) for job in jobs)
+        raise RuntimeError("stop: the jobs are what the test wanted")
+
+    monkeypatch.setattr(vof_kind, "find_openfoam", lambda _path=None: OpenFoam(tmp_path))
+    monkeypatch.setattr(vof_kind, "run_concurrently", submit)
+    run_cases(plan([case]), tmp_path / "out")
+    assert seen == [
+        ("p300hPa", 1e-6),
+        ("p300hPa_dx10.4167", 1e-6),
+        ("p300hPa_dt5e-07", 5e-7),
+        ("p300hPa_dt2.5e-07", 2.5e-7),
+    ]
