@@ -262,9 +262,9 @@ def calibrate(
     measured = np.concatenate([curve.force_nN for _, curve in curves])
     penalty = 10.0 * (np.abs(measured) + np.abs(measured).max())
     count = 0
-    last: dict[bytes, tuple[np.ndarray, np.ndarray, bool]] = {}  # the last point pressed
+    last: dict[bytes, tuple[np.ndarray, np.ndarray | None, bool]] = {}  # the last point pressed
 
-    def press(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
+    def press(values: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, bool]:
         """Residual, Jacobian (exact, or None for 2-point) and whether the press diverged."""
         nonlocal count
         key = values.tobytes()
