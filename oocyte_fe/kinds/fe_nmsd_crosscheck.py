@@ -12,7 +12,7 @@ from pydantic import Field
 
 from afm.curve_io import read_creep
 from nmsd.calibration import CalibrationResult, calibrate, near_best
-from nmsd.displacement_field import press_displacements
+from nmsd.displacement_field import DisplacementField, press_displacements
 from nmsd.errors import NmsdDivergence, NmsdInputError
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import (
@@ -399,10 +399,19 @@ def _rate_check(
     except NmsdDivergence as exc:
         ctx.log.warning("rate check: the NMSD press diverged at the check speed: %s", exc)
         return float("nan"), float("nan")
-    u_nm = np.array([field.at_points[float(a)] for a in advances])
-    agree = displacement_agreement(advances, u_fe[1:, :1], u_nm, 0, inp.goal_abs_um, inp.goal_rel)
     nmsd_nN = field.press.force_at(curve.displacement_um)
-    return force_agreement(nmsd_nN, curve.force_nN).r2, float(agree.spindle_ratio.max())
+    ratio = _spindle_goal_ratio(field, advances, u_fe[1:, :1], inp)
+    return force_agreement(nmsd_nN, curve.force_nN).r2, ratio
+
+
+def _spindle_goal_ratio(
+    field: DisplacementField, advances: np.ndarray, u_fe_spindle: np.ndarray, inp: CrosscheckInputs
+) -> float:
+    """Largest spindle error / goal over ``advances`` of an NMSD press against the FE's
+    spindle displacements (k, 1, 2) um."""
+    u_nm = np.array([field.at_points[float(a)] for a in advances])
+    agree = displacement_agreement(advances, u_fe_spindle, u_nm, 0, inp.goal_abs_um, inp.goal_rel)
+    return float(agree.spindle_ratio.max())
 
 
 @case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)
@@ -572,7 +581,8 @@ def _near_best_spindle_ratios(
     """Spindle goal ratio (max over the advances) of every start within 10 % of the best RMSE.
 
     Eq 7 does not tell these fits apart; the spread of their spindle predictions is how far
-    the force curve pins the spindle path (docs/cases/nmsd_vs_fe.md, "Calibration spread").
+    the force curve pins the spindle path (docs/nmsd.md, "Starts that cannot be pressed, and
+    near-equal fits").
     """
     ratios = []
     for end in near_best(cal, 0.1):
@@ -580,11 +590,7 @@ def _near_best_spindle_ratios(
             field = press_displacements(setup, end.params, advances, spindle)
         except NmsdDivergence:
             continue
-        u_nm = np.array([field.at_points[float(a)] for a in advances])
-        agree = displacement_agreement(
-            advances, u_fe_spindle, u_nm, 0, inp.goal_abs_um, inp.goal_rel
-        )
-        ratios.append(float(agree.spindle_ratio.max()))
+        ratios.append(_spindle_goal_ratio(field, advances, u_fe_spindle, inp))
     return ratios
 
 
