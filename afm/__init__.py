@@ -6,7 +6,6 @@ Internal units: um, nN, kPa, s. ``afm`` never imports ``oocyte_fe``.
 
 from afm.creep import CreepData, CreepFit, fit_creep, material_from_creep_csv
 from afm.curve import ForceCurve
-from afm.errors import AfmInputError, MissingExtraError
 from afm.fit import FitRange, IndentationFit, fit_indentation
 from afm.material_file import MaterialFile, read_material, write_material
 from afm.models import MODELS, get_model
@@ -17,10 +16,11 @@ from afm.prony_series import (
     creep_from_relaxation,
     relaxation_from_creep,
 )
+from oocyte_fe.errors import InputError, MissingExtraError
 
 __all__ = [
     "MODELS",
-    "AfmInputError",
+    "InputError",
     "CreepData",
     "CreepFit",
     "CreepProny",

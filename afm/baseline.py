@@ -16,8 +16,8 @@ import numpy as np
 
 from afm.contact_point import deviation_index
 from afm.curve import ForceCurve
-from afm.errors import AfmInputError
 from afm.numerics import dot
+from oocyte_fe.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -52,7 +52,7 @@ def fit_baseline(
     span = piezo[-1] - piezo[0]
     first = piezo <= piezo[0] + start_fraction * span
     if np.count_nonzero(first) < 3:
-        raise AfmInputError(curve.source, "baseline", "at least 3 points before contact")
+        raise InputError(curve.source, "baseline", "at least 3 points before contact")
     guess = _line(piezo[first], force[first])
     contact = deviation_index(force - guess(piezo), guess.noise_nN, source=curve.source)
     end = piezo[0] + (1.0 - margin_fraction) * (piezo[contact] - piezo[0])
@@ -75,7 +75,7 @@ def baseline_before(
     end = piezo[0] + (1.0 - margin_fraction) * (contact_piezo_um - piezo[0])
     free = piezo <= end
     if np.count_nonzero(free) < 3:
-        raise AfmInputError(curve.source, "baseline", "at least 3 points before contact")
+        raise InputError(curve.source, "baseline", "at least 3 points before contact")
     return _line(piezo[free], curve.force_nN[free])
 
 

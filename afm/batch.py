@@ -18,10 +18,10 @@ import numpy as np
 
 from afm.curve import ForceCurve
 from afm.curve_io import TEXT_SUFFIXES, read_curves
-from afm.errors import AfmInputError, MissingExtraError
 from afm.fit import IndentationFit, fit_indentation
 from afm.instrument_io import INSTRUMENT_SUFFIXES
 from afm.pierce import PierceFit, fit_pierce
+from oocyte_fe.errors import InputError, MissingExtraError
 
 
 @dataclass(frozen=True)
@@ -83,11 +83,11 @@ def curve_files(folder: str | Path) -> list[Path]:
     """Curve files under ``folder`` (recursively): text tables and instrument files."""
     folder = Path(folder)
     if not folder.is_dir():
-        raise AfmInputError(folder, "", "a folder of curve files")
+        raise InputError(folder, "", "a folder of curve files")
     suffixes = TEXT_SUFFIXES | INSTRUMENT_SUFFIXES
     files = sorted(p for p in folder.rglob("*") if p.is_file() and p.suffix.lower() in suffixes)
     if not files:
-        raise AfmInputError(folder, "", f"curve files ({', '.join(sorted(suffixes))})")
+        raise InputError(folder, "", f"curve files ({', '.join(sorted(suffixes))})")
     return files
 
 
@@ -109,7 +109,7 @@ def _fit_row(
             both: PierceFit = fit_pierce(curve, **fit_options)
             return BatchRow(str(file), group, both.zp, both.cytoplasm, **where)
         return BatchRow(str(file), group, fit_function(curve, **fit_options), **where)
-    except (AfmInputError, ValueError, FloatingPointError) as exc:
+    except (InputError, ValueError, FloatingPointError) as exc:
         return BatchRow(str(file), group, error=str(exc).splitlines()[0], **where)
 
 
@@ -138,7 +138,7 @@ def fit_batch(
             read = reader(file, **options)
         except MissingExtraError:
             raise
-        except (AfmInputError, ValueError, FloatingPointError) as exc:
+        except (InputError, ValueError, FloatingPointError) as exc:
             result.rows.append(
                 BatchRow(str(file), file.parent.name, error=str(exc).splitlines()[0])
             )

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from afm.errors import AfmInputError
+from oocyte_fe.errors import InputError
 
 METHODS = ("fit", "deviation")
 
@@ -25,7 +25,7 @@ def deviation_index(
 ) -> int:
     """Index of the contact estimate: last point with F <= n_sigma * noise before F stays above.
 
-    Raises :class:`AfmInputError` when the curve never leaves the noise band (no contact),
+    Raises :class:`InputError` when the curve never leaves the noise band (no contact),
     saying why: the threshold, and the largest force or the last point against it.
     """
     force = np.asarray(force_nN, dtype=float)
@@ -45,12 +45,12 @@ def deviation_index(
             got = f"no contact: the last point is {force[-1]:.3g} nN (largest {force.max():.3g} nN)"
         else:
             got = f"no contact: force range {span:.3g} nN, within twice the threshold"
-        raise AfmInputError(source, "force_nN", expected, got)
+        raise InputError(source, "force_nN", expected, got)
     return int(np.flatnonzero(inside)[-1])
 
 
 def check_method(method: str, source: str = "<input>") -> str:
     """Return ``method`` if it is a known contact-point method, else raise."""
     if not isinstance(method, str) or method not in METHODS:
-        raise AfmInputError(source, "contact_method", f"one of {', '.join(METHODS)}", method)
+        raise InputError(source, "contact_method", f"one of {', '.join(METHODS)}", method)
     return method

@@ -29,14 +29,14 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
-from afm.arguments import float_array, integer, positive
 from afm.creep_data import CreepData
 from afm.curve_io import read_creep
-from afm.errors import AfmInputError
 from afm.material_file import MaterialFile
 from afm.models import POISSON_RATIO
 from afm.models.sneddon_cone import HALF_ANGLE
 from afm.prony_series import CreepProny, RelaxationProny, relaxation_from_creep
+from oocyte_fe.checks import float_array, integer, positive
+from oocyte_fe.errors import InputError
 
 MAX_RELATIVE_RMS = 0.1
 """Largest relative RMS residual of the J(t) fit accepted at all (above: refused)."""
@@ -58,8 +58,8 @@ def compliance_from_indentation(
     indentation_um: np.ndarray, force_nN: float, half_angle_deg: float = 10.0, nu: float = 0.5
 ) -> np.ndarray:
     """J(t) = 4 tan(alpha) delta(t)^2 / (pi (1 - nu) F0), 1/kPa (Lee-Radok, cone)."""
-    delta = float_array(indentation_um, "indentation_um")
-    force = positive(force_nN, "force_nN", "<input>", "a positive clamped force in nN")
+    delta = float_array("<input>", "indentation_um", indentation_um)
+    force = positive("<input>", "force_nN", force_nN, expected="a positive clamped force in nN")
     with np.errstate(all="ignore"):
         compliance = delta**2 / (_cone_factor(half_angle_deg, nu) * force)
     return _finite(compliance, "compliance_per_kPa")
@@ -69,8 +69,8 @@ def indentation_from_compliance(
     compliance_per_kPa: np.ndarray, force_nN: float, half_angle_deg: float = 10.0, nu: float = 0.5
 ) -> np.ndarray:
     """delta(t) = sqrt(pi (1 - nu) F0 J(t) / (4 tan(alpha))), um (Lee-Radok, cone)."""
-    j = float_array(compliance_per_kPa, "compliance_per_kPa")
-    force = positive(force_nN, "force_nN", "<input>", "a positive clamped force in nN")
+    j = float_array("<input>", "compliance_per_kPa", compliance_per_kPa)
+    force = positive("<input>", "force_nN", force_nN, expected="a positive clamped force in nN")
     with np.errstate(all="ignore"):
         delta = np.sqrt(_cone_factor(half_angle_deg, nu) * force * j)
     return _finite(delta, "indentation_um")
@@ -205,7 +205,7 @@ def _tidy(terms: np.ndarray, lambdas: np.ndarray, total: float) -> tuple[np.ndar
 
 def _finite(values: np.ndarray, field: str) -> np.ndarray:
     if not np.all(np.isfinite(values)):
-        raise AfmInputError(
+        raise InputError(
             "<input>",
             field,
             "a result within floating point range (inputs "
@@ -226,7 +226,7 @@ def check_creeping(data: CreepData) -> None:
     first, last = float(np.mean(d[:n])), float(np.mean(d[-n:]))
     sigma = float(np.std(np.diff(d))) / math.sqrt(2.0)
     if first - last > SHRINK_SIGMAS * sigma * math.sqrt(2.0 / n) + 1e-12 * first:
-        raise AfmInputError(
+        raise InputError(
             data.source,
             "indentation_um",
             "an indentation that does not shrink during the hold (creep under a clamped "
@@ -265,29 +265,29 @@ def fit_creep(
 ) -> CreepFit:
     """Lee-Radok compliance of a force-clamp hold, its creep Prony fit and relaxation series.
 
-    Refused (:class:`AfmInputError`): an indentation shrinking during the hold
+    Refused (:class:`InputError`): an indentation shrinking during the hold
     (:func:`check_creeping`), a fit with relative RMS above ``MAX_RELATIVE_RMS``, a half angle
     outside (0, 90) deg, nu outside (-1, 0.5], ``per_decade`` not an integer in [1, 50].
     Terms the record cannot determine are listed in ``CreepFit.undetermined`` and make the
     ``quality`` poor.
     """
     if not isinstance(data, CreepData):
-        raise AfmInputError("<input>", "data", "a CreepData record", type(data).__name__)
+        raise InputError("<input>", "data", "a CreepData record", type(data).__name__)
     src = data.source
     half_angle_deg = HALF_ANGLE.check(half_angle_deg, src)
     nu = POISSON_RATIO.check(nu, src)
-    per_decade = integer(per_decade, "per_decade", 1, 50, src)
+    per_decade = integer(src, "per_decade", per_decade, 1, 50)
     check_creeping(data)
     force = data.clamp_force_nN
     compliance = compliance_from_indentation(data.indentation_um, force, half_angle_deg, nu)
     j_min, j_max = float(np.min(compliance)), float(np.max(compliance))
     if not (j_min > 1e-100 and j_max < 1e100):
-        raise AfmInputError(
+        raise InputError(
             src, "indentation_um", "an indentation whose compliance J(t) is within 1e-100..1e100"
         )
     creep, rms = fit_creep_prony(data.time_s, compliance, per_decade)
     if not rms <= MAX_RELATIVE_RMS:
-        raise AfmInputError(
+        raise InputError(
             src,
             "indentation_um",
             f"a hold a creep Prony series fits (relative RMS <= {MAX_RELATIVE_RMS:g})",

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from afm.errors import AfmInputError
+from oocyte_fe.errors import InputError
 
 FORCE_CLAMP_TOLERANCE = 0.05
 """Largest relative spread (SD / mean) of the force during the hold accepted as clamped."""
@@ -32,21 +32,21 @@ class CreepData:
         f = np.asarray(self.force_nN, dtype=float)
         d = np.asarray(self.indentation_um, dtype=float)
         if t.ndim != 1 or f.shape != t.shape or d.shape != t.shape:
-            raise AfmInputError(src, "time_s", "equal-length 1-D columns time, force, indentation")
+            raise InputError(src, "time_s", "equal-length 1-D columns time, force, indentation")
         if t.size < 10:
-            raise AfmInputError(src, "time_s", "at least 10 samples", t.size)
+            raise InputError(src, "time_s", "at least 10 samples", t.size)
         for name, values in (("time_s", t), ("force_nN", f), ("indentation_um", d)):
             bad = np.flatnonzero(~np.isfinite(values))
             if bad.size:
-                raise AfmInputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
+                raise InputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
         if np.any(np.diff(t) <= 0):
-            raise AfmInputError(src, "time_s", "strictly increasing time")
+            raise InputError(src, "time_s", "strictly increasing time")
         if np.any(d <= 0):
-            raise AfmInputError(src, "indentation_um", "positive indentation during the hold")
+            raise InputError(src, "indentation_um", "positive indentation during the hold")
         mean = float(np.mean(f))
         spread = float(np.std(f)) / mean if mean > 0 else math.inf
         if not spread <= FORCE_CLAMP_TOLERANCE:
-            raise AfmInputError(
+            raise InputError(
                 src,
                 "force_nN",
                 f"a clamped force (SD/mean <= {FORCE_CLAMP_TOLERANCE:g} over the hold)",

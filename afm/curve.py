@@ -14,8 +14,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from afm.arguments import float_array, positive
-from afm.errors import AfmInputError
+from oocyte_fe.checks import float_array, positive
+from oocyte_fe.errors import InputError
 
 MIN_POINTS = 10
 MAX_JITTER_FRACTION = 0.02
@@ -49,21 +49,21 @@ class ForceCurve:
 
     def __post_init__(self) -> None:
         src = self.source
-        piezo = float_array(self.piezo_um, "piezo_um", src)
-        force = float_array(self.force_nN, "force_nN", src)
+        piezo = float_array(src, "piezo_um", self.piezo_um)
+        force = float_array(src, "force_nN", self.force_nN)
         if piezo.ndim != 1 or force.shape != piezo.shape:
-            raise AfmInputError(src, "force_nN", "one force per piezo position (1-D columns)")
+            raise InputError(src, "force_nN", "one force per piezo position (1-D columns)")
         if piezo.size < MIN_POINTS:
-            raise AfmInputError(src, "piezo_um", f"at least {MIN_POINTS} points", piezo.size)
+            raise InputError(src, "piezo_um", f"at least {MIN_POINTS} points", piezo.size)
         for name, values in (("piezo_um", piezo), ("force_nN", force)):
             bad = np.flatnonzero(~np.isfinite(values))
             if bad.size:
-                raise AfmInputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
+                raise InputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
         travel = float(piezo[-1] - piezo[0])
         step_back = np.maximum.accumulate(piezo) - piezo
         if not travel > 0 or float(step_back.max()) > MAX_JITTER_FRACTION * travel:
             row = int(np.argmax(step_back)) if travel > 0 else None
-            raise AfmInputError(
+            raise InputError(
                 src,
                 "piezo_um",
                 "a monotonic approach (travel towards the sample; steps back up to "
@@ -71,10 +71,10 @@ class ForceCurve:
                 None if row is None else f"a step back of {step_back[row]:.3g} um at row {row}",
             )
         k = positive(
-            self.spring_constant_nN_per_um,
-            "spring_constant",
             src,
-            "a positive spring constant in nN/um",
+            "spring_constant",
+            self.spring_constant_nN_per_um,
+            expected="a positive spring constant in nN/um",
         )
         object.__setattr__(self, "piezo_um", piezo)
         object.__setattr__(self, "force_nN", force)
@@ -103,7 +103,7 @@ class ForceCurve:
 def spring_constant_nN_per_um(k_N_per_m: float, where: str = "<input>") -> float:
     """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000)."""
     return 1e3 * positive(
-        k_N_per_m, "spring_constant_N_per_m", where, "a positive spring constant in N/m"
+        where, "spring_constant_N_per_m", k_N_per_m, expected="a positive spring constant in N/m"
     )
 
 
@@ -115,11 +115,14 @@ def force_from_deflection(
     (nm times N/m is nN.)
     """
     s = positive(
-        sensitivity_nm_per_V, "sensitivity_nm_per_V", where, "a positive sensitivity in nm/V"
+        where,
+        "sensitivity_nm_per_V",
+        sensitivity_nm_per_V,
+        expected="a positive sensitivity in nm/V",
     )
     k = spring_constant_nN_per_um(k_N_per_m, where) / 1e3
     with np.errstate(all="ignore"):
-        force = float_array(deflection_V, "deflection_V", where) * s * k
+        force = float_array(where, "deflection_V", deflection_V) * s * k
     if not np.all(np.isfinite(force)):
-        raise AfmInputError(where, "deflection_V", "forces V * s * k within floating point range")
+        raise InputError(where, "deflection_V", "forces V * s * k within floating point range")
     return force

@@ -31,13 +31,13 @@ import numpy as np
 
 from afm.creep_data import CreepData
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
-from afm.errors import AfmInputError
 from afm.instrument_io import (
     read_instrument_creep,
     read_instrument_curves,
     read_instrument_file,
     recognises,
 )
+from oocyte_fe.errors import InputError
 
 TEXT_SUFFIXES = {".csv", ".tsv", ".txt"}
 PIEZO_COLUMNS = {"piezo_um": 1.0, "piezo_nm": 1e-3, "height_um": 1.0, "height_nm": 1e-3}
@@ -52,9 +52,9 @@ def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]
     try:
         lines = path.read_text().splitlines()
     except FileNotFoundError:
-        raise AfmInputError(path, "", "an existing file") from None
+        raise InputError(path, "", "an existing file") from None
     except UnicodeDecodeError:
-        raise AfmInputError(path, "", "a text table (CSV/TSV)") from None
+        raise InputError(path, "", "a text table (CSV/TSV)") from None
     meta: dict[str, str] = {}
     body = []
     for line in lines:
@@ -68,19 +68,19 @@ def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]
             continue
         body.append(stripped)
     if not body:
-        raise AfmInputError(path, "", "a header row and data rows (the file is empty)")
+        raise InputError(path, "", "a header row and data rows (the file is empty)")
     delimiter = "\t" if "\t" in body[0] else ("," if "," in body[0] else None)
     names = [n.strip() for n in re.split(delimiter or r"\s+", body[0])]
     if len(names) < 2:
-        raise AfmInputError(path, "header", "at least two columns (piezo and force)", body[0])
+        raise InputError(path, "header", "at least two columns (piezo and force)", body[0])
     if len(body) < 2:
-        raise AfmInputError(path, "", "data rows below the header")
+        raise InputError(path, "", "data rows below the header")
     try:
         data = np.loadtxt(body[1:], delimiter=delimiter, ndmin=2)
     except ValueError as exc:
-        raise AfmInputError(path, "", f"numbers in every data row ({exc})") from None
+        raise InputError(path, "", f"numbers in every data row ({exc})") from None
     if data.shape[1] != len(names):
-        raise AfmInputError(path, "header", f"{data.shape[1]} column names", len(names))
+        raise InputError(path, "header", f"{data.shape[1]} column names", len(names))
     return {n: data[:, i] for i, n in enumerate(names)}, meta
 
 
@@ -99,7 +99,7 @@ def _meta_float(meta: dict[str, str], key: str, given: float | None, path: Path)
     try:
         return float(meta[key])
     except ValueError:
-        raise AfmInputError(path, key, "a number", meta[key]) from None
+        raise InputError(path, key, "a number", meta[key]) from None
 
 
 def _force(
@@ -114,10 +114,10 @@ def _force(
     if "deflection_V" in columns:
         s = _meta_float(meta, "sensitivity_nm_per_V", sensitivity, path)
         if s is None:
-            raise AfmInputError(path, "sensitivity_nm_per_V", "the sensitivity for deflection_V")
+            raise InputError(path, "sensitivity_nm_per_V", "the sensitivity for deflection_V")
         return force_from_deflection(columns["deflection_V"], s, k_N_per_m, str(path))
     names = [*FORCE_COLUMNS, *DEFLECTION_COLUMNS, "deflection_V"]
-    raise AfmInputError(path, "header", f"a force column: one of {', '.join(names)}")
+    raise InputError(path, "header", f"a force column: one of {', '.join(names)}")
 
 
 OWN_COLUMNS = {
@@ -184,9 +184,7 @@ def read_curve(
             path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
         )
     if height_channel not in ("auto", "piezo"):
-        raise AfmInputError(
-            path, "height_channel", "auto or piezo for a text table", height_channel
-        )
+        raise InputError(path, "height_channel", "auto or piezo for a text table", height_channel)
     return _read_table_curve(Path(path), spring_constant_N_per_m, sensitivity_nm_per_V)
 
 
@@ -196,11 +194,11 @@ def _read_table_curve(
     columns, meta = read_table(path)
     k = _meta_float(meta, "spring_constant_N_per_m", spring_constant_N_per_m, path)
     if k is None:
-        raise AfmInputError(path, "spring_constant_N_per_m", "the spring constant (metadata)")
+        raise InputError(path, "spring_constant_N_per_m", "the spring constant (metadata)")
     k_internal = spring_constant_nN_per_um(k, str(path))
     piezo = _pick(columns, PIEZO_COLUMNS, path, "piezo")
     if piezo is None:
-        raise AfmInputError(path, "header", f"a piezo column: one of {', '.join(PIEZO_COLUMNS)}")
+        raise InputError(path, "header", f"a piezo column: one of {', '.join(PIEZO_COLUMNS)}")
     force = _force(columns, meta, k, sensitivity_nm_per_V, path)
     group = meta.get("group", path.parent.name)
     return ForceCurve(piezo, force, k_internal, str(path), group, columns.get("time_s"))
@@ -237,7 +235,7 @@ def read_creep(
         return read_instrument_creep(path, spring_constant_N_per_m, None, height_channel)
     columns, meta = read_table(path)
     if "time_s" not in columns:
-        raise AfmInputError(path, "header", "a time_s column")
+        raise InputError(path, "header", "a time_s column")
     k = _meta_float(meta, "spring_constant_N_per_m", None, path)
     force = _force(columns, meta, k if k is not None else float("nan"), None, path)
     indentation = _pick(columns, INDENTATION_COLUMNS, path, "indentation")
@@ -245,7 +243,7 @@ def read_creep(
         height = _pick(columns, PIEZO_COLUMNS, path, "height")
         contact = _meta_float(meta, "contact_point_um", None, path)
         if height is None or contact is None or k is None:
-            raise AfmInputError(
+            raise InputError(
                 path,
                 "header",
                 "indentation_um, or a height column with metadata contact_point_um and "

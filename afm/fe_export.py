@@ -34,8 +34,8 @@ import math
 import re
 from xml.sax.saxutils import quoteattr
 
-from afm.errors import AfmInputError
 from afm.material_file import MaterialFile
+from oocyte_fe.errors import InputError
 
 FEBIO_MAX_TERMS = 6
 INCOMPRESSIBLE_NU = 0.5
@@ -53,7 +53,7 @@ def _apdl_comment(text: str) -> str:
 
 def _check_mat_id(mat_id: int) -> int:
     if isinstance(mat_id, bool) or not isinstance(mat_id, int) or mat_id < 1:
-        raise AfmInputError("<input>", "mat_id", "a positive integer material number", mat_id)
+        raise InputError("<input>", "mat_id", "a positive integer material number", mat_id)
     return mat_id
 
 
@@ -89,13 +89,9 @@ def febio_material(
     mat_id = _check_mat_id(mat_id)
     n = len(material.g)
     if n > FEBIO_MAX_TERMS:
-        raise AfmInputError(
-            material.file, "prony.g", f"at most {FEBIO_MAX_TERMS} terms for FEBio", n
-        )
+        raise InputError(material.file, "prony.g", f"at most {FEBIO_MAX_TERMS} terms for FEBio", n)
     if not (isinstance(bulk_ratio, (int, float)) and math.isfinite(bulk_ratio) and bulk_ratio > 1):
-        raise AfmInputError(
-            "<input>", "bulk_ratio", "a finite bulk/shear ratio k/G0 > 1", bulk_ratio
-        )
+        raise InputError("<input>", "bulk_ratio", "a finite bulk/shear ratio k/G0 > 1", bulk_ratio)
     incompressible = material.nu >= INCOMPRESSIBLE_NU
     kind = "uncoupled viscoelastic" if incompressible else "viscoelastic"
     name = quoteattr(_XML_INVALID.sub("\ufffd", material.name))

@@ -34,13 +34,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from afm.arguments import positive, real
 from afm.baseline import Baseline, baseline_before, fit_baseline, remove_baseline
 from afm.contact_point import check_method, deviation_index
 from afm.curve import ForceCurve
-from afm.errors import AfmInputError
 from afm.models import POISSON_RATIO, IndentationModel, get_model
 from afm.numerics import dot
+from oocyte_fe.checks import number, positive
+from oocyte_fe.errors import InputError
 
 MIN_CONTACT_POINTS = 5
 GOOD_R_SQUARED = 0.95
@@ -62,11 +62,11 @@ class FitRange:
     def __post_init__(self) -> None:
         d, f = self.max_indentation_um, self.max_force_fraction
         if d is not None:
-            d = positive(d, "max_indentation_um", "<input>", "a positive depth in um")
+            d = positive("<input>", "max_indentation_um", d, expected="a positive depth in um")
         if f is not None:
-            f = real(f, "max_force_fraction", "<input>", "a fraction in (0, 1]")
+            f = number("<input>", "max_force_fraction", f, expected="a fraction in (0, 1]")
             if not 0 < f <= 1:
-                raise AfmInputError("<input>", "max_force_fraction", "a fraction in (0, 1]", f)
+                raise InputError("<input>", "max_force_fraction", "a fraction in (0, 1]", f)
         object.__setattr__(self, "max_indentation_um", d)
         object.__setattr__(self, "max_force_fraction", f)
 
@@ -154,7 +154,7 @@ def fit_window(
         depth = fit_range.max_indentation_um
         available = float(x[contact_index:].max() - x0)
         if depth > available:
-            raise AfmInputError(
+            raise InputError(
                 source,
                 "max_indentation_um",
                 f"a depth within the data (at most {available:.3g} um past contact)",
@@ -169,14 +169,14 @@ def fit_window(
     in_contact = int(np.count_nonzero(keep[contact_index + 1 :]))
     if in_contact < MIN_CONTACT_POINTS:
         if x.size - contact_index - 1 < MIN_CONTACT_POINTS:  # the curve itself, not the range
-            raise AfmInputError(
+            raise InputError(
                 source,
                 "force_nN",
                 f"a curve that reaches contact at least {MIN_CONTACT_POINTS} points before the "
                 "end of the approach (too few points to fit E)",
                 f"{x.size - contact_index - 1} points past the contact estimate",
             )
-        raise AfmInputError(
+        raise InputError(
             source,
             "fit range",
             f"at least {MIN_CONTACT_POINTS} points in contact inside it",
@@ -317,11 +317,11 @@ def fit_indentation(
 
     ``geometry`` holds the tip parameters of the model; left-out ones take the parameter's
     default (the seed's 10 deg half angle for ``sneddon_cone``). Returns an
-    :class:`IndentationFit`; bad input raises :class:`afm.errors.AfmInputError` naming
+    :class:`IndentationFit`; bad input raises :class:`afm.errors.InputError` naming
     ``curve.source``.
     """
     if not isinstance(curve, ForceCurve):
-        raise AfmInputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
+        raise InputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
     src = curve.source
     tip = get_model(model, src)
     geometry = tip.check_geometry(geometry or {}, src)
@@ -329,11 +329,11 @@ def fit_indentation(
     check_method(contact_method, src)
     fit_range = FitRange() if fit_range is None else fit_range
     if not isinstance(fit_range, FitRange):
-        raise AfmInputError(src, "fit_range", "a FitRange (or None)", fit_range)
-    n_sigma = positive(n_sigma, "n_sigma", src, "a positive number of noise SDs")
+        raise InputError(src, "fit_range", "a FitRange (or None)", fit_range)
+    n_sigma = positive(src, "n_sigma", n_sigma, expected="a positive number of noise SDs")
     for name, values in (("piezo_um", curve.piezo_um), ("force_nN", curve.force_nN)):
         if not float(np.max(np.abs(values))) <= MAX_MAGNITUDE:
-            raise AfmInputError(
+            raise InputError(
                 src, name, f"values within +-{MAX_MAGNITUDE:g} (check the column's unit)"
             )
     try:
@@ -342,13 +342,13 @@ def fit_indentation(
     except (ZeroDivisionError, FloatingPointError, OverflowError, np.linalg.LinAlgError):
         fit = None
     except ValueError as exc:  # scipy's fallback: residuals not finite at the start
-        if isinstance(exc, AfmInputError):
+        if isinstance(exc, InputError):
             raise
         fit = None
     if fit is None or not all(
         math.isfinite(v) for v in (fit.E_kPa, fit.contact_point_um, fit.residual_rms_nN)
     ):
-        raise AfmInputError(
+        raise InputError(
             src,
             "force_nN",
             "a curve the fit resolves to finite numbers (check the units and scale of the "

@@ -43,7 +43,7 @@ from afm.baseline import fit_baseline, remove_baseline
 from afm.contact_point import deviation_index
 from afm.creep_data import CreepData
 from afm.curve import MAX_JITTER_FRACTION, ForceCurve, spring_constant_nN_per_um
-from afm.errors import AfmInputError, MissingExtraError
+from oocyte_fe.errors import InputError, MissingExtraError
 
 HEIGHT_CHANNELS = ("tip position", "height (measured)", "height (piezo)")
 """Height channels in the order ``height_channel="auto"`` prefers them."""
@@ -114,7 +114,7 @@ def load_records(
     sensitivity_nm_per_V: float | None = None,
     modality: str | None = None,
 ) -> list:
-    """afmformats' records of ``path``; every afmformats error becomes :class:`AfmInputError`.
+    """afmformats' records of ``path``; every afmformats error becomes :class:`InputError`.
 
     The spring constant [N/m] and sensitivity [nm/V] given here override the file's.
     """
@@ -127,7 +127,7 @@ def load_records(
     if sensitivity_nm_per_V is not None:
         override["sensitivity"] = float(sensitivity_nm_per_V) * 1e-9
     if not path.is_file():
-        raise AfmInputError(path, "", "an existing file")
+        raise InputError(path, "", "an existing file")
     with _quiet():
         try:
             records = afmformats.load_data(path, meta_override=override, modality=modality)
@@ -138,12 +138,12 @@ def load_records(
                 " and ".join(_METADATA_FIELDS[n] for n in _METADATA_FIELDS if n in field)
                 or "metadata the file lacks"
             )
-            raise AfmInputError(path, field, expected, str(exc)) from None
+            raise InputError(path, field, expected, str(exc)) from None
         except (Exception, errors.AFMFileFormatError) as exc:
-            raise AfmInputError(path, "", f"a file afmformats can read ({exc})") from None
+            raise InputError(path, "", f"a file afmformats can read ({exc})") from None
     if not records:
         what = f"{modality} " if modality else ""
-        raise AfmInputError(path, "", f"at least one {what}curve")
+        raise InputError(path, "", f"at least one {what}curve")
     return records
 
 
@@ -153,14 +153,14 @@ def choose_height_channel(columns: list[str], requested: str, source: str) -> st
         for name in HEIGHT_CHANNELS:
             if name in columns:
                 return name
-        raise AfmInputError(source, "height", f"one of the columns {', '.join(HEIGHT_CHANNELS)}")
+        raise InputError(source, "height", f"one of the columns {', '.join(HEIGHT_CHANNELS)}")
     if requested not in HEIGHT_CHANNELS:
-        raise AfmInputError(
+        raise InputError(
             source, "height_channel", f"auto or one of {', '.join(HEIGHT_CHANNELS)}", requested
         )
     if requested not in columns:
         present = [c for c in HEIGHT_CHANNELS if c in columns]
-        raise AfmInputError(
+        raise InputError(
             source, "height_channel", f"a channel the file holds ({', '.join(present)})", requested
         )
     return requested
@@ -169,7 +169,7 @@ def choose_height_channel(columns: list[str], requested: str, source: str) -> st
 def _spring_constant(record, source: str) -> float:
     k = record.metadata.get("spring constant")
     if k is None:
-        raise AfmInputError(source, "spring constant", _METADATA_FIELDS["spring constant"])
+        raise InputError(source, "spring constant", _METADATA_FIELDS["spring constant"])
     return spring_constant_nN_per_um(k, source)
 
 
@@ -230,7 +230,7 @@ def read_instrument_curves(
 
     Curves of a multi-curve file carry their index and map position and are named
     ``"<file> (curve <i>)"`` in errors. A curve that cannot be read raises
-    :class:`AfmInputError`.
+    :class:`InputError`.
     """
     path = Path(path)
     records = load_records(path, spring_constant_N_per_m, sensitivity_nm_per_V)
@@ -280,7 +280,7 @@ def read_instrument_creep(
     records = load_records(path, spring_constant_N_per_m, sensitivity_nm_per_V)
     record = records[0]
     if record.modality != "creep-compliance":
-        raise AfmInputError(
+        raise InputError(
             path, "imaging mode", "a creep-compliance (force-clamp) file", record.modality
         )
     approach = curve_from_record(record, source, height_channel)
@@ -290,7 +290,7 @@ def read_instrument_creep(
     x0 = float(corrected.tip_position_um[contact])
     hold = record.intr
     if len(hold["force"]) == 0:
-        raise AfmInputError(path, "segment", "a hold segment after the approach")
+        raise InputError(path, "segment", "a hold segment after the approach")
     k = approach.spring_constant_nN_per_um
     force = np.asarray(hold["force"], dtype=float) * 1e9 - baseline(approach.piezo_um[contact])
     travel = _travel_um(hold, approach.height_channel, np.asarray(hold["force"]) * 1e9, k)

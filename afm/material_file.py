@@ -26,7 +26,7 @@ from pathlib import Path
 
 import tomli_w
 
-from afm.errors import AfmInputError
+from oocyte_fe.errors import InputError
 
 HEADER = (
     "# oocyte-fe material file; units: kPa, s\n"
@@ -53,25 +53,25 @@ class MaterialFile:
     def __post_init__(self) -> None:
         f = self.file
         if not isinstance(self.name, str) or not self.name.strip():
-            raise AfmInputError(f, "material.name", "a non-empty string", self.name)
+            raise InputError(f, "material.name", "a non-empty string", self.name)
         if not isinstance(self.source, str):
-            raise AfmInputError(f, "material.source", "a string", self.source)
+            raise InputError(f, "material.source", "a string", self.source)
         e = _number(f, "material.E_kPa", self.E_kPa)
         if not e > 0:
-            raise AfmInputError(f, "material.E_kPa", "a positive modulus in kPa", e)
+            raise InputError(f, "material.E_kPa", "a positive modulus in kPa", e)
         nu = _number(f, "material.nu", self.nu)
         if not -1.0 < nu <= 0.5:
-            raise AfmInputError(f, "material.nu", "a Poisson ratio in (-1, 0.5]", nu)
+            raise InputError(f, "material.nu", "a Poisson ratio in (-1, 0.5]", nu)
         g = tuple(_number(f, "prony.g", v) for v in self.g)
         tau = tuple(_number(f, "prony.tau_s", v) for v in self.tau_s)
         if len(g) != len(tau):
-            raise AfmInputError(f, "prony.tau_s", f"one tau per g ({len(g)})", len(tau))
+            raise InputError(f, "prony.tau_s", f"one tau per g ({len(g)})", len(tau))
         if any(v < 0 for v in g):
-            raise AfmInputError(f, "prony.g", "non-negative terms", list(g))
+            raise InputError(f, "prony.g", "non-negative terms", list(g))
         if not sum(g) < 1.0:
-            raise AfmInputError(f, "prony.g", "terms summing to less than 1", sum(g))
+            raise InputError(f, "prony.g", "terms summing to less than 1", sum(g))
         if any(v <= 0 for v in tau):
-            raise AfmInputError(f, "prony.tau_s", "positive relaxation times in s", list(tau))
+            raise InputError(f, "prony.tau_s", "positive relaxation times in s", list(tau))
         object.__setattr__(self, "E_kPa", e)
         object.__setattr__(self, "nu", nu)
         object.__setattr__(self, "g", g)
@@ -90,10 +90,10 @@ class MaterialFile:
 
 def _number(file: str, field: str, value: object) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise AfmInputError(file, field, "a number", value)
+        raise InputError(file, field, "a number", value)
     value = float(value)
     if not math.isfinite(value):
-        raise AfmInputError(file, field, "a finite number", value)
+        raise InputError(file, field, "a finite number", value)
     return value
 
 
@@ -101,13 +101,13 @@ def _table(file: str, data: dict, key: str, allowed: set[str], required: bool) -
     table = data.get(key)
     if table is None:
         if required:
-            raise AfmInputError(file, f"[{key}]", "this table (it is required)")
+            raise InputError(file, f"[{key}]", "this table (it is required)")
         return {}
     if not isinstance(table, dict):
-        raise AfmInputError(file, key, "a table")
+        raise InputError(file, key, "a table")
     unknown = sorted(set(table) - allowed)
     if unknown:
-        raise AfmInputError(file, f"{key}.{unknown[0]}", f"one of {sorted(allowed)}")
+        raise InputError(file, f"{key}.{unknown[0]}", f"one of {sorted(allowed)}")
     return table
 
 
@@ -116,30 +116,30 @@ def read_material(path: str | Path) -> MaterialFile:
     file = str(path)
     target = Path(path)
     if not target.is_file():  # also refuses folders and FIFOs (opening one would block)
-        raise AfmInputError(file, "", "an existing material file (a regular file)")
+        raise InputError(file, "", "an existing material file (a regular file)")
     if target.stat().st_size > MAX_FILE_BYTES:
-        raise AfmInputError(file, "", f"a material file under {MAX_FILE_BYTES} bytes")
+        raise InputError(file, "", f"a material file under {MAX_FILE_BYTES} bytes")
     try:
         data = tomllib.loads(target.read_bytes().decode("utf-8"))
     except OSError as exc:
-        raise AfmInputError(file, "", "a readable material file", exc.strerror) from None
+        raise InputError(file, "", "a readable material file", exc.strerror) from None
     except UnicodeDecodeError as exc:
-        raise AfmInputError(file, "", f"UTF-8 text (byte {exc.start} is not)") from None
+        raise InputError(file, "", f"UTF-8 text (byte {exc.start} is not)") from None
     except RecursionError:
-        raise AfmInputError(file, "", "TOML nested less deeply") from None
+        raise InputError(file, "", "TOML nested less deeply") from None
     except tomllib.TOMLDecodeError as exc:
-        raise AfmInputError(file, "", f"valid TOML ({exc})") from None
+        raise InputError(file, "", f"valid TOML ({exc})") from None
     unknown = sorted(set(data) - {"material", "prony"})
     if unknown:
-        raise AfmInputError(file, unknown[0], "only the tables [material] and [prony]")
+        raise InputError(file, unknown[0], "only the tables [material] and [prony]")
     material = _table(file, data, "material", _MATERIAL_KEYS, required=True)
     prony = _table(file, data, "prony", _PRONY_KEYS, required=False)
     for key in ("name", "E_kPa", "nu"):
         if key not in material:
-            raise AfmInputError(file, f"material.{key}", "this key (it is required)")
+            raise InputError(file, f"material.{key}", "this key (it is required)")
     for key in ("g", "tau_s"):
         if not isinstance(prony.get(key, []), list):
-            raise AfmInputError(file, f"prony.{key}", "a list of numbers", prony[key])
+            raise InputError(file, f"prony.{key}", "a list of numbers", prony[key])
     return MaterialFile(
         name=material["name"],
         source=material.get("source", ""),

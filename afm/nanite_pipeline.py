@@ -35,9 +35,9 @@ from scipy.optimize import leastsq
 
 from afm.baseline import Baseline
 from afm.curve import ForceCurve
-from afm.errors import AfmInputError
 from afm.fit import IndentationFit
 from afm.models import POISSON_RATIO, get_model
+from oocyte_fe.errors import InputError
 
 NANITE_WEIGHT_CP_UM = 1.0
 """nanite's default contact-point weight width (``weight_cp = 1e-6`` m)."""
@@ -82,7 +82,7 @@ def fit_nanite_default(
     geometry = tip.check_geometry(geometry or {}, src)
     nu = POISSON_RATIO.check(nu, src)
     if not (np.isfinite(weight_cp_um) and weight_cp_um > 0):
-        raise AfmInputError(src, "weight_cp_um", "a positive width in um", weight_cp_um)
+        raise InputError(src, "weight_cp_um", "a positive width in um", weight_cp_um)
     k = curve.spring_constant_nN_per_um
     raw = curve.force_nN
     contact = contact_index_deviation(raw, n_max)

@@ -41,12 +41,12 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
-from afm.arguments import fraction
 from afm.baseline import remove_baseline
 from afm.curve import ForceCurve
-from afm.errors import AfmInputError
 from afm.fit import FitRange, IndentationFit, fit_indentation
 from afm.models import POISSON_RATIO, get_model
+from oocyte_fe.checks import fraction
+from oocyte_fe.errors import InputError
 
 MIN_SEGMENT_POINTS = 10
 
@@ -76,7 +76,7 @@ def detect_pierce(curve: ForceCurve, min_drop_fraction: float = 0.1) -> PierceEv
     span = float(np.ptp(force))
     peaks, props = find_peaks(force, prominence=min_drop_fraction * span)
     if peaks.size == 0:
-        raise AfmInputError(
+        raise InputError(
             curve.source,
             "force_nN",
             f"a pierce event (force drop > {min_drop_fraction:g} of the force range)",
@@ -105,7 +105,7 @@ def fit_offset_segment(
     """
     tip = get_model(model, source)
     if x.size < MIN_SEGMENT_POINTS:
-        raise AfmInputError(source, "force_nN", f"{MIN_SEGMENT_POINTS} points after the pierce")
+        raise InputError(source, "force_nN", f"{MIN_SEGMENT_POINTS} points after the pierce")
     x1_start, f1_start = float(x[0]), float(force[0])
     s0 = tip.shape(np.clip(x - x1_start, 0, None), geometry, nu)
     e_start = max(float(np.dot(force - f1_start, s0) / np.dot(s0, s0)), 1e-9)
@@ -160,15 +160,15 @@ def fit_pierce(
 ) -> PierceFit:
     """Detect the pierce, fit the ZP on the first rising segment and the cytoplasm on the second."""
     if not isinstance(curve, ForceCurve):
-        raise AfmInputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
+        raise InputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
     src = curve.source
     tip = get_model(model, src)
     geometry = tip.check_geometry(geometry or {}, src)
     nu = POISSON_RATIO.check(nu, src)
-    min_drop_fraction = fraction(min_drop_fraction, "min_drop_fraction", src)
+    min_drop_fraction = fraction(src, "min_drop_fraction", min_drop_fraction)
     event = detect_pierce(curve, min_drop_fraction)
     if event.peak_index < MIN_SEGMENT_POINTS:
-        raise AfmInputError(src, "force_nN", "a rising ZP segment before the pierce")
+        raise InputError(src, "force_nN", "a rising ZP segment before the pierce")
     zp = fit_indentation(
         curve.slice(0, event.peak_index + 1), model, geometry, nu, zp_range, contact_method
     )
@@ -184,11 +184,11 @@ def fit_pierce(
     except (ZeroDivisionError, FloatingPointError, OverflowError, np.linalg.LinAlgError):
         e = math.nan
     except ValueError as exc:  # scipy: residuals not finite at the start
-        if isinstance(exc, AfmInputError):
+        if isinstance(exc, InputError):
             raise
         e = math.nan
     if not math.isfinite(e):
-        raise AfmInputError(src, "force_nN", "a second segment the fit resolves to finite numbers")
+        raise InputError(src, "force_nN", "a second segment the fit resolves to finite numbers")
     fitted = f1 + e * tip.shape(np.clip(x - x1, 0, None), geometry, nu)
     residual = force - fitted
     ss_tot = float(np.sum((force - force.mean()) ** 2))

@@ -40,8 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from afm.arguments import positive, real
-from afm.errors import AfmInputError
+from oocyte_fe.checks import number, positive
+from oocyte_fe.errors import InputError
 
 MIN_TIME_S, MAX_TIME_S = 1e-9, 1e9
 """Admissible relaxation / retardation times, s (outside: refused, their rates overflow)."""
@@ -51,24 +51,28 @@ NEGLIGIBLE = 1e-12
 
 def _items(values: object, what: str) -> list:
     if isinstance(values, (str, bytes)) or values is None:
-        raise AfmInputError("<input>", what, "a sequence of numbers", values)
+        raise InputError("<input>", what, "a sequence of numbers", values)
     try:
         return list(np.atleast_1d(np.asarray(values, dtype=object)))
     except (TypeError, ValueError):
-        raise AfmInputError("<input>", what, "a sequence of numbers", values) from None
+        raise InputError("<input>", what, "a sequence of numbers", values) from None
 
 
 def _as_terms(
     values: tuple[float, ...] | np.ndarray, times: tuple[float, ...] | np.ndarray, what: str
 ) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    v = tuple(real(a, what, expected="non-negative terms") for a in _items(values, what))
-    t = tuple(real(a, what, expected="positive time constants") for a in _items(times, what))
+    v = tuple(
+        number("<input>", what, a, expected="non-negative terms") for a in _items(values, what)
+    )
+    t = tuple(
+        number("<input>", what, a, expected="positive time constants") for a in _items(times, what)
+    )
     if len(v) != len(t):
-        raise AfmInputError("<input>", what, "as many terms as time constants", (len(v), len(t)))
+        raise InputError("<input>", what, "as many terms as time constants", (len(v), len(t)))
     if any(a < 0 for a in v):
-        raise AfmInputError("<input>", what, "non-negative terms", v)
+        raise InputError("<input>", what, "non-negative terms", v)
     if any(not MIN_TIME_S <= a <= MAX_TIME_S for a in t):
-        raise AfmInputError(
+        raise InputError(
             "<input>", what, f"time constants in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s", t
         )
     order = np.argsort(t)
@@ -85,10 +89,10 @@ class RelaxationProny:
 
     def __post_init__(self) -> None:
         g, tau = _as_terms(self.g, self.tau_s, "g")
-        g0 = positive(self.G0_kPa, "G0_kPa", "<input>", "a positive modulus in kPa")
+        g0 = positive("<input>", "G0_kPa", self.G0_kPa, expected="a positive modulus in kPa")
         object.__setattr__(self, "G0_kPa", g0)
         if sum(g) >= 1:
-            raise AfmInputError("<input>", "g", "sum of g below 1 (a solid)", sum(g))
+            raise InputError("<input>", "g", "sum of g below 1 (a solid)", sum(g))
         object.__setattr__(self, "g", g)
         object.__setattr__(self, "tau_s", tau)
 
@@ -118,7 +122,9 @@ class CreepProny:
 
     def __post_init__(self) -> None:
         j, lam = _as_terms(self.J_per_kPa, self.lambda_s, "J_per_kPa")
-        j0 = positive(self.J0_per_kPa, "J0_per_kPa", "<input>", "a positive compliance in 1/kPa")
+        j0 = positive(
+            "<input>", "J0_per_kPa", self.J0_per_kPa, expected="a positive compliance in 1/kPa"
+        )
         object.__setattr__(self, "J0_per_kPa", j0)
         object.__setattr__(self, "J_per_kPa", j)
         object.__setattr__(self, "lambda_s", lam)
@@ -150,7 +156,7 @@ def _zeros(
         else:
             lo, hi = a, b
         if not func(lo) * func(hi) < 0:
-            raise AfmInputError(
+            raise InputError(
                 "<input>", "lambda_s", "time constants the conversion can separate", (a, b)
             )
         zeros.append(brentq(func, lo, hi, xtol=1e-300, rtol=1e-15, maxiter=500))
@@ -207,10 +213,10 @@ def _converted(convert: Callable, series: object, what: str) -> object:
     try:
         with np.errstate(all="ignore"):
             return convert(series)
-    except AfmInputError as exc:
-        raise AfmInputError(exc.file, what, exc.expected, exc.got) from None
+    except InputError as exc:
+        raise InputError(exc.file, what, exc.expected, exc.got) from None
     except (ValueError, ZeroDivisionError, OverflowError, FloatingPointError):
-        raise AfmInputError(
+        raise InputError(
             "<input>", what, "terms and times whose ratios stay within floating point range"
         ) from None
 
@@ -218,12 +224,12 @@ def _converted(convert: Callable, series: object, what: str) -> object:
 def relaxation_from_creep(creep: CreepProny) -> RelaxationProny:
     """Exact relaxation Prony series of a creep Prony series (module docstring)."""
     if not isinstance(creep, CreepProny):
-        raise AfmInputError("<input>", "creep", "a CreepProny series", type(creep).__name__)
+        raise InputError("<input>", "creep", "a CreepProny series", type(creep).__name__)
     return _converted(_relaxation_from_creep, creep, "J_per_kPa")
 
 
 def creep_from_relaxation(relaxation: RelaxationProny) -> CreepProny:
     """Exact creep Prony series of a relaxation Prony series (module docstring)."""
     if not isinstance(relaxation, RelaxationProny):
-        raise AfmInputError("<input>", "relaxation", "a RelaxationProny series", relaxation)
+        raise InputError("<input>", "relaxation", "a RelaxationProny series", relaxation)
     return _converted(_creep_from_relaxation, relaxation, "g")

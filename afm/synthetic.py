@@ -19,12 +19,12 @@ from collections.abc import Mapping
 import numpy as np
 from scipy.optimize import brentq
 
-from afm.arguments import integer, positive, real
 from afm.creep import indentation_from_compliance
 from afm.curve import ForceCurve
-from afm.errors import AfmInputError
 from afm.models import POISSON_RATIO, IndentationModel, get_model
 from afm.prony_series import RelaxationProny, creep_from_relaxation
+from oocyte_fe.checks import integer, number, positive
+from oocyte_fe.errors import InputError
 
 _NEWTON_STEPS = 60
 
@@ -63,9 +63,7 @@ def _depth_at(
         return E_kPa * model.shape(np.array([d]), geometry, nu)[0] - force_nN
 
     if not excess(1e3) > 0:
-        raise AfmInputError(
-            "<input>", "E_kPa", f"a modulus that reaches {force_nN:g} nN within 1 mm"
-        )
+        raise InputError("<input>", "E_kPa", f"a modulus that reaches {force_nN:g} nN within 1 mm")
     return brentq(excess, 0, 1e3)
 
 
@@ -78,16 +76,16 @@ def _check_common(
     noise_fraction: object,
     seed: object,
 ) -> None:
-    """Refuse nonsense shared arguments of the generators (AfmInputError naming them)."""
-    integer(n_points, "n_points", 10, 10_000_000)
-    positive(k_nN_per_um, "k_nN_per_um", "<input>", "a positive spring constant in nN/um")
+    """Refuse nonsense shared arguments of the generators (InputError naming them)."""
+    integer("<input>", "n_points", n_points, 10, 10_000_000)
+    positive("<input>", "k_nN_per_um", k_nN_per_um, expected="a positive spring constant in nN/um")
     POISSON_RATIO.check(nu)
-    real(offset_nN, "offset_nN")
-    real(tilt_nN_per_um, "tilt_nN_per_um")
-    if not 0 <= real(noise_fraction, "noise_fraction") <= 1:
-        raise AfmInputError("<input>", "noise_fraction", "a fraction in [0, 1]", noise_fraction)
+    number("<input>", "offset_nN", offset_nN)
+    number("<input>", "tilt_nN_per_um", tilt_nN_per_um)
+    if not 0 <= number("<input>", "noise_fraction", noise_fraction) <= 1:
+        raise InputError("<input>", "noise_fraction", "a fraction in [0, 1]", noise_fraction)
     if seed is not None:
-        integer(seed, "seed", 0, 2**63 - 1)
+        integer("<input>", "seed", seed, 0, 2**63 - 1)
 
 
 def _measure(
@@ -121,9 +119,11 @@ def indentation_curve(
 ) -> ForceCurve:
     """Approach curve on piezo 0..``max_piezo_um``; noise SD = ``noise_fraction`` * max force."""
     _check_common(n_points, k_nN_per_um, nu, offset_nN, tilt_nN_per_um, noise_fraction, seed)
-    E_kPa = positive(E_kPa, "E_kPa", "<input>", "a positive modulus in kPa")
-    positive(max_piezo_um, "max_piezo_um", "<input>", "a positive piezo travel in um")
-    real(contact_point_um, "contact_point_um")  # beyond the travel: a curve without contact
+    E_kPa = positive("<input>", "E_kPa", E_kPa, expected="a positive modulus in kPa")
+    positive("<input>", "max_piezo_um", max_piezo_um, expected="a positive piezo travel in um")
+    number(
+        "<input>", "contact_point_um", contact_point_um
+    )  # beyond the travel: a curve without contact
     tip = get_model(model)
     geometry = tip.check_geometry(geometry or {})
     piezo = np.linspace(0.0, max_piezo_um, n_points)
@@ -160,19 +160,21 @@ def pierce_curve(
     tip = get_model(model)
     geometry = tip.check_geometry(geometry or {})
     _check_common(n_points, k_nN_per_um, nu, offset_nN, tilt_nN_per_um, noise_fraction, seed)
-    E_zp_kPa = positive(E_zp_kPa, "E_zp_kPa", "<input>", "a positive modulus in kPa")
-    E_cytoplasm_kPa = positive(E_cytoplasm_kPa, "E_cytoplasm_kPa", "<input>", "a positive modulus")
-    real(contact_point_um, "contact_point_um")
-    pierce_force_nN = positive(pierce_force_nN, "pierce_force_nN", "<input>", "a positive force")
-    trigger_force_nN = positive(trigger_force_nN, "trigger_force_nN", "<input>", "a force")
-    if not 0 <= real(residual_fraction, "residual_fraction") < 1:
-        raise AfmInputError(
-            "<input>", "residual_fraction", "a fraction in [0, 1)", residual_fraction
-        )
+    E_zp_kPa = positive("<input>", "E_zp_kPa", E_zp_kPa, expected="a positive modulus in kPa")
+    E_cytoplasm_kPa = positive(
+        "<input>", "E_cytoplasm_kPa", E_cytoplasm_kPa, expected="a positive modulus"
+    )
+    number("<input>", "contact_point_um", contact_point_um)
+    pierce_force_nN = positive(
+        "<input>", "pierce_force_nN", pierce_force_nN, expected="a positive force"
+    )
+    trigger_force_nN = positive("<input>", "trigger_force_nN", trigger_force_nN, expected="a force")
+    if not 0 <= number("<input>", "residual_fraction", residual_fraction) < 1:
+        raise InputError("<input>", "residual_fraction", "a fraction in [0, 1)", residual_fraction)
     k = k_nN_per_um
     residual = residual_fraction * pierce_force_nN
     if not trigger_force_nN > pierce_force_nN:
-        raise AfmInputError(
+        raise InputError(
             "<input>", "trigger_force_nN", f"a force above pierce_force_nN ({pierce_force_nN:g})"
         )
     d_pierce = _depth_at(pierce_force_nN, E_zp_kPa, tip, geometry, nu)

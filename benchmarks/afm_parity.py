@@ -32,9 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from afm.curve_io import read_curves
-from afm.errors import AfmInputError
 from afm.fit import fit_indentation
 from afm.nanite_pipeline import fit_nanite_default
+from oocyte_fe.errors import InputError
 
 MODELS = {
     # ours: (nanite key, our geometry, nanite geometry parameter and value)
@@ -138,7 +138,7 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
     k, s = metadata_for(path)
     try:
         curves = read_curves(path, spring_constant_N_per_m=k, sensitivity_nm_per_V=s)
-    except AfmInputError as exc:
+    except InputError as exc:
         return [ParityRow(path.name, -1, "-", np.nan, np.nan, np.nan, np.nan, f"not read: {exc}")]
     group = nanite_records(path)
     rows = []
@@ -161,12 +161,12 @@ def parity_rows(path: Path, models: tuple[str, ...] = tuple(MODELS)) -> list[Par
                 ours = fit_nanite_default(curve, model, geometry, 0.5, n_max=n_max)
                 # piezo travel at contact: there the force is the fitted baseline
                 e_ours, z_ours = ours.E_kPa, ours.contact_point_um + ours.offset_nN / k_um
-            except AfmInputError as exc:
+            except InputError as exc:
                 e_ours, z_ours, note = np.nan, np.nan, str(exc)
             try:
                 default = fit_indentation(curve, model, geometry, 0.5)
                 e_default, quality = default.E_kPa, default.quality
-            except AfmInputError as exc:
+            except InputError as exc:
                 e_default, quality = np.nan, f"error: {exc.field}: {exc.expected}"
             e_unweighted = nanite_fit(idnt, model, weight_cp_m=0.0)[0]
             e_nan, x0_nan, baseline = nanite_fit(idnt, model)

@@ -6,16 +6,17 @@ to the force-displacement data of Table II (eqs 7-8), used to predict the spindl
 to drive an incremental PID approach (eqs 9-10). Units: um, nN, kPa, s.
 """
 
-from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.errors import NmsdDivergence
 from nmsd.lattice import Lattice, circular_lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
 from nmsd.press import PressResult, simulate_press
+from oocyte_fe.errors import InputError
 
 __all__ = [
     "Lattice",
     "NmsdDivergence",
-    "NmsdInputError",
+    "InputError",
     "NmsdParameters",
     "Pipette",
     "PressResult",

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nmsd import checks
-from nmsd.errors import NmsdInputError
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -74,12 +74,12 @@ def pid_approach(
     duration_s = checks.number("pid_approach", "duration_s", duration_s, gt=0, le=1e6)
     band_um = checks.number("pid_approach", "band_um", band_um, gt=0)
     if len(start_um) != 2:
-        raise NmsdInputError("pid_approach", "start_um", "an (x, y) pair", got=start_um)
+        raise InputError("pid_approach", "start_um", "an (x, y) pair", got=start_um)
     for value in start_um:
         checks.number("pid_approach", "start_um", value, ge=-1e9, le=1e9)
     steps = int(round(duration_s / gains.period_s))
     if steps > MAX_PERIODS:
-        raise NmsdInputError(
+        raise InputError(
             "pid_approach",
             "duration_s/period_s",
             f"at most {MAX_PERIODS:,} controller periods (a longer period or a shorter approach)",

@@ -38,7 +38,7 @@ import math
 
 import numpy as np
 
-from nmsd.errors import NmsdInputError
+from oocyte_fe.errors import InputError
 
 LINK_POISSON_2D = 1.0 / (1.0 + math.sqrt(2.0))
 """2D Poisson ratio C12/C11 of the square lattice with axial and diagonal links (0.414)."""
@@ -58,7 +58,7 @@ def area_stiffness_for_poisson(nu: float) -> float:
     """
     nu_min = LINK_POISSON_2D / (1.0 + LINK_POISSON_2D)
     if not (nu_min <= nu < 0.5):
-        raise NmsdInputError(
+        raise InputError(
             "area_stiffness_for_poisson", "nu", f"a Poisson ratio in [{nu_min:.4f}, 0.5)", got=nu
         )
     r = 1.0 / math.sqrt(2.0)

@@ -49,11 +49,12 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
-from nmsd import checks
-from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.errors import NmsdDivergence
 from nmsd.parameters import NmsdParameters
 from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 MODELS = ("linear_msd", "msd_d0", "nmsd")
 K2_OVER_K1_MIN = 50.0
@@ -215,11 +216,11 @@ def calibrate(
     most there can be (``n_starts x max_evaluations`` evaluations; a start may end sooner).
     """
     if jacobian not in JACOBIANS:
-        raise NmsdInputError("calibrate", "jacobian", f"one of {JACOBIANS}", got=jacobian)
+        raise InputError("calibrate", "jacobian", f"one of {JACOBIANS}", got=jacobian)
     if model not in MODELS:
-        raise NmsdInputError("calibrate", "model", f"one of {', '.join(MODELS)}", got=model)
+        raise InputError("calibrate", "model", f"one of {', '.join(MODELS)}", got=model)
     if not set(extra) <= set(EXTRA) or len(set(extra)) < len(extra):
-        raise NmsdInputError("calibrate", "extra", f"distinct names of {EXTRA}", got=extra)
+        raise InputError("calibrate", "extra", f"distinct names of {EXTRA}", got=extra)
     extra = tuple(e for e in EXTRA if e in extra)  # gap_um, if free, is the last variable
     n_starts = int(checks.number("calibrate", "n_starts", n_starts, ge=1, le=1000, integer=True))
     max_evaluations = int(
@@ -231,9 +232,9 @@ def calibrate(
     checks.number("calibrate", "tolerance", tolerance, gt=0, lt=1)
     checks.number("calibrate", "k2_over_k1_min", k2_over_k1_min, ge=0)
     if not 0 < tolerance < 1:
-        raise NmsdInputError("calibrate", "tolerance", "in (0, 1)", got=tolerance)
+        raise InputError("calibrate", "tolerance", "in (0, 1)", got=tolerance)
     if not k2_over_k1_min >= 0:
-        raise NmsdInputError("calibrate", "k2_over_k1_min", ">= 0 (eq 8: 50)", k2_over_k1_min)
+        raise InputError("calibrate", "k2_over_k1_min", ">= 0 (eq 8: 50)", k2_over_k1_min)
     base = NmsdParameters() if base is None else base
     names = _FREE[model] + extra
 

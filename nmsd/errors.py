@@ -1,24 +1,14 @@
-"""Error types of the ``nmsd`` package (it never imports ``oocyte_fe``)."""
+"""The NMSD simulation's failure: a :class:`~oocyte_fe.errors.SolverError` with a suggestion.
+
+Bad input is :class:`oocyte_fe.errors.InputError`, as everywhere in the project.
+"""
 
 from __future__ import annotations
 
-
-class NmsdInputError(ValueError):
-    """Bad input to the NMSD model: one line naming the source, the field and the expectation."""
-
-    def __init__(self, source: str, field: str, expected: str, got: object | None = None) -> None:
-        self.source = source
-        self.field = field
-        self.expected = expected
-        self.got = got
-        msg = f"{source}: {field}: expected {expected}"
-        if got is not None:
-            text = repr(got)
-            msg += f", got {text if len(text) <= 80 else text[:76] + ' ...'}"
-        super().__init__(" ".join(msg.splitlines()))
+from oocyte_fe.errors import SolverError
 
 
-class NmsdDivergence(RuntimeError):
+class NmsdDivergence(SolverError):
     """A simulation that blew up (NaN, energy growth, no Newton convergence).
 
     The message names the step, the time and a time step to try instead.

@@ -38,13 +38,13 @@ from scipy.linalg.lapack import dgbtrf, dgbtrs
 
 from nmsd.area import area_kappa
 from nmsd.assembly import assemble
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import Pipette
 from nmsd.spring import link_force
 from nmsd.symmetry import Mirror, fold, fold_map, reduction_of
 from nmsd.zona import zona_link_factor
+from oocyte_fe.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -89,7 +89,7 @@ class BackwardEulerStepper:
         spread = int(np.abs(a - b).max())
         if params.area_stiffness > 0:
             if lattice.cells is None or len(lattice.cells) == 0:
-                raise NmsdInputError(
+                raise InputError(
                     params.source,
                     "area_stiffness",
                     "0 for a lattice without cells",

@@ -23,8 +23,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import Delaunay
 
-from nmsd import checks
-from nmsd.errors import NmsdInputError
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 MOORE_OFFSETS = np.array([(1, 0), (0, 1), (1, 1), (1, -1)])
 """Half of the Moore neighbourhood (the other half is the same links seen from the far end)."""
@@ -53,27 +53,27 @@ class Lattice:
         edges = np.asarray(self.edges, dtype=np.intp)
         n = len(nodes)
         if nodes.ndim != 2 or nodes.shape[1] != 2:
-            raise NmsdInputError(self.source, "nodes", "an (n, 2) array of positions in um")
+            raise InputError(self.source, "nodes", "an (n, 2) array of positions in um")
         if n < MIN_NODES:
-            raise NmsdInputError(self.source, "nodes", f"at least {MIN_NODES} nodes", got=n)
+            raise InputError(self.source, "nodes", f"at least {MIN_NODES} nodes", got=n)
         if edges.ndim != 2 or edges.shape[1] != 2 or len(edges) == 0:
-            raise NmsdInputError(self.source, "edges", "an (m, 2) array of node index pairs")
+            raise InputError(self.source, "edges", "an (m, 2) array of node index pairs")
         if edges.min() < 0 or edges.max() >= n or np.any(edges[:, 0] == edges[:, 1]):
-            raise NmsdInputError(self.source, "edges", f"pairs of distinct node indices < {n}")
+            raise InputError(self.source, "edges", f"pairs of distinct node indices < {n}")
         if not np.isfinite(nodes).all() or self.radius <= 0:
-            raise NmsdInputError(self.source, "radius", "finite nodes and a positive radius")
+            raise InputError(self.source, "radius", "finite nodes and a positive radius")
         lengths = np.linalg.norm(nodes[edges[:, 0]] - nodes[edges[:, 1]], axis=1)
         if np.any(lengths <= 0):
-            raise NmsdInputError(self.source, "edges", "links between distinct positions")
+            raise InputError(self.source, "edges", "links between distinct positions")
         degree = np.bincount(edges.ravel(), minlength=n)
         if np.any(degree == 0):
-            raise NmsdInputError(
+            raise InputError(
                 self.source, "edges", "every node linked", got=f"unlinked node {np.argmin(degree)}"
             )
         graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
         n_parts, _ = connected_components(graph, directed=False)
         if n_parts > 1:
-            raise NmsdInputError(self.source, "edges", "one connected lattice", got=n_parts)
+            raise InputError(self.source, "edges", "one connected lattice", got=n_parts)
         object.__setattr__(self, "nodes", nodes)
         object.__setattr__(self, "edges", edges)
         if self.cells is not None:
@@ -83,18 +83,18 @@ class Lattice:
         n = len(self.nodes)
         expected = "a (c, 4) integer array of counter-clockwise cells (-1 pads a triangle)"
         if cells.ndim != 2 or cells.shape[1] != 4 or not np.issubdtype(cells.dtype, np.integer):
-            raise NmsdInputError(self.source, "cells", expected)
+            raise InputError(self.source, "cells", expected)
         cells = cells.astype(np.int64)
         first = cells[:, :3]
         if first.min(initial=0) < 0 or cells.max(initial=0) >= n or cells[:, 3].min(initial=0) < -1:
-            raise NmsdInputError(self.source, "cells", f"corner indices < {n}; -1 only last")
+            raise InputError(self.source, "cells", f"corner indices < {n}; -1 only last")
         for row in cells:
             k = row[row >= 0]
             if len(set(k.tolist())) != len(k):
-                raise NmsdInputError(self.source, "cells", "distinct corners", got=row.tolist())
+                raise InputError(self.source, "cells", "distinct corners", got=row.tolist())
             x, y = self.nodes[k, 0], self.nodes[k, 1]
             if 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) <= 0:
-                raise NmsdInputError(
+                raise InputError(
                     self.source, "cells", "counter-clockwise corners (positive area)", row.tolist()
                 )
         return cells

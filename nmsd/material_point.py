@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import Lattice
+from oocyte_fe.errors import InputError
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,7 +34,7 @@ def locate(lattice: Lattice, points: np.ndarray) -> MaterialPoints:
     simplex = tri.find_simplex(points)
     if np.any(simplex < 0):
         bad = points[np.argmin(simplex)]
-        raise NmsdInputError("locate", "points", "points inside the lattice", got=bad.tolist())
+        raise InputError("locate", "points", "points inside the lattice", got=bad.tolist())
     transform = tri.transform[simplex]
     partial = np.einsum("pij,pj->pi", transform[:, :2], points - transform[:, 2])
     weights = np.column_stack([partial, 1.0 - partial.sum(axis=1)])

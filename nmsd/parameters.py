@@ -12,9 +12,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields, replace
 
-from nmsd import checks
 from nmsd.damping import READINGS
-from nmsd.errors import NmsdInputError
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 WATER_DENSITY = 1.0e-12
 """Cytoplasm density taken as water, 1000 kg/m^3, in nN s^2/um^4 (mass unit 1e-3 kg per um^3)."""
@@ -59,22 +59,22 @@ class NmsdParameters:
             if f.name in ("source", "damping"):
                 continue
             if not isinstance(value, int | float) or not math.isfinite(value):
-                raise NmsdInputError(self.source, f.name, "a finite number", got=value)
+                raise InputError(self.source, f.name, "a finite number", got=value)
         for name in ("k1", "k2", "d0", "d1", "area_stiffness", "zona_inner_radius_um"):
             if getattr(self, name) < 0:
-                raise NmsdInputError(self.source, name, ">= 0", got=getattr(self, name))
+                raise InputError(self.source, name, ">= 0", got=getattr(self, name))
         if self.zona_stiffness_ratio <= 0:
-            raise NmsdInputError(
+            raise InputError(
                 self.source, "zona_stiffness_ratio", "a ratio > 0", got=self.zona_stiffness_ratio
             )
         if self.dl_c <= 0:
-            raise NmsdInputError(self.source, "dl_c", "a critical strain > 0", got=self.dl_c)
+            raise InputError(self.source, "dl_c", "a critical strain > 0", got=self.dl_c)
         if self.node_mass < 0:
-            raise NmsdInputError(self.source, "node_mass", "a mass >= 0", got=self.node_mass)
+            raise InputError(self.source, "node_mass", "a mass >= 0", got=self.node_mass)
         if self.damping not in READINGS:
-            raise NmsdInputError(self.source, "damping", f"one of {READINGS}", got=self.damping)
+            raise InputError(self.source, "damping", f"one of {READINGS}", got=self.damping)
         if self.k1 + self.k2 <= 0:
-            raise NmsdInputError(self.source, "k1/k2", "a positive spring stiffness")
+            raise InputError(self.source, "k1/k2", "a positive spring stiffness")
 
     def with_values(self, **values: float) -> NmsdParameters:
         """A copy with some constants replaced (validated again)."""

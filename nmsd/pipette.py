@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nmsd import checks
-from nmsd.errors import NmsdInputError
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 TABLE_I_WIDTH_UM = 20.628  # d_inj, seed 000 Table I
 TABLE_I_TIP_ANGLE_DEG = 25.238  # theta_inj, seed 000 Table I
@@ -49,17 +49,17 @@ class Pipette:
         checks.number(self.source, "tip_angle_deg", self.tip_angle_deg, ge=0, lt=180)
         checks.number(self.source, "contact_stiffness", self.contact_stiffness, gt=0)
         if len(self.start) != 2 or len(self.direction) != 2:
-            raise NmsdInputError(self.source, "start/direction", "(x, y) pairs")
+            raise InputError(self.source, "start/direction", "(x, y) pairs")
         for name, pair in (("start", self.start), ("direction", self.direction)):
             for value in pair:
                 checks.number(self.source, name, value, ge=-1e9, le=1e9)
         if not 0 <= self.tip_angle_deg < 180:
-            raise NmsdInputError(self.source, "tip_angle_deg", "in [0, 180)", self.tip_angle_deg)
+            raise InputError(self.source, "tip_angle_deg", "in [0, 180)", self.tip_angle_deg)
         if not self.contact_stiffness > 0:
-            raise NmsdInputError(self.source, "contact_stiffness", "> 0", self.contact_stiffness)
+            raise InputError(self.source, "contact_stiffness", "> 0", self.contact_stiffness)
         norm = float(np.hypot(*self.direction))
         if norm == 0:
-            raise NmsdInputError(self.source, "direction", "a non-zero vector")
+            raise InputError(self.source, "direction", "a non-zero vector")
         object.__setattr__(self, "direction", (self.direction[0] / norm, self.direction[1] / norm))
 
     def faces(self) -> tuple[np.ndarray, np.ndarray]:

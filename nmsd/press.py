@@ -14,8 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from nmsd import checks
-from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.errors import NmsdDivergence
 from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import Lattice, circular_lattice
 from nmsd.parameters import NmsdParameters
@@ -28,6 +27,8 @@ from nmsd.pipette import (
 )
 from nmsd.sensitivity import NAMES, PressSensitivity
 from nmsd.symmetry import Mirror, mirror_of
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 MAX_HALVINGS = 6
 
@@ -59,7 +60,7 @@ class PressResult:
     def sensitivity_at(self, advances_um: Sequence[float]) -> np.ndarray:
         """df/dp (len(advances), 6) at the given advances (linear between steps)."""
         if self.force_sensitivity is None:
-            raise NmsdInputError("PressResult", "sensitivities", "a press run with them")
+            raise InputError("PressResult", "sensitivities", "a press run with them")
         return np.stack(
             [
                 np.interp(advances_um, self.advance_um, column)
@@ -109,7 +110,7 @@ class PressSetup:
     def with_gap(self, gap_um: float) -> PressSetup:
         """The same press with the mouth ``gap_um`` before touching the lattice (um)."""
         if gap_um < 0:
-            raise NmsdInputError("PressSetup", "gap_um", ">= 0 (a pipette starting outside)")
+            raise InputError("PressSetup", "gap_um", ">= 0 (a pipette starting outside)")
         touching = touching_start(self.lattice, self.pipette)
         start = np.asarray(touching.start) - gap_um * np.asarray(self.pipette.direction)
         return replace(self, pipette=replace(self.pipette, start=tuple(start)))
@@ -159,7 +160,7 @@ def held_far_side(lattice: Lattice, pipette: Pipette, hold_half_width_um: float)
     across = np.abs((lattice.nodes - pipette.start) @ b)
     held = lattice.rim & (along > 0) & (across <= hold_half_width_um)
     if not held.any():
-        raise NmsdInputError(
+        raise InputError(
             "held_far_side", "hold_half_width_um", "a width that holds at least one rim node"
         )
     return held
@@ -172,7 +173,7 @@ def touching_start(lattice: Lattice, pipette: Pipette) -> Pipette:
     rel = lattice.nodes - pipette.start
     in_strip = np.abs(rel @ b) <= 0.5 * pipette.width_um
     if not in_strip.any():
-        raise NmsdInputError(pipette.source, "start", "a pipette axis that meets the lattice")
+        raise InputError(pipette.source, "start", "a pipette axis that meets the lattice")
     shift = float(np.min(rel[in_strip] @ a))
     return replace(pipette, start=tuple(np.asarray(pipette.start) + shift * a))
 
@@ -212,7 +213,7 @@ def simulate_press(
         checks.number("simulate_press", "record_um", value, ge=0)
     x = lattice.nodes.copy() if initial_positions is None else np.array(initial_positions)
     if pipette.contains(x, 0.0).any():
-        raise NmsdInputError(
+        raise InputError(
             pipette.source, "start", "a pipette that starts outside the cell (no node inside it)"
         )
     record = sorted({float(r) for r in record_um if 0 < r <= travel_um})

@@ -51,7 +51,7 @@ from numba import njit
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
 from nmsd.assembly import cell_area, link_geometry
-from nmsd.errors import NmsdInputError
+from oocyte_fe.errors import InputError
 
 NAMES = ("k1", "k2", "d0", "d1", "dl_c", "gap_um")
 """Constants whose force sensitivities a press returns, in this column order."""
@@ -245,7 +245,7 @@ class PressSensitivity:
             lu, piv, info = dgbtrf(self._ab_h, red.band, red.band, overwrite_ab=1)
             band = red.band
         if info != 0:
-            raise NmsdInputError("sensitivities", "tangent", "a non-singular tangent", got=info)
+            raise InputError("sensitivities", "tangent", "a non-singular tangent", got=info)
         self.factorizations += 1
         return lu, piv, band
 
@@ -269,7 +269,7 @@ class PressSensitivity:
             s[self._mirrored_nodes, 1] = -s[pairs, 1]
             s = s.reshape(-1, n_p)
         if info != 0:
-            raise NmsdInputError("sensitivities", "tangent", "a solvable band system", got=info)
+            raise InputError("sensitivities", "tangent", "a solvable band system", got=info)
         return s
 
     def update(

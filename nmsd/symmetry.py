@@ -27,9 +27,9 @@ from numba import njit
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import Lattice
 from nmsd.pipette import Pipette
+from oocyte_fe.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,7 @@ class Mirror:
 
 def mirror_of(lattice: Lattice, pipette: Pipette, held: np.ndarray, tol_um: float = 1e-6) -> Mirror:
     """The reflection across the pipette axis, if it maps lattice and held nodes onto
-    themselves within ``tol_um``; otherwise :class:`NmsdInputError`."""
+    themselves within ``tol_um``; otherwise :class:`InputError`."""
     a = np.asarray(pipette.direction, dtype=float)
     point = np.asarray(pipette.start, dtype=float)
     mirror = Mirror(point, a, np.zeros(0, dtype=np.int64))
@@ -59,7 +59,7 @@ def mirror_of(lattice: Lattice, pipette: Pipette, held: np.ndarray, tol_um: floa
     worst = float(distance[np.arange(len(pairs)), pairs].max())
     held = np.asarray(held, dtype=bool)
     if worst > tol_um or not np.array_equal(held, held[pairs]):
-        raise NmsdInputError(
+        raise InputError(
             "symmetric press",
             "symmetric",
             "a lattice, pipette axis and held nodes symmetric about the axis "
@@ -129,7 +129,7 @@ def reduction_of(
     DOFs against 37 for the rows.
     """
     if abs(mirror.direction[1]) > 1e-12:
-        raise NmsdInputError(
+        raise InputError(
             "symmetric press", "direction", "a pipette axis along x for the half-lattice solve"
         )
     n = len(mirror.pairs)

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from nmsd.checks import read_text
-from nmsd.errors import NmsdInputError
+from oocyte_fe.checks import read_text
+from oocyte_fe.errors import InputError
 
 UN_TO_NN = 1.0e3
 
@@ -30,18 +30,18 @@ class ForceDisplacement:
 
 
 def read_force_displacement(path: str | Path) -> ForceDisplacement:
-    """Read the CSV; raise :class:`NmsdInputError` naming file and column on bad content."""
+    """Read the CSV; raise :class:`InputError` naming file and column on bad content."""
     path = Path(path)
     try:
         rows = list(csv.DictReader(read_text(path).splitlines()))
     except csv.Error as exc:
-        raise NmsdInputError(str(path), "", f"a comma-separated table ({exc})") from None
+        raise InputError(str(path), "", f"a comma-separated table ({exc})") from None
     header = set(rows[0]) if rows else set()
     for column in ("displacement_um", "force_experiment_uN"):
         if column not in header:
             close = difflib.get_close_matches(column, [str(h) for h in header], n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise NmsdInputError(str(path), column, f"this column (units in the name){hint}")
+            raise InputError(str(path), column, f"this column (units in the name){hint}")
     columns = {}
     for name in ("displacement_um", "force_experiment_uN", "force_simulation_uN"):
         if name not in header:
@@ -49,19 +49,19 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
         try:
             columns[name] = np.array([float(r[name]) for r in rows])
         except (TypeError, ValueError):
-            raise NmsdInputError(str(path), name, "numbers in every row") from None
+            raise InputError(str(path), name, "numbers in every row") from None
         if not np.all(np.isfinite(columns[name])):
-            raise NmsdInputError(str(path), name, "finite numbers in every row (no nan, inf)")
+            raise InputError(str(path), name, "finite numbers in every row (no nan, inf)")
     d = columns["displacement_um"]
     if len(d) < 2 or np.any(np.diff(d) <= 0) or d[0] < 0:
-        raise NmsdInputError(str(path), "displacement_um", "non-negative, strictly increasing")
+        raise InputError(str(path), "displacement_um", "non-negative, strictly increasing")
     forces = {}
     for name in ("force_experiment_uN", "force_simulation_uN"):
         if name in columns:
             with np.errstate(over="ignore"):
                 forces[name] = columns[name] * UN_TO_NN
             if not np.all(np.isfinite(forces[name])):  # finite in uN, beyond float range in nN
-                raise NmsdInputError(str(path), name, "forces of a physical size (|F| < 1e300 uN)")
+                raise InputError(str(path), name, "forces of a physical size (|F| < 1e300 uN)")
     return ForceDisplacement(
         d,
         forces["force_experiment_uN"],

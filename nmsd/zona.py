@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import Lattice
 from nmsd.parameters import NmsdParameters
+from oocyte_fe.errors import InputError
 
 
 def link_midpoint_radius(lattice: Lattice) -> np.ndarray:
@@ -43,7 +43,7 @@ def zona_link_factor(lattice: Lattice, params: NmsdParameters) -> np.ndarray:
     r_mid = link_midpoint_radius(lattice)
     ring = r_mid > radius
     if not 0.0 < radius < lattice.radius or ring.all() or not ring.any():
-        raise NmsdInputError(
+        raise InputError(
             params.source,
             "zona_inner_radius_um",
             f"a radius in (0, {lattice.radius:g}) um with links inside and outside it",

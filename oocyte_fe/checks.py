@@ -1,20 +1,43 @@
-"""Argument checks of the public ``oocyte_fe`` functions (microchannel, neck, crosscheck).
+"""The project's one validator: numbers, arrays and files a user hands in.
 
-:func:`number` refuses what is not a real, finite number within the stated bounds (``bool``,
-strings, complex, NaN, inf, ``2.5`` where a count is expected); :func:`numbers_array` does the
-same for every element of an array. Both raise :class:`~oocyte_fe.errors.InputError` naming
-the function (or object), the argument and the expectation.
+Every public function of ``afm``, ``nmsd`` and ``oocyte_fe`` checks its arguments here and
+raises :class:`~oocyte_fe.errors.InputError` (``"<where>: <name>: expected ..., got ..."``,
+one line) for anything else; this module imports nothing heavier than numpy, so ``afm`` and
+``nmsd`` may use it without importing the FE.
+
+Numbers: :func:`number` refuses what is not a real, finite number within the stated bounds
+(``bool``, strings, complex, NaN, inf, ``2.5`` where a count is expected); :func:`quantity`
+does so with the physical bounds of :data:`QUANTITIES` (a modulus of 1e308 or 1e-320 kPa is
+not one); :func:`numbers_array` and :func:`float_array` check arrays.
+
+Files: every file a user names goes through :func:`read_text` (or :func:`regular_file` when a
+library reader opens it afterwards), which guarantees, before any parser sees a byte:
+
+* each name in the path is at most 255 bytes (the limit of common file systems);
+* the path is not a symlink loop, resolves to a *regular* file (not a directory, FIFO,
+  socket or device) and is opened without blocking (``O_NONBLOCK``), so a FIFO never hangs;
+* the file is at most :data:`MAX_BYTES` long and is UTF-8 text without NUL bytes.
+
+:func:`inside` refuses a path that resolves outside a folder (``..``, absolute paths,
+symlinks out): a case reads only files in its own folder. :func:`excerpt` is the only way file
+content reaches an error message: a short, clearly marked piece of one line.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import errno
 import math
 import numbers
+import os
+import stat
+from pathlib import Path
 
 import numpy as np
 
 from oocyte_fe.errors import InputError
+
+# --- numbers ---------------------------------------------------------------------------------
 
 
 def _expected(integer: bool, gt, ge, lt, le) -> str:
@@ -37,7 +60,7 @@ def _within(x: float, gt, ge, lt, le) -> bool:
 
 
 def number(
-    where: str,
+    where: str | Path,
     name: str,
     value: object,
     *,
@@ -46,19 +69,93 @@ def number(
     lt: float | None = None,
     le: float | None = None,
     integer: bool = False,
+    expected: str | None = None,
 ) -> float:
-    """``value`` as a float (an int if ``integer``) if real, finite and within the bounds."""
+    """``value`` as a float (an int if ``integer``) if real, finite and within the bounds.
+
+    ``expected`` replaces the generated expectation in the message (for example "a positive
+    modulus in kPa"); the bounds are checked either way.
+    """
+    what = expected or _expected(integer, gt, ge, lt, le)
     kind = numbers.Integral if integer else numbers.Real
-    if isinstance(value, bool) or not isinstance(value, kind):
-        raise InputError(where, name, _expected(integer, gt, ge, lt, le), got=value)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, kind):
+        raise InputError(where, name, what, got=value)
     x = int(value) if integer else float(value)  # type: ignore[arg-type]
     if not (math.isfinite(x) and _within(x, gt, ge, lt, le)):
-        raise InputError(where, name, _expected(integer, gt, ge, lt, le), got=value)
+        raise InputError(where, name, what, got=value)
     return x
 
 
+TINY = 1e-30
+HUGE = 1e30
+"""Range of a positive physical quantity in internal units (um, nN, kPa, s and their products):
+wide enough for every real one (water's density is 1e-15 nN s^2/um^4), narrow enough that the
+closed forms' products of a few of them stay finite."""
+
+
+def positive(where: str | Path, name: str, value: object, expected: str | None = None) -> float:
+    """``value`` if a real number in [:data:`TINY`, :data:`HUGE`] (see :func:`number`)."""
+    return number(where, name, value, ge=TINY, le=HUGE, expected=expected)
+
+
+def fraction(where: str | Path, name: str, value: object) -> float:
+    """``value`` if a real number in the open interval (0, 1)."""
+    return number(where, name, value, gt=0, lt=1, expected="a fraction in (0, 1)")
+
+
+def integer(where: str | Path, name: str, value: object, low: int, high: int) -> int:
+    """``value`` if an int (not a bool) in [low, high]."""
+    return int(
+        number(
+            where,
+            name,
+            value,
+            ge=low,
+            le=high,
+            integer=True,
+            expected=f"an integer in [{low}, {high}]",
+        )
+    )
+
+
+QUANTITIES: dict[str, tuple[float, float, str]] = {
+    "modulus_kPa": (1e-6, 1e9, "kPa"),
+    "length_um": (1e-6, 1e6, "um"),
+    "time_s": (1e-9, 1e9, "s"),
+    "force_nN": (1e-9, 1e12, "nN"),
+    "pressure_kPa": (1e-9, 1e6, "kPa"),
+    "viscosity_kPa_s": (1e-12, 1e9, "kPa s"),
+    "stiffness_nN_per_um": (1e-9, 1e12, "nN/um"),
+}
+"""Physical bounds of each quantity a user gives, in internal units: (smallest, largest, unit).
+
+Wider than any oocyte experiment by orders of magnitude (an AFM modulus of 1 mPa to 1 TPa, a
+length of 1 pm to 1 m, a time of 1 ns to 30 years), narrow enough that a typing slip of
+``1e308`` or a denormal ``1e-320`` is refused with the bound named instead of giving inf or a
+division by zero downstream (docs/units.md)."""
+
+
+def quantity(where: str | Path, name: str, value: object, kind: str) -> float:
+    """``value`` within the physical bounds of :data:`QUANTITIES` ``[kind]`` (positive)."""
+    low, high, unit = QUANTITIES[kind]
+    return number(
+        where, name, value, ge=low, le=high, expected=f"a number in [{low:g}, {high:g}] {unit}"
+    )
+
+
+def float_array(where: str | Path, name: str, values: object) -> np.ndarray:
+    """``values`` as a float array (NaN kept: raw data); what numpy cannot read is refused."""
+    try:
+        array = np.asarray(values)
+        if array.dtype == bool or np.iscomplexobj(array):
+            raise TypeError
+        return array.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(where, name, "an array of real numbers") from None
+
+
 def numbers_array(
-    where: str,
+    where: str | Path,
     name: str,
     value: object,
     *,
@@ -100,17 +197,120 @@ def numeric_fields(obj: object, where: str, max_abs: float = 1e12) -> None:
     (its own range checks follow in its ``__post_init__``)."""
     for f in dataclasses.fields(obj):  # type: ignore[arg-type]
         if f.type in ("float", "int", float, int):
-            integer = f.type in ("int", int)
-            number(where, f.name, getattr(obj, f.name), ge=-max_abs, le=max_abs, integer=integer)
+            is_int = f.type in ("int", int)
+            number(where, f.name, getattr(obj, f.name), ge=-max_abs, le=max_abs, integer=is_int)
 
 
-TINY = 1e-30
-HUGE = 1e30
-"""Range of a positive physical quantity in internal units (um, nN, kPa, s and their products):
-wide enough for every real one (water's density is 1e-15 nN s^2/um^4), narrow enough that the
-closed forms' products of a few of them stay finite."""
+# --- files -----------------------------------------------------------------------------------
+
+MAX_NAME_BYTES = 255
+"""Longest file or folder name accepted (bytes, UTF-8)."""
+MAX_BYTES = 64 * 1024 * 1024
+"""Largest text file read (64 MiB): a case file or a data table, never a bulk recording."""
+EXCERPT_CHARS = 40
 
 
-def positive(where: str, name: str, value: object) -> float:
-    """``value`` if a real number in [:data:`TINY`, :data:`HUGE`] (see :func:`number`)."""
-    return number(where, name, value, ge=TINY, le=HUGE)
+def excerpt(text: str) -> str:
+    """A short, clearly marked piece of one line of a file (for an error message)."""
+    line = text.splitlines()[0] if text else ""
+    cut = line[:EXCERPT_CHARS] + (" ..." if len(line) > EXCERPT_CHARS else "")
+    return f"[excerpt: {cut!r}]"
+
+
+def _kind_of(mode: int) -> str:
+    if stat.S_ISDIR(mode):
+        return "a directory"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (named pipe)"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    return "not a regular file"
+
+
+def _check_names(path: Path, field: str) -> None:
+    for part in path.parts:
+        if len(part.encode("utf-8", "surrogateescape")) > MAX_NAME_BYTES:
+            raise InputError(
+                path.name[:40] + "...",
+                field,
+                f"file and folder names of at most {MAX_NAME_BYTES} bytes",
+            )
+
+
+def regular_file(path: str | Path, field: str = "") -> Path:
+    """``path`` if it names an existing regular file; :class:`InputError` naming it otherwise."""
+    path = Path(path)
+    _check_names(path, field)
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise InputError(path, field, "an existing file") from None
+    except OSError as exc:
+        reason = "a path without a symlink loop" if exc.errno == errno.ELOOP else "a readable file"
+        raise InputError(path, field, reason, got=exc.strerror) from None
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(path, field, "a regular file", got=_kind_of(info.st_mode))
+    if info.st_size > MAX_BYTES:
+        raise InputError(path, field, f"a file of at most {MAX_BYTES // 2**20} MiB")
+    return path
+
+
+def read_bytes(path: str | Path, field: str = "") -> bytes:
+    """The bytes of a regular file (checked as :func:`regular_file`; never blocks on a FIFO)."""
+    path = regular_file(path, field)
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError as exc:
+        raise InputError(path, field, "a readable file", got=exc.strerror) from None
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):  # swapped since the check
+            raise InputError(path, field, "a regular file")
+        return fh.read(MAX_BYTES + 1)
+
+
+def decode_text(data: bytes, path: str | Path, field: str = "") -> str:
+    """UTF-8 text (a BOM is dropped); a NUL byte or another encoding is one clear line."""
+    if b"\x00" in data:
+        line = data[: data.index(b"\x00")].count(b"\n") + 1
+        raise InputError(path, field or f"line {line}", "a text file (UTF-8), not binary data")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise InputError(
+            path,
+            field or f"line {line}",
+            "UTF-8 text (save the file as UTF-8)",
+            got=f"byte 0x{data[exc.start]:02x}",
+        ) from None
+
+
+def read_text(path: str | Path, field: str = "") -> str:
+    """The text of a regular UTF-8 file; every fault is one :class:`InputError` line."""
+    return decode_text(read_bytes(path, field), path, field)
+
+
+def inside(path: str | Path, folder: str | Path, where: str | Path, field: str) -> Path:
+    """``path`` (relative to ``folder``, or absolute) resolved; refused if outside ``folder``.
+
+    ``where`` and ``field`` name the file and key that gave the path (for the error).
+    """
+    folder = Path(folder)
+    candidate = Path(path)
+    _check_names(candidate, field)
+    full = candidate if candidate.is_absolute() else folder / candidate
+    try:
+        resolved = full.resolve(strict=False)
+        root = folder.resolve(strict=False)
+    except (OSError, RuntimeError):
+        raise InputError(where, field, "a path without a symlink loop", got=str(path)) from None
+    if not resolved.is_relative_to(root):
+        raise InputError(
+            where,
+            field,
+            "a file inside the case folder (nothing outside it is read; copy the file in)",
+            got=str(path),
+        )
+    return resolved

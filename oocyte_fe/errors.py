@@ -55,3 +55,7 @@ class SolverError(RuntimeError):
     def __init__(self, message: str, result: object | None = None) -> None:
         super().__init__(message)
         self.result = result
+
+
+class MissingExtraError(ImportError):
+    """An optional dependency (a pip extra of oocyte-fe) is needed but not installed."""

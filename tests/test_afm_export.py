@@ -9,9 +9,9 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from afm.errors import AfmInputError
 from afm.fe_export import ansys_prony_block, febio_material
 from afm.material_file import MaterialFile, read_material
+from oocyte_fe.errors import InputError
 
 HOSTILE = [
     'zp & "cyto" <b>',
@@ -79,7 +79,7 @@ def test_ansys_block_holds_only_the_intended_commands(text):
 def test_exports_refuse_a_bad_material_number(mat_id):
     material = MaterialFile("zp", "", 7.0, 0.45)
     for export in (ansys_prony_block, febio_material):
-        with pytest.raises(AfmInputError, match="mat_id"):
+        with pytest.raises(InputError, match="mat_id"):
             export(material, mat_id=mat_id)
 
 
@@ -103,6 +103,6 @@ def test_read_material_refuses_hostile_files(tmp_path, content, expected):
         path.write_bytes(content)
     else:
         path.write_text(content)
-    with pytest.raises(AfmInputError, match=expected) as info:
+    with pytest.raises(InputError, match=expected) as info:
         read_material(path)
     assert str(path) in str(info.value)

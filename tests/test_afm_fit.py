@@ -8,10 +8,10 @@ import pytest
 
 from afm.batch import fit_batch
 from afm.curve_io import read_curves
-from afm.errors import AfmInputError
 from afm.fit import FitRange, fit_indentation
 from afm.pierce import fit_pierce
 from afm.synthetic import indentation_curve, pierce_curve
+from oocyte_fe.errors import InputError
 
 E_ZP, E_CYT = 7.01, 1.55  # seed 001, Section 3.1
 
@@ -91,22 +91,22 @@ def test_pierce_curve_noise_free_is_exact():
 
 
 def test_curve_without_pierce_is_refused():
-    with pytest.raises(AfmInputError, match="pierce event"):
+    with pytest.raises(InputError, match="pierce event"):
         fit_pierce(indentation_curve(E_ZP, 5.0))
 
 
 def test_fit_range_outside_the_data_is_refused():
     curve = indentation_curve(E_ZP, 5.0, max_piezo_um=6.0)
-    with pytest.raises(AfmInputError, match="max_indentation_um"):
+    with pytest.raises(InputError, match="max_indentation_um"):
         fit_indentation(curve, fit_range=FitRange(max_indentation_um=5.0))
-    with pytest.raises(AfmInputError, match="max_force_fraction"):
+    with pytest.raises(InputError, match="max_force_fraction"):
         FitRange(max_force_fraction=1.5)
 
 
 def test_curve_that_never_reaches_contact_is_refused():
     curve = indentation_curve(E_ZP, 20.0, max_piezo_um=8.0, noise_fraction=0.0)
     curve = curve.with_force(curve.force_nN + np.random.default_rng(0).normal(0, 0.01, 2000))
-    with pytest.raises(AfmInputError, match="reaches contact"):
+    with pytest.raises(InputError, match="reaches contact"):
         fit_indentation(curve)
 
 
@@ -152,7 +152,7 @@ def test_qi_curves_that_barely_reach_contact_are_refused_saying_why():
     curves = read_curves(QI_MAP)
     assert len(curves) == 4
     for curve in curves:
-        with pytest.raises(AfmInputError, match="reaches contact") as info:
+        with pytest.raises(InputError, match="reaches contact") as info:
             fit_indentation(curve, "sneddon_cone", {"half_angle_deg": 30.0})
         message = str(info.value)
         assert "fit range" not in message

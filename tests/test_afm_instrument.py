@@ -10,9 +10,9 @@ import pytest
 from afm.batch import fit_batch, write_batch_table
 from afm.creep import fit_creep
 from afm.curve_io import read_creep, read_curve, read_curves
-from afm.errors import AfmInputError
 from afm.fit import fit_indentation
 from afm.plotting import plot_modulus_map
+from oocyte_fe.errors import InputError
 from tests.instrument_data import instrument_file
 
 afmformats = pytest.importorskip("afmformats")
@@ -41,7 +41,7 @@ def test_height_channel_override_is_used_and_reported():
     np.testing.assert_allclose(piezo.piezo_um, -record.appr["height (piezo)"] * 1e6)
     fit = fit_indentation(piezo, "sneddon_cone", {"half_angle_deg": 30.0}, 0.5)
     assert fit.height_channel == "height (piezo)" and fit.E_kPa > 10 * JPK_SOFTWARE_E_KPA
-    with pytest.raises(AfmInputError, match="height_channel"):
+    with pytest.raises(InputError, match="height_channel"):
         read_curve(path, height_channel="tip position")
 
 
@@ -56,7 +56,7 @@ def test_jittering_measured_height_is_fitted_as_recorded():
 
 def test_afm_workshop_csv_goes_to_afmformats():
     path = instrument_file(WORKSHOP)
-    with pytest.raises(AfmInputError, match="spring constant") as info:
+    with pytest.raises(InputError, match="spring constant") as info:
         read_curve(path)  # the file has force in nN but no spring constant for the tip position
     assert str(path) in str(info.value)
     curve = read_curve(path, spring_constant_N_per_m=20.0)
@@ -68,7 +68,7 @@ def test_afm_workshop_csv_goes_to_afmformats():
 
 def test_missing_metadata_is_our_error_and_the_batch_goes_on(tmp_path):
     bad = instrument_file(WORKSHOP_NO_META)
-    with pytest.raises(AfmInputError, match="spring constant and sensitivity") as info:
+    with pytest.raises(InputError, match="spring constant and sensitivity") as info:
         read_curve(bad)  # afmformats raises MissingMetaDataError, a BaseException
     assert str(bad) in str(info.value)
     result = fit_batch(
@@ -127,7 +127,7 @@ def test_instrument_creep_file_gives_compliance_and_prony_series():
 
 
 def test_force_distance_file_is_not_a_creep_file():
-    with pytest.raises(AfmInputError, match="creep-compliance"):
+    with pytest.raises(InputError, match="creep-compliance"):
         read_creep(instrument_file(SPOT3))
 
 

@@ -9,10 +9,10 @@ import pytest
 from afm.batch import curve_files, fit_batch, write_batch_table
 from afm.curve import ForceCurve
 from afm.curve_io import read_curve, write_curve
-from afm.errors import AfmInputError, MissingExtraError
 from afm.fit import fit_indentation
 from afm.plotting import plot_batch
 from afm.synthetic import indentation_curve
+from oocyte_fe.errors import InputError, MissingExtraError
 
 
 def _write(path, text):
@@ -41,7 +41,7 @@ def test_deflection_in_volts_needs_the_sensitivity(tmp_path):
     # F = V * s * k: 0.2 V * 50 nm/V * 0.1 N/m = 1 nN
     body = "piezo_um,deflection_V\n" + "\n".join(f"{i * 0.1},{0.2}" for i in range(20))
     path = _write(tmp_path / "v.csv", "# spring_constant_N_per_m = 0.1\n" + body)
-    with pytest.raises(AfmInputError, match="sensitivity_nm_per_V"):
+    with pytest.raises(InputError, match="sensitivity_nm_per_V"):
         read_curve(path)
     curve = read_curve(path, sensitivity_nm_per_V=50.0)
     np.testing.assert_allclose(curve.force_nN, 1.0)
@@ -65,13 +65,13 @@ def test_deflection_in_volts_needs_the_sensitivity(tmp_path):
 )
 def test_bad_files_name_the_file_and_the_problem(tmp_path, text, match):
     path = _write(tmp_path / "bad.csv", text)
-    with pytest.raises(AfmInputError, match=match) as info:
+    with pytest.raises(InputError, match=match) as info:
         read_curve(path)
     assert str(path) in str(info.value)
 
 
 def test_negative_spring_constant_in_python_is_refused():
-    with pytest.raises(AfmInputError, match="spring"):
+    with pytest.raises(InputError, match="spring"):
         ForceCurve(np.arange(20.0), np.zeros(20), -1.0)
 
 
@@ -110,7 +110,7 @@ def test_batch_of_30_reports_the_drawn_mean_and_sd_and_skips_a_bad_curve(tmp_pat
 def test_unreadable_instrument_file_names_the_file(tmp_path):
     pytest.importorskip("afmformats")
     path = _write(tmp_path / "curve.jpk-force", "not really")
-    with pytest.raises(AfmInputError, match="afmformats can read") as info:
+    with pytest.raises(InputError, match="afmformats can read") as info:
         read_curve(path)
     assert str(path) in str(info.value)
 
@@ -135,5 +135,5 @@ def test_jittering_piezo_is_accepted_and_fitted_as_recorded(tmp_path):
 def test_a_height_channel_a_text_table_lacks_is_refused(tmp_path):
     path = write_curve(indentation_curve(7.01, 5.0, n_points=100), tmp_path / "c.csv")
     assert read_curve(path).height_channel == "piezo"
-    with pytest.raises(AfmInputError, match="height_channel"):
+    with pytest.raises(InputError, match="height_channel"):
         read_curve(path, height_channel="height (measured)")

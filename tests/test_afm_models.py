@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from afm.errors import AfmInputError
 from afm.models import FIT_PARAMETERS, MODELS, POISSON_RATIO, get_model
+from oocyte_fe.errors import InputError
 
 GEOMETRIES = {
     "sneddon_cone": {},
@@ -94,12 +94,12 @@ def test_exact_sphere_tends_to_paraboloid_for_shallow_indentation():
 
 
 def test_geometry_is_validated_with_names():
-    with pytest.raises(AfmInputError, match="radius_um"):
+    with pytest.raises(InputError, match="radius_um"):
         MODELS["hertz_paraboloid"].check_geometry({})
-    with pytest.raises(AfmInputError, match="half_angle_deg"):
+    with pytest.raises(InputError, match="half_angle_deg"):
         MODELS["sneddon_cone"].check_geometry({"half_angle_deg": 95.0})
-    with pytest.raises(AfmInputError, match="radius"):
+    with pytest.raises(InputError, match="radius"):
         MODELS["sneddon_cone"].check_geometry({"radius": 1.0})
-    with pytest.raises(AfmInputError, match="one of"):
+    with pytest.raises(InputError, match="one of"):
         get_model("flat_punch")
     assert MODELS["sneddon_cone"].check_geometry({}) == {"half_angle_deg": 10.0}

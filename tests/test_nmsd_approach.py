@@ -7,9 +7,9 @@ import pytest
 
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.displacement_field import press_displacements
-from nmsd.errors import NmsdInputError
 from nmsd.parameters import NmsdParameters
 from nmsd.press import press_setup
+from oocyte_fe.errors import InputError
 
 
 def test_pid_reaches_fixed_target_within_resolution():
@@ -31,7 +31,7 @@ def test_pid_follows_moving_target():
 
 
 def test_bad_gain():
-    with pytest.raises(NmsdInputError, match="period_s"):
+    with pytest.raises(InputError, match="period_s"):
         PidGains(period_s=0.0)
 
 

@@ -23,7 +23,7 @@ from nmsd.calibration import (
 )
 from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.damping import link_damping, nodal_damping
-from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.errors import NmsdDivergence
 from nmsd.integrator import BackwardEulerStepper, explicit_time_step_limit
 from nmsd.lattice import Lattice, circular_lattice
 from nmsd.material_point import locate
@@ -32,6 +32,7 @@ from nmsd.pipette import Pipette
 from nmsd.press import press_setup, simulate_press
 from nmsd.spring import link_force
 from nmsd.tableII import ForceDisplacement, read_force_displacement
+from oocyte_fe.errors import InputError
 from tests.band_storage import band_to_dense
 
 TABLE = "cases/nmsd_calibration_tableII/nmsd_force_displacement_tableII.csv"
@@ -159,14 +160,14 @@ def test_cytoplasm_loss_inverts():
     ],
 )
 def test_bad_input_names_the_field(make, field):
-    with pytest.raises(NmsdInputError, match=field):
+    with pytest.raises(InputError, match=field):
         make()
 
 
 def test_pipette_starting_inside_is_refused():
     setup = press_setup(n_steps=2)
     inside = Pipette(start=(40.0, 0.0))
-    with pytest.raises(NmsdInputError, match="outside the cell"):
+    with pytest.raises(InputError, match="outside the cell"):
         simulate_press(setup.lattice, NmsdParameters(), inside, setup.held, n_steps=2)
 
 
@@ -186,7 +187,7 @@ def test_pipette_starting_inside_is_refused():
 def test_bad_csv(tmp_path, text, field):
     f = tmp_path / "t.csv"
     f.write_text(text)
-    with pytest.raises(NmsdInputError, match=field):
+    with pytest.raises(InputError, match=field):
         read_force_displacement(f)
 
 
@@ -258,7 +259,7 @@ def test_link_dampers_resist_stretching_rate_not_rigid_motion():
 
 
 def test_link_damping_reading_is_selectable_and_checked():
-    with pytest.raises(NmsdInputError, match="damping"):
+    with pytest.raises(InputError, match="damping"):
         NmsdParameters(damping="voigt")
     setup = press_setup(n_steps=10, travel_um=20.0)
     nodal = setup.run(NmsdParameters(k1=20.0, k2=2000.0, d0=5.0, d1=0.1))
@@ -289,7 +290,7 @@ def test_with_gap_moves_the_pipette_back_and_delays_the_force():
     params = NmsdParameters(k1=20.0, k2=2000.0, d0=1.0, d1=0.05)
     r = gapped.run(params, record_um=[5.0])
     assert r.force_at([5.0])[0] == 0.0 and r.force_nN[-1] > 0
-    with pytest.raises(NmsdInputError, match="gap_um"):
+    with pytest.raises(InputError, match="gap_um"):
         setup.with_gap(-1.0)
 
 
@@ -297,7 +298,7 @@ def test_calibration_frees_dl_c_and_gap_within_bounds():
     base = NmsdParameters(dl_c=0.8)
     p = params_for("nmsd", np.array([2000.0, 0.01, 3.0, 0.1, 0.4]), base, ("dl_c",))
     assert (p.k1, p.k2, p.dl_c) == pytest.approx((20.0, 2000.0, 0.4))
-    with pytest.raises(NmsdInputError, match="extra"):
+    with pytest.raises(InputError, match="extra"):
         calibrate(press_setup(n_steps=2), read_force_displacement(TABLE), extra=("k1",))
     data = read_force_displacement(TABLE)
     cal = calibrate(
@@ -404,18 +405,18 @@ def test_area_stiffness_sets_the_lattice_poisson_ratio_and_is_checked():
     assert poisson_ratio(0.0) == pytest.approx(0.2929, abs=1e-4)
     for nu in (0.4, 0.45, 0.49):
         assert poisson_ratio(area_stiffness_for_poisson(nu)) == pytest.approx(nu)
-    with pytest.raises(NmsdInputError, match="nu"):
+    with pytest.raises(InputError, match="nu"):
         area_stiffness_for_poisson(0.5)
-    with pytest.raises(NmsdInputError, match="area_stiffness"):
+    with pytest.raises(InputError, match="area_stiffness"):
         NmsdParameters(area_stiffness=-1.0)
-    with pytest.raises(NmsdInputError, match="area_stiffness"):
+    with pytest.raises(InputError, match="area_stiffness"):
         NmsdParameters(area_stiffness=float("nan"))
     bare = Lattice(circular_lattice(40.0, 5).nodes, circular_lattice(40.0, 5).edges, 20.0)
     setup = press_setup(bare, n_steps=2)
-    with pytest.raises(NmsdInputError, match="area_stiffness"):
+    with pytest.raises(InputError, match="area_stiffness"):
         BackwardEulerStepper(bare, NmsdParameters(area_stiffness=1.0), setup.pipette, setup.held)
     lat = circular_lattice(40.0, 5)
-    with pytest.raises(NmsdInputError, match="cells"):
+    with pytest.raises(InputError, match="cells"):
         Lattice(lat.nodes, lat.edges, 20.0, cells=lat.cells[:, ::-1])  # clockwise
 
 
@@ -510,13 +511,13 @@ def test_zona_ratio_one_is_the_uniform_press_bit_for_bit_and_a_stiff_ring_pushes
 
 def test_zona_ring_inputs_are_checked():
     for bad in (0.0, -1.0, float("nan")):
-        with pytest.raises(NmsdInputError, match="zona_stiffness_ratio"):
+        with pytest.raises(InputError, match="zona_stiffness_ratio"):
             NmsdParameters(zona_stiffness_ratio=bad)
-    with pytest.raises(NmsdInputError, match="zona_inner_radius_um"):
+    with pytest.raises(InputError, match="zona_inner_radius_um"):
         NmsdParameters(zona_inner_radius_um=-1.0)
     for radius in (0.0, 20.0, 25.0):  # the 40 um lattice has radius 20 um
         lat, setup, params = _zona_setup(radius=radius)
-        with pytest.raises(NmsdInputError, match="zona_inner_radius_um"):
+        with pytest.raises(InputError, match="zona_inner_radius_um"):
             BackwardEulerStepper(lat, params, setup.pipette, setup.held)
 
 
@@ -532,7 +533,7 @@ def test_eq8_stiffening_constraint_binds_and_can_be_lifted():
     assert held.params.k2 >= 50.0 * held.params.k1 * (1 - 1e-9)
     assert lifted.metrics.rmse_nN < 0.1 * held.metrics.rmse_nN
     assert lifted.params.k2 < 50.0 * lifted.params.k1
-    with pytest.raises(NmsdInputError, match="k2_over_k1_min"):
+    with pytest.raises(InputError, match="k2_over_k1_min"):
         calibrate(setup, curve, k2_over_k1_min=-1.0)
 
 

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from nmsd.calibration import calibrate, model_forces_and_jacobian
-from nmsd.errors import NmsdInputError
 from nmsd.integrator import BackwardEulerStepper, NewtonFailure
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
 from nmsd.tableII import ForceDisplacement, read_force_displacement
+from oocyte_fe.errors import InputError
 
 TABLE = "cases/nmsd_calibration_tableII/nmsd_force_displacement_tableII.csv"
 RECORD = [2.0, 4.0, 6.0, 8.0, 10.0]
@@ -97,7 +97,7 @@ def test_sensitivities_follow_halved_steps(monkeypatch):
 def test_press_without_sensitivities_has_none():
     press = _small_press(4).run(_params("nodal"), record_um=RECORD)
     assert press.force_sensitivity is None
-    with pytest.raises(NmsdInputError, match="sensitivities"):
+    with pytest.raises(InputError, match="sensitivities"):
         press.sensitivity_at(RECORD)
 
 
@@ -150,7 +150,7 @@ def test_exact_jacobian_calibration_needs_one_press_per_evaluation():
     assert exact.evaluations <= 5
     assert forward.evaluations >= exact.evaluations + 4
     assert exact.metrics.rmse_nN < 2 * forward.metrics.rmse_nN
-    with pytest.raises(NmsdInputError, match="jacobian"):
+    with pytest.raises(InputError, match="jacobian"):
         calibrate(setup, data, "nmsd", base, 1, jacobian="3-point")
-    with pytest.raises(NmsdInputError, match="tolerance"):
+    with pytest.raises(InputError, match="tolerance"):
         calibrate(setup, data, "nmsd", base, 1, tolerance=0.0)

@@ -7,11 +7,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from nmsd.errors import NmsdInputError
 from nmsd.integrator import BackwardEulerStepper
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
 from nmsd.symmetry import mirror_of
+from oocyte_fe.errors import InputError
 from tests.band_storage import band_to_dense
 
 # a soft constant set that buckles (docs/nmsd.md, "Sideways buckling")
@@ -122,9 +122,9 @@ def test_free_press_buckles_sideways_and_the_symmetric_branch_converges_in_dt():
 def test_symmetric_press_needs_a_symmetric_setup():
     setup = press_setup(n_steps=2)
     off_axis = replace(setup.pipette, start=(setup.pipette.start[0], 0.5))
-    with pytest.raises(NmsdInputError, match="symmetric"):
+    with pytest.raises(InputError, match="symmetric"):
         mirror_of(setup.lattice, off_axis, setup.held)
     held = setup.held.copy()
     held[np.flatnonzero(held)[0]] = False
-    with pytest.raises(NmsdInputError, match="held nodes not symmetric"):
+    with pytest.raises(InputError, match="held nodes not symmetric"):
         mirror_of(setup.lattice, setup.pipette, held)

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from afm.arguments import real
-from afm.errors import AfmInputError
+from oocyte_fe.checks import number
+from oocyte_fe.errors import InputError
 
 ShapeFunction = Callable[[np.ndarray, Mapping[str, float], float], np.ndarray]
 
@@ -38,13 +38,13 @@ class Parameter:
     default: float | None = None
 
     def check(self, value: float, where: str = "<input>") -> float:
-        """Return ``value`` as float, or raise :class:`afm.errors.AfmInputError`."""
+        """Return ``value`` as float, or raise :class:`afm.errors.InputError`."""
         close = "]" if self.upper_inclusive else ")"
         expected = f"a value in ({self.lower:g}, {self.upper:g}{close} {self.unit}"
-        value = real(value, self.key, where, expected)
+        value = number(where, self.key, value, expected=expected)
         below = value <= self.upper if self.upper_inclusive else value < self.upper
         if not (math.isfinite(value) and self.lower < value and below):
-            raise AfmInputError(where, self.key, expected, value)
+            raise InputError(where, self.key, expected, value)
         return value
 
 
@@ -70,15 +70,15 @@ class IndentationModel:
         """Validated geometry: every parameter present and inside its bounds, no extra keys."""
         known = {p.key for p in self.geometry_parameters}
         if not isinstance(geometry, Mapping):
-            raise AfmInputError(where, "geometry", f"a table of {sorted(known)}", geometry)
+            raise InputError(where, "geometry", f"a table of {sorted(known)}", geometry)
         extra = sorted(set(geometry) - known)
         if extra:
-            raise AfmInputError(where, extra[0], f"a geometry key of {self.key}: {sorted(known)}")
+            raise InputError(where, extra[0], f"a geometry key of {self.key}: {sorted(known)}")
         out = {}
         for p in self.geometry_parameters:
             value = geometry.get(p.key, p.default)
             if value is None:
-                raise AfmInputError(where, p.key, f"this geometry key for model {self.key}")
+                raise InputError(where, p.key, f"this geometry key for model {self.key}")
             out[p.key] = p.check(value, where)
         return out
 
@@ -125,5 +125,5 @@ def indentation_model(
 def get_model(key: str, where: str = "<input>") -> IndentationModel:
     """Look a model up by key; an unknown key names the known ones."""
     if not isinstance(key, str) or key not in MODELS:
-        raise AfmInputError(where, "model", f"one of {', '.join(sorted(MODELS))}", key)
+        raise InputError(where, "model", f"one of {', '.join(sorted(MODELS))}", key)
     return MODELS[key]

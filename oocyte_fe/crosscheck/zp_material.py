@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from afm.creep import material_from_creep_csv
-from afm.errors import AfmInputError
 from afm.material_file import MaterialFile
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.material import Material, Prony
@@ -50,7 +49,7 @@ def afm_layer_materials(
     """ZP from the creep record (viscoelastic), cytoplasm elastic with ``cytoplasm_E_kPa``."""
     try:
         record = material_from_creep_csv(creep_csv, "zona_pellucida", half_angle_deg, nu)
-    except AfmInputError as exc:
+    except InputError as exc:
         raise InputError(creep_csv, "creep record", str(exc)) from None
     prony = Prony(record.g, record.tau_s, source=str(creep_csv))
     zona = Material(record.E_kPa, nu, prony, name="zona", source=record.source)

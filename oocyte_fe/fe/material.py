@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from afm.material_file import read_material
-from oocyte_fe import files
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.kinematics import ACTIVE_I, ACTIVE_J, Kinematics, active, cross5, outer5
 
@@ -99,10 +99,10 @@ class Material:
 def read_material_file(path: str | Path) -> Material:
     """Read the material file written by :mod:`afm` (format and validation live there).
 
-    The file is checked first through :mod:`oocyte_fe.files` (a regular UTF-8 file, not a
+    The file is checked first through :mod:`oocyte_fe.checks` (a regular UTF-8 file, not a
     folder, FIFO or symlink loop); nesting too deep for the TOML parser is one clear line.
     """
-    files.read_text(path)
+    checks.read_text(path)
     try:
         record = read_material(path)
     except RecursionError:

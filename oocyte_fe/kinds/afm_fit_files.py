@@ -26,7 +26,6 @@ from afm.batch import BatchResult, curve_files, fit_batch, write_batch_table
 from afm.creep import fit_creep
 from afm.curve_io import read_creep
 from afm.curve_plots import plot_curves, plot_name
-from afm.errors import AfmInputError
 from afm.fe_export import ansys_prony_block, febio_material
 from afm.fit import FitRange
 from afm.material_file import MaterialFile, write_material
@@ -150,7 +149,7 @@ def find_curve_files(case_dir: Path, pattern: str) -> list[Path]:
         _inside(case_dir, target, "inputs.curves")
         try:
             return curve_files(target)
-        except AfmInputError as exc:
+        except InputError as exc:
             raise InputError(where, "inputs.curves", exc.expected, str(target)) from None
     files = sorted(p for p in case_dir.glob(pattern) if p.is_file())
     files = [p for p in files if _inside(case_dir, p, "inputs.curves")]

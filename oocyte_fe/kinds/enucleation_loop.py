@@ -10,7 +10,6 @@ from pydantic import Field
 
 from nmsd.approach_pid import PidGains
 from nmsd.calibration import calibrate
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
@@ -111,7 +110,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         data = read_force_displacement(inp.data)
         lattice = circular_lattice(CELL_DIAMETER_UM, inp.spacings_across)
         setup = press_setup(lattice, n_steps=inp.n_steps)
-    except NmsdInputError as exc:
+    except InputError as exc:
         raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
     base = NmsdParameters(dl_c=inp.dl_c, node_mass=node_mass_for(CELL_DIAMETER_UM, lattice.n_nodes))
     ctx.step("calibrating on Table II")

@@ -13,7 +13,7 @@ from pydantic import Field
 from afm.curve_io import read_creep
 from nmsd.calibration import CalibrationResult, calibrate, near_best
 from nmsd.displacement_field import DisplacementField, press_displacements
-from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.errors import NmsdDivergence
 from nmsd.parameters import NmsdParameters
 from nmsd.pipette import (
     CONTACT_STIFFNESS_NN_PER_UM,
@@ -349,7 +349,7 @@ def _nmsd_setup(ctx: CaseContext, zona_ratio: float) -> tuple[PressSetup, NmsdPa
     )
     try:
         zona_link_factor(setup.lattice, params)
-    except NmsdInputError as exc:
+    except InputError as exc:
         raise InputError(
             ctx.case_dir / "case.toml", "inputs (cytoplasm_diameter_um)", str(exc)
         ) from None

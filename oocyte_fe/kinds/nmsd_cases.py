@@ -11,7 +11,6 @@ from pydantic import Field
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.calibration import MODELS, CalibrationResult, calibrate, fit_metrics
 from nmsd.cytoplasm_loss import loss_fraction
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.pipette import (
@@ -222,7 +221,7 @@ def build_press(
             node_mass=node_mass_for(inp.cell_diameter_um, lattice.n_nodes),
             damping=damping,
         )
-    except NmsdInputError as exc:
+    except InputError as exc:
         raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
     return setup, base
 
@@ -231,7 +230,7 @@ def _setup_and_data(ctx: CaseContext) -> tuple[PressSetup, NmsdParameters, objec
     inp = ctx.inputs
     try:
         data = read_force_displacement(inp.data)
-    except NmsdInputError as exc:
+    except InputError as exc:
         raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
     setup, base = build_press(
         ctx,

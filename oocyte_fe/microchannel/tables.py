@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from oocyte_fe import files
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel import units
 
@@ -23,10 +23,10 @@ from oocyte_fe.microchannel import units
 def read_columns(path: Path) -> dict[str, np.ndarray]:
     """All columns of a CSV file with a header row, as float arrays; ``#`` lines are comments.
 
-    The file is opened through :mod:`oocyte_fe.files` (a regular UTF-8 file, never a FIFO);
+    The file is opened through :mod:`oocyte_fe.checks` (a regular UTF-8 file, never a FIFO);
     every cell must be a finite number.
     """
-    text = files.read_text(path)
+    text = checks.read_text(path)
     try:
         rows = list(csv.reader(text.splitlines()))
     except csv.Error as exc:
@@ -46,7 +46,7 @@ def read_columns(path: Path) -> dict[str, np.ndarray]:
                 value = float(cell)
             except ValueError:
                 raise InputError(
-                    path, f"{name} (line {line})", "a number", got=files.excerpt(cell)
+                    path, f"{name} (line {line})", "a number", got=checks.excerpt(cell)
                 ) from None
             if not math.isfinite(value):
                 raise InputError(path, f"{name} (line {line})", "a finite number", got=value)

@@ -30,7 +30,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from oocyte_fe import files
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseKind, get_kind
 from oocyte_fe.runner.schema import DataFile, readers_of
@@ -297,8 +297,8 @@ def _check_values(file: Path, raw: Any) -> None:
 
 
 def read_toml(file: Path) -> dict[str, Any]:
-    """Read a TOML file safely (:mod:`oocyte_fe.files`); every fault is one line."""
-    text = files.read_text(file)
+    """Read a TOML file safely (:mod:`oocyte_fe.checks`); every fault is one line."""
+    text = checks.read_text(file)
     try:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -353,15 +353,12 @@ def check_data_files(file: Path, inputs: BaseModel) -> None:
             continue
         try:
             reader(path)
-        except ValueError as exc:  # InputError, AfmInputError, NmsdInputError are ValueErrors
-            if not hasattr(exc, "expected"):
-                raise InputError(file, f"inputs.{name}", f"a readable data file ({exc})") from None
-            where = f"{getattr(exc, 'file', None) or getattr(exc, 'source', path)}"
+        except InputError as exc:
             raise InputError(
-                f"{where} (from {file.name}: inputs.{name})",
-                getattr(exc, "field", ""),
-                exc.expected,  # type: ignore[attr-defined]
-                got=getattr(exc, "got", None),
+                f"{exc.file or path} (from {file.name}: inputs.{name})",
+                exc.field,
+                exc.expected,
+                got=exc.got,
             ) from None
     for name in type(inputs).model_fields:
         value = getattr(inputs, name)

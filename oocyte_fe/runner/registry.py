@@ -168,7 +168,7 @@ def case_kind(
 def _naming_the_case_file(
     run: Callable[[CaseContext], CaseOutcome],
 ) -> Callable[[CaseContext], CaseOutcome]:
-    """``run`` with the afm/nmsd argument errors it lets through (named ``<input>``, the
+    """``run`` with the argument errors it lets through (named ``<input>``, the
     libraries' placeholder for values passed from Python) re-raised as the case file's error:
     a case's user is told ``case.toml: inputs``, not a library's argument name alone."""
 
@@ -176,14 +176,8 @@ def _naming_the_case_file(
     def guarded(ctx: CaseContext) -> CaseOutcome:
         try:
             return run(ctx)
-        except ValueError as exc:  # AfmInputError and NmsdInputError are ValueErrors
-            from afm.errors import AfmInputError  # loaded already when one was raised
-            from nmsd.errors import NmsdInputError
-
-            if not isinstance(exc, AfmInputError | NmsdInputError):
-                raise
-            source = exc.file if isinstance(exc, AfmInputError) else exc.source
-            if source not in ("<input>", ""):
+        except InputError as exc:
+            if exc.file not in ("<input>", ""):
                 raise  # it names a data file already
             where = f"inputs (passed on as argument {exc.field!r})"
             raise InputError(ctx.case_dir / "case.toml", where, exc.expected, exc.got) from None

@@ -38,7 +38,7 @@ from pydantic import (
 )
 from pydantic.fields import FieldInfo
 
-from oocyte_fe import files
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
 MAX_ABS = 1.0e12
@@ -105,10 +105,10 @@ def _resolve_data_file(value: Path, info: ValidationInfo) -> Path:
     field = f"inputs.{info.field_name}"
     where = Path(case_dir) / "case.toml" if case_dir is not None else Path("<inputs>")
     try:
-        path = value if case_dir is None else files.inside(value, case_dir, where, field)
+        path = value if case_dir is None else checks.inside(value, case_dir, where, field)
         if not path.exists():
             raise ValueError("an existing data file (relative to the case folder), not found")
-        return files.regular_file(path, field)
+        return checks.regular_file(path, field)
     except InputError as exc:  # re-worded: pydantic names the case file and the field
         raise ValueError(exc.expected + ("" if exc.got is None else f" ({exc.got})")) from None
 

@@ -26,11 +26,10 @@ import numpy as np
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
-from afm.errors import AfmInputError
-from nmsd.errors import NmsdDivergence, NmsdInputError
+from nmsd.errors import NmsdDivergence
 from oocyte_fe.errors import InputError, SolverError
 
-INPUT_ERRORS = (InputError, NmsdInputError, AfmInputError)
+INPUT_ERRORS = (InputError, InputError, InputError)
 PROJECT_ERRORS = (*INPUT_ERRORS, NmsdDivergence, SolverError)
 """Input errors, and solver errors that name the step and a remedy (never a bare exception)."""
 FULL = os.environ.get("OOCYTE_FUZZ_FULL", "") not in ("", "0")

@@ -1,6 +1,6 @@
 """Property tests (hypothesis) of the public functions of ``afm`` with nonsense arguments.
 
-Every call either returns finite numbers or raises :class:`afm.errors.AfmInputError` naming
+Every call either returns finite numbers or raises :class:`afm.errors.InputError` naming
 the argument; never another exception (IndexError, ZeroDivisionError, LinAlgError, numpy's
 ValueError, ...), never a hang. CI runs 25 derandomized examples per test (seconds in all);
 ``OOCYTE_FUZZ_FULL=1`` runs 1 000 random ones per test, like the rest of ``tests/fuzz``.
@@ -23,7 +23,6 @@ from afm.creep import (
     indentation_from_compliance,
 )
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
-from afm.errors import AfmInputError
 from afm.fe_export import ansys_prony_block, febio_material
 from afm.fit import FitRange, fit_indentation
 from afm.material_file import MaterialFile
@@ -35,6 +34,7 @@ from afm.prony_series import (
     relaxation_from_creep,
 )
 from afm.synthetic import creep_indentation, indentation_curve, pierce_curve
+from oocyte_fe.errors import InputError
 from tests.fuzz.harness import FULL
 
 EXAMPLES = 1000 if FULL else 25
@@ -71,10 +71,10 @@ def _finite(*values: float) -> bool:
 
 
 def _call(func, *args, **kwargs):
-    """Run ``func``; AfmInputError is an accepted outcome (returns None), anything else fails."""
+    """Run ``func``; InputError is an accepted outcome (returns None), anything else fails."""
     try:
         return func(*args, **kwargs)
-    except AfmInputError as exc:
+    except InputError as exc:
         assert str(exc).count("\n") == 0 and exc.expected
         return None
 
@@ -210,7 +210,7 @@ def test_material_and_exports(name, source, e, nu):
 
 @pytest.mark.parametrize("n_sigma", [float("nan"), 0.0, -1.0, float("inf")])
 def test_issue_examples_n_sigma(n_sigma):
-    with pytest.raises(AfmInputError, match="n_sigma"):
+    with pytest.raises(InputError, match="n_sigma"):
         fit_indentation(GOOD_CURVE, n_sigma=n_sigma)
 
 

@@ -1,4 +1,4 @@
-"""Fuzz the public functions of ``nmsd``: nonsense arguments end in ``NmsdInputError`` naming the
+"""Fuzz the public functions of ``nmsd``: nonsense arguments end in ``InputError`` naming the
 argument, valid ones in finite results (never another exception, never a hang)."""
 
 from __future__ import annotations
@@ -12,12 +12,12 @@ from hypothesis import strategies as st
 
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.calibration import calibrate
-from nmsd.errors import NmsdInputError
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.pipette import Pipette
 from nmsd.press import press_setup, simulate_press
 from nmsd.tableII import ForceDisplacement
+from oocyte_fe.errors import InputError
 from tests.fuzz.harness import NUMBERS, capped, check_outcome, fuzz_settings
 
 SMALL = circular_lattice(40.0, 4)
@@ -60,7 +60,7 @@ def test_pid_approach(period: object, speed: object, duration: object, band: obj
 
 def test_pid_approach_refuses_absurd_work() -> None:
     start = time.perf_counter()
-    with pytest.raises(NmsdInputError, match="duration_s/period_s"):
+    with pytest.raises(InputError, match="duration_s/period_s"):
         pid_approach(lambda _p: np.array([10.0, 5.0]), PidGains(period_s=1e-9), duration_s=100)
     assert time.perf_counter() - start < 1.0
 
