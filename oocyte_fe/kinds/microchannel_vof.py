@@ -39,7 +39,7 @@ from oocyte_fe.microchannel.vof.runner import (
 )
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Relation
 
 PA_S = units.VISCOSITY["Pa_s"]
 KG_M3 = units.DENSITY["kg_m3"]
@@ -75,6 +75,17 @@ class GeometryInputs(CaseInputs):
     cell_diameter_um: float = _f(140.0, "oocyte diameter (paper)", "um", gt=0)
     cytoplasm_diameter_um: float = _f(110.0, "cytoplasm diameter (paper)", "um", gt=0)
     cell_offset_um: float = _f(500.0, "start of the cell before the junction centre", "um", gt=0)
+
+    rules = (
+        Relation("cytoplasm_diameter_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("cell_diameter_um", "<", lambda m: m.channel_width_um, "channel_width_um"),
+        Relation(
+            "cell_offset_um",
+            "<",
+            lambda m: m.upstream_length_um - m.cell_diameter_um / 2,
+            "upstream_length_um - cell_diameter_um / 2 (the cell in the upstream arm)",
+        ),
+    )
 
     def to_geometry(self) -> JunctionGeometry:
         return JunctionGeometry(

@@ -33,7 +33,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseKind, get_kind
-from oocyte_fe.runner.schema import DataFile, readers_of
+from oocyte_fe.runner.schema import DataFile, RuleBroken, readers_of
 from oocyte_fe.sweep.spec import SweepSpec, check_sweep, resolved_inputs, sweep_metric_names
 
 CASE_FILE = "case.toml"
@@ -258,6 +258,10 @@ def raise_validation_error(
     loc = tuple(first["loc"])
     field = prefix + _loc(loc) if loc or not prefix else prefix.rstrip(".")
     kind = first["type"]
+    broken = first.get("ctx", {}).get("error")
+    if isinstance(broken, RuleBroken):  # a cross-field rule names its own field
+        field = prefix + _loc((*loc, broken.field))
+        raise InputError(file, field, broken.expected, got=broken.got) from None
     if kind == "missing":
         raise InputError(file, field, "this key (it is required)") from None
     if kind == "extra_forbidden":
