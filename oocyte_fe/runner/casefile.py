@@ -336,7 +336,10 @@ def _raw_numbers(file: Path, raw: dict[str, Any]) -> None:
     """Numbers of ``[reference]``/``[tolerances]`` as TOML numbers: ``true`` would read as 1 and
     ``"0.1"`` as 0.1 in the (lax) models the runner shares."""
     for table, keys in NUMBER_KEYS.items():
-        for key, entry in (raw.get(table) or {}).items():
+        entries = raw.get(table, {})
+        if not isinstance(entries, dict):
+            raise InputError(file, table, f"a table ([{table}.NAME] entries)", got=entries)
+        for key, entry in entries.items():
             for name in keys:
                 value = entry.get(name) if isinstance(entry, dict) else None
                 if value is not None and (

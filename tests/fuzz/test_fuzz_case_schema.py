@@ -228,6 +228,12 @@ def test_case_inputs(bases: dict, data: st.DataObject) -> None:
 
 TOP = st.sampled_from(
     [
+        ("inputs",),
+        ("quick",),
+        ("full",),
+        ("reference",),
+        ("tolerances",),
+        ("sweep",),
         ("timeout_s",),
         ("kind",),
         ("description",),
