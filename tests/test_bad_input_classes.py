@@ -58,6 +58,7 @@ SHIPPED = {
     "nmsd_spindle_offset": "nmsd_spindle_offset",
     "microchannel_vof": "microchannel_vof_quick",
     "fe_verification": "fe_verification",
+    "enucleation_loop": "enucleation_loop",
 }
 RELATIONS = [
     (kind, block, rule)

@@ -320,6 +320,7 @@ def test_kinds_declare_cross_field_rules() -> None:
     """The geometry kinds declare theirs (a rule removed by mistake fails here)."""
     with_rules = {kind for kind, _, _ in RULES}
     assert with_rules >= {
+        "enucleation_loop",
         "fe_verification",
         "microchannel_vof",
         "nmsd_calibration",
