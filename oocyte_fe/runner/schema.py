@@ -144,8 +144,8 @@ class Relation:
 
     def check(self, inputs: BaseModel) -> None:
         value = getattr(inputs, self.field)
-        if value is None:
-            return
+        if value is None or (isinstance(value, list | tuple) and not value):
+            return  # not given, or a list with no element to break the rule
         bound = float(self.bound(inputs))
         if not OPS[self.op](MEASURES[self.measure](value), bound):
             what = self.field if self.measure == "value" else f"{self.measure}({self.field})"
