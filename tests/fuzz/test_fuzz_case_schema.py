@@ -28,7 +28,16 @@ from pydantic.fields import FieldInfo
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import kinds
-from oocyte_fe.runner.schema import MAX_ABS, MEASURES, OPS, Refining, Relation, Rule
+from oocyte_fe.runner.schema import (
+    MAX_ABS,
+    MEASURES,
+    OPS,
+    UNIT_BOUNDS,
+    Refining,
+    Relation,
+    Rule,
+    unit_of,
+)
 from tests.fuzz.harness import ANYTHING_SCALARS, check_outcome, fuzz_settings
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
@@ -184,6 +193,23 @@ def _assert_in_range(value: Any, where: str) -> None:
             stack.extend(item.values())
 
 
+def _assert_physical(inputs: BaseModel, where: str) -> None:
+    """Every accepted float of a field with a unit of UNIT_BOUNDS is 0 or within its bounds."""
+    for name, info in type(inputs).model_fields.items():
+        value = getattr(inputs, name)
+        if isinstance(value, BaseModel):
+            _assert_physical(value, f"{where}.{name}")
+            continue
+        unit = unit_of(info)
+        if unit not in UNIT_BOUNDS:
+            continue
+        low, high = UNIT_BOUNDS[unit]
+        items = value if isinstance(value, list | tuple) else [value]
+        for x in items:
+            if isinstance(x, float):
+                assert x == 0 or low <= abs(x) <= high, f"{where}.{name} accepted {x!r} {unit}"
+
+
 @fuzz_settings(ci_examples=250, full_examples=3000)
 @given(data=st.data())
 def test_case_inputs(bases: dict, data: st.DataObject) -> None:
@@ -215,6 +241,7 @@ def test_case_inputs(bases: dict, data: st.DataObject) -> None:
     if case is None:
         return
     _assert_in_range(case.inputs, f"{kind} inputs.{'.'.join(path)}")
+    _assert_physical(case.inputs, kind)
     if action == "set" and not isinstance(value, dict | list):
         got = _get(case.inputs, path)
         if isinstance(value, bool):
