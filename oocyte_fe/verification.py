@@ -130,7 +130,7 @@ def hertz(
     prob = Problem(body, [Prescribed("left", 0), Prescribed("bottom", 1)], contacts=[contact])
     result = prob.solve(np.linspace(0.25, 1.0, 4))
     force = float(result.frames[-1].obstacle_forces["contact"][1])
-    exact = 4.0 / 3.0 * E / (1 - nu**2) * np.sqrt(radius) * d**1.5
+    exact = float(hertz_force_nN(E, nu, radius, d))
     return Verification(
         f"hertz_h{contact_size_fraction:g}a", force, exact, body.n_dofs, prob, result
     )
@@ -140,3 +140,43 @@ def observed_order(values: list[float], ratio: float = 2.0) -> float:
     """Observed convergence order from three solutions on meshes refined by ``ratio``."""
     f1, f2, f3 = values
     return float(np.log(abs((f1 - f2) / (f2 - f3))) / np.log(ratio))
+
+
+# --- closed forms of the experiments (oocyte_fe.experiment) ----------------------------------
+
+THERET_PHI = 2.1
+"""Theret et al.'s wall factor: 2.0-2.1 over the usual pipette walls (1.9-2.1 in their
+Table); 2.1 is the value users apply (docs/fe.md, "Micropipette aspiration")."""
+
+
+def theret_length_um(suction_kPa: float, radius_um: float, E_kPa: float, phi: float) -> float:
+    """Aspirated length of an incompressible half-space (Theret et al. 1988, J Biomech Eng
+    110:190)::
+
+        L = 3 Phi dP a / (2 pi E)      [um] (dP kPa, a pipette inner radius um, E kPa)
+    """
+    return 3.0 * phi * suction_kPa * radius_um / (2.0 * np.pi * E_kPa)
+
+
+def sneddon_cone_force_nN(
+    E_kPa: float, nu: float, half_angle_deg: float, depth_um: np.ndarray | float
+) -> np.ndarray:
+    """Rigid cone on an elastic half-space (Sneddon 1965)::
+
+    F = 2/pi E/(1 - nu^2) tan(alpha) d^2        [nN] (E kPa, d um)
+    """
+    tan = np.tan(np.deg2rad(half_angle_deg))
+    return 2.0 / np.pi * E_kPa / (1 - nu**2) * tan * np.asarray(depth_um) ** 2
+
+
+def hertz_force_nN(
+    E_kPa: float, nu: float, radius_um: float, depth_um: np.ndarray | float
+) -> np.ndarray:
+    """Rigid sphere (or paraboloid) of radius ``R`` on an elastic half-space (Hertz)::
+
+    F = 4/3 E/(1 - nu^2) sqrt(R) d^(3/2)        [nN]
+
+    Two spheres in contact: ``R = R1 R2 / (R1 + R2)`` (the effective radius); a sphere between
+    rigid plates: ``d`` the approach of each plate.
+    """
+    return 4.0 / 3.0 * E_kPa / (1 - nu**2) * np.sqrt(radius_um) * np.asarray(depth_um) ** 1.5

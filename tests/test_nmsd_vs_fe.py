@@ -15,11 +15,12 @@ import skfem
 
 from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
-from oocyte_fe.crosscheck.fe_press import FeSettings, held_mesh, point_probes
+from oocyte_fe.crosscheck.fe_press import FeSettings, held_mesh
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.body import Body
+from oocyte_fe.fe.fields import point_probes
 from oocyte_fe.fe.material import Material
 from oocyte_fe.kinds.fe_nmsd_crosscheck import CrosscheckInputs, _nmsd_setup, _zona_ratio
 from oocyte_fe.runner.registry import CaseContext

@@ -29,7 +29,7 @@ from oocyte_fe.crosscheck.zp_material import LayerMaterials
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact
-from oocyte_fe.fe.fields import stress_fields
+from oocyte_fe.fe.fields import point_probes, stress_fields
 from oocyte_fe.fe.loads import Prescribed
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem
@@ -140,22 +140,6 @@ def pipette_at(scenario: PressScenario, advance_um: float, length_um: float = 80
         scenario.tip_angle_deg,
         length_um,
     )
-
-
-def point_probes(body: Body, points_um: np.ndarray):
-    """Matrix (2 p, n_u) giving the displacement components at reference points (p, 2) um.
-
-    scikit-fem cannot locate points in a curved ``MeshTri2``, so the points are located and
-    the P2 field evaluated on the straight-sided mesh of the same vertices and elements (the
-    same dof numbering); that differs only in the curved outer elements, by less than the
-    sagitta ``h^2 / (8 R)`` of their outer edge.
-    """
-    mesh = body.mesh
-    straight = skfem.MeshTri(mesh.p, mesh.t)
-    basis = skfem.Basis(straight, body.uelem, intorder=body.intorder)
-    if basis.N != body.n_u:
-        raise InputError(body.source, "mesh", "a mesh whose straight copy has the same dofs")
-    return basis.probes(np.asarray(points_um, dtype=float).T)
 
 
 def run_fe_press(
