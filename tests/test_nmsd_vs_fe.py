@@ -15,10 +15,11 @@ import skfem
 
 from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
-from oocyte_fe.crosscheck.fe_press import FeSettings, held_mesh
+from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
-from oocyte_fe.crosscheck.zp_material import afm_layer_materials
+from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.driver import cell_mesh
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.fields import point_probes
 from oocyte_fe.fe.material import Material
@@ -70,14 +71,16 @@ def test_bad_creep_record_is_an_input_error(tmp_path: Path) -> None:
 
 def test_held_patch_and_probes_reproduce_a_quadratic_field_exactly() -> None:
     scenario = PressScenario()
-    mesh = held_mesh(scenario, FeSettings(size_um=14.0, refine_size_um=7.0))
-    held = mesh.boundaries["held"]
+    layers = {"zona": Material(7.0, 0.5), "cytoplasm": Material(1.55, 0.5)}
+    pts = interior_grid(scenario.radius_um, 15.0, 8.0)
+    materials = LayerMaterials(layers["zona"], layers["cytoplasm"], None)
+    settings = FeSettings(size_um=14.0, refine_size_um=7.0)
+    mesh = cell_mesh(press_experiment(scenario, materials, settings, 10.0, pts))
+    held = mesh.boundaries["hold:held"]
     mid = mesh.p[:, mesh.facets[:, held]].mean(axis=1)
     assert np.all(mid[0] < 0) and np.all(np.abs(mid[1]) <= 25.0)
     assert np.hypot(*mid).min() == pytest.approx(scenario.radius_um, rel=5e-3)  # chord midpoints
-    layers = {"zona": Material(7.0, 0.5), "cytoplasm": Material(1.55, 0.5)}
     body = Body(mesh, layers, "plane_strain")
-    pts = interior_grid(scenario.radius_um, 15.0, 8.0)
     straight = skfem.Basis(skfem.MeshTri(mesh.p, mesh.t), body.uelem)
     u = straight.project(lambda x: np.array([x[0] ** 2 - x[1], 0.5 * x[0] * x[1]]))
     got = (point_probes(body, pts) @ u).reshape(2, -1)

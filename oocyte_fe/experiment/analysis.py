@@ -6,10 +6,11 @@ For the first tool of each type (the metrics of kind ``fe_experiment``):
   against suction over the frames with ``L <= 0.25 a`` (the small-strain part), the effective
   wall factor of a homogeneous cell ``Phi = 2 pi E s / (3 a)`` (Theret: 2.0-2.1), and the
   modulus a user infers with Theret's formula, ``E_app = 3 Phi a / (2 pi s)``, ``Phi = 2.1``;
-* cone and sphere: the FE force over Sneddon's cone / Hertz's sphere (effective radius
+* cone and sphere: the FE force over Sneddon's cone / the sphere (Hertz's problem solved
+  exactly for a sphere by Sneddon, ``afm``'s ``hertz_sphere``, with the effective radius
   ``Rp R / (Rp + R)``) at the deepest frame, with the modulus of the outer layer, and the
-  modulus that the ``afm`` package's Sneddon / Hertz-paraboloid model fits to the FE curve
-  (linear least squares in E over every frame in contact);
+  modulus that the same ``afm`` model fits to the FE curve (linear least squares in E over
+  every frame in contact);
 * plates (each pressing by its advance ``d``): the force over Hertz (sphere on a rigid flat,
   radius R) at the first frame, and the force at the last.
 
@@ -82,7 +83,7 @@ def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
         if homogeneous:
             out["theret_phi"] = s / theret_length_um(1.0, a, E, 1.0)
     R = result.experiment.cell.radius_um
-    for kind, model in ((Cone, "sneddon_cone"), (Sphere, "hertz_paraboloid")):
+    for kind, model in ((Cone, "sneddon_cone"), (Sphere, "hertz_sphere")):
         name = _first(result, kind)
         if name is None:
             continue
@@ -93,7 +94,7 @@ def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
             exact = sneddon_cone_force_nN(E, nu, tool.half_angle_deg, d[-1])
         else:
             label, geometry = "sphere", {"radius_um": tool.radius_um * R / (tool.radius_um + R)}
-            exact = hertz_force_nN(E, nu, geometry["radius_um"], d[-1])
+            exact = E * get_model(model).shape(d[-1:], geometry, nu)[0]  # Sneddon's sphere
         out[f"{label}_force_ratio"] = float(F[-1] / exact)
         shape = get_model(model).shape(d, geometry, nu)
         out[f"{label}_fit_modulus_kPa"] = float(np.sum(F * shape) / np.sum(shape**2))

@@ -228,6 +228,9 @@ class TimePath(CaseInputs):
     duration_s: float = Field(gt=0, le=1e9, json_schema_extra={"unit": "s"})
     frames: int = Field(gt=0, le=10_000, description="output frames (one solver step each)")
     max_step_s: float | None = Field(None, gt=0, le=1e9, description="largest solver step")
+    rtol: float = Field(
+        1e-6, gt=0, lt=1e-2, description="Newton tolerance on the relative residual"
+    )
 
 
 class Record(CaseInputs):

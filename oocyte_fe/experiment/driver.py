@@ -42,10 +42,6 @@ from oocyte_fe.fe.loads import FollowerPressure, Prescribed
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
 
-RTOL = 1e-6
-"""Newton tolerance (relative residual): penalty contact with friction converges linearly near
-stick/slip fronts, and 1e-6 of the force scale is far below what the recorded figures resolve."""
-
 
 @dataclass(frozen=True)
 class ExperimentResult:
@@ -166,6 +162,12 @@ def _supports(exp: Experiment, mesh: skfem.Mesh) -> list[Prescribed]:
     return fixed
 
 
+def cell_mesh(exp: Experiment) -> skfem.Mesh:
+    """The experiment's mesh: refined at each tool, with a boundary ``hold:<tool>`` per holding
+    pipette and ``seal:<tool>`` per fixed pipette seal (outer-surface facets only)."""
+    return _with_holds(_refined_mesh(exp), exp)
+
+
 def run_experiment(
     exp: Experiment,
     log: logging.Logger | None = None,
@@ -176,10 +178,11 @@ def run_experiment(
     cell = exp.cell
     R = cell.radius_um
     axisym = cell.symmetry == "axisymmetric"
-    mesh = _with_holds(_refined_mesh(exp), exp)
-    materials = {"cytoplasm": to_material(cell.materials.cytoplasm, "materials.cytoplasm")}
+    mesh = cell_mesh(exp)
+    materials = {}  # the ZP first: its pressure block comes first in x
     if cell.zona_thickness_um > 0:
         materials["zona"] = to_material(cell.materials.zona, "materials.zona")
+    materials["cytoplasm"] = to_material(cell.materials.cytoplasm, "materials.cytoplasm")
     body = Body(mesh, materials, cell.symmetry, order=2, source="cell")
     e_max = max(m.E_kPa for m in materials.values())
     h = (cell.refine_size_um or cell.mesh_size_um) * exp.mesh_scale
@@ -259,7 +262,7 @@ def run_experiment(
     try:
         solved = problem.solve(
             times,
-            NewtonSettings(max_iterations=25, rtol=RTOL, max_cutbacks=8),
+            NewtonSettings(max_iterations=25, rtol=exp.time.rtol, max_cutbacks=8),
             on_frame=lambda f: (frames.append(f), record(f)),
             max_dt=exp.time.max_step_s,
         )

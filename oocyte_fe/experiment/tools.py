@@ -41,16 +41,20 @@ from oocyte_fe.experiment.description import (
 )
 from oocyte_fe.fe.obstacles import Circle, Obstacle, Polyline, wedge_tip
 
-ANGLE = {"top": 0.0, "right": -90.0, "bottom": 180.0, "left": 90.0}
-"""Rotation (deg, counter-clockwise) taking the top frame to each side."""
+ROTATION = {
+    "top": ((1.0, 0.0), (0.0, 1.0)),
+    "right": ((0.0, 1.0), (-1.0, 0.0)),  # -90 deg
+    "bottom": ((-1.0, 0.0), (0.0, -1.0)),
+    "left": ((0.0, -1.0), (1.0, 0.0)),  # +90 deg
+}
+"""Rotation taking the top frame to each side, exact (no cos(90 deg) = 6e-17 round-off)."""
 ARC_SEGMENTS = 8
 """Segments of a polyline quarter circle (a pipette's rounded mouth corner)."""
 
 
 def rotation(side: str) -> NDArray:
     """The 2x2 rotation from the top frame to ``side``."""
-    a = np.deg2rad(ANGLE[side])
-    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    return np.array(ROTATION[side])
 
 
 def approach(side: str) -> NDArray:
