@@ -15,6 +15,7 @@ import skfem
 
 from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
+from oocyte_fe.crosscheck.comparison import zona_ring_ratio
 from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
@@ -23,7 +24,8 @@ from oocyte_fe.experiment.driver import cell_mesh
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.fields import point_probes
 from oocyte_fe.fe.material import Material
-from oocyte_fe.kinds.fe_nmsd_crosscheck import CrosscheckInputs, _nmsd_setup, _zona_ratio
+from oocyte_fe.kinds.crosscheck_inputs import CrosscheckInputs
+from oocyte_fe.kinds.fe_nmsd_crosscheck import nmsd_setup
 from oocyte_fe.runner.registry import CaseContext
 from oocyte_fe.runner.run import plan, run_cases
 
@@ -160,7 +162,7 @@ def test_nmsd_area_stiffness_reaches_the_lattice_and_is_checked(tmp_path: Path) 
     assert CrosscheckInputs(**files).nmsd_area_stiffness == 0.0  # default: the paper's model
     inputs = CrosscheckInputs(**files, nmsd_area_stiffness=3.79, nmsd_n_steps=4)
     ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
-    setup, base = _nmsd_setup(ctx, 1.0)
+    setup, base = nmsd_setup(ctx, 1.0)
     assert base.area_stiffness == 3.79 and setup.lattice.cells is not None
 
 
@@ -171,8 +173,11 @@ def test_nmsd_zona_ring_reaches_the_lattice_at_the_cytoplasm_radius(tmp_path: Pa
     assert CrosscheckInputs(**files).nmsd_zona_stiffness_ratio == 1.0  # the paper's lattice
     inputs = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio=4.52, nmsd_n_steps=4)
     ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
-    setup, base = _nmsd_setup(
-        ctx, _zona_ratio(inputs, afm_layer_materials(files["creep_data"], 1.55))
+    setup, base = nmsd_setup(
+        ctx,
+        zona_ring_ratio(
+            inputs.nmsd_zona_stiffness_ratio, afm_layer_materials(files["creep_data"], 1.55)
+        ),
     )
     assert base.zona_stiffness_ratio == 4.52
     assert base.zona_inner_radius_um == pytest.approx(83.597 / 2)
@@ -183,7 +188,7 @@ def test_nmsd_zona_ring_reaches_the_lattice_at_the_cytoplasm_radius(tmp_path: Pa
     )
     ctx = CaseContext("x", CASE, tmp_path, wide, True, logging.getLogger("test"))
     with pytest.raises(InputError, match="zona_inner_radius_um"):
-        _nmsd_setup(ctx, 4.52)
+        nmsd_setup(ctx, 4.52)
 
 
 def test_nmsd_zona_ratio_from_the_afm_layers_is_relaxed_or_instantaneous() -> None:
@@ -195,9 +200,15 @@ def test_nmsd_zona_ratio_from_the_afm_layers_is_relaxed_or_instantaneous() -> No
     e0, g_inf = materials.zona.E_kPa, 1.0 - sum(materials.zona.prony.g)
     relaxed = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm_relaxed")
     instant = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm_instantaneous")
-    assert _zona_ratio(relaxed, materials) == pytest.approx(e0 * g_inf / 1.55, rel=1e-12)
-    assert _zona_ratio(instant, materials) == pytest.approx(e0 / 1.55, rel=1e-12)
+    assert zona_ring_ratio(relaxed.nmsd_zona_stiffness_ratio, materials) == pytest.approx(
+        e0 * g_inf / 1.55, rel=1e-12
+    )
+    assert zona_ring_ratio(instant.nmsd_zona_stiffness_ratio, materials) == pytest.approx(
+        e0 / 1.55, rel=1e-12
+    )
     made_relaxed = made["E0_kPa"] * (1.0 - sum(made["prony_g"])) / 1.55
-    assert _zona_ratio(relaxed, materials) == pytest.approx(made_relaxed, rel=0.02)
+    assert zona_ring_ratio(relaxed.nmsd_zona_stiffness_ratio, materials) == pytest.approx(
+        made_relaxed, rel=0.02
+    )
     with pytest.raises(pydantic.ValidationError, match="nmsd_zona_stiffness_ratio"):
         CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm")

@@ -180,6 +180,9 @@ class Cone(ToolBase):
     type: Literal["cone"]
     half_angle_deg: float = Field(gt=1, lt=89)
     length_um: Length = 20.0
+    tip_radius_um: float = Field(
+        0.0, ge=0, le=100, description="a spherically blunted apex (0: sharp; see docs/fe.md)"
+    )
 
 
 class StraightPipette(ToolBase):

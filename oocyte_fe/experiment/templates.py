@@ -56,22 +56,22 @@ TEMPLATES: dict[str, dict[str, Any]] = {
         "time": {"duration_s": 1.0, "frames": 12},
     },
     "afm_indentation": {
-        "description": "AFM indentation of the whole oocyte: a 10 deg cone, 2 um deep in 1 s",
+        "description": "AFM indentation of the whole oocyte by a 5 um spherical probe, 1 um in 1 s",
         "cell": {
             **SEED_CELL,
             "refine_size_um": 0.25,
             "refine_half_angle_deg": 6.0,
             "refine_depth_um": 4.0,
+            "curved_edges": False,
         },
         "tools": {
-            "tip": {
-                "type": "cone",
-                "half_angle_deg": 10.0,
-                "length_um": 10.0,
-                "penalty_factor": 50.0,
-                "displacement_um": _ramp(1.0, 2.0),
+            "probe": {
+                "type": "sphere",
+                "radius_um": 5.0,
+                "penalty_factor": 100.0,
+                "displacement_um": _ramp(1.0, 1.0),
             },
-            "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 20.0},
+            "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 60.0},
         },
         "time": {"duration_s": 1.0, "frames": 8},
     },

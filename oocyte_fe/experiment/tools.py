@@ -87,6 +87,24 @@ def pipette_profile(tool: StraightPipette, radius_um: float) -> list[tuple[float
     return [(float(x), float(y)) for x, y in pts]
 
 
+def cone_profile(
+    half_angle_deg: float, tip_radius_um: float, length_um: float, y0: float
+) -> list[tuple[float, float]]:
+    """Right half of a cone with its apex at ``(0, y0)``, blunted by a sphere of radius
+    ``rho`` tangent to the flanks (centre ``(0, y0 + rho)``, tangent at ``r = rho cos(alpha)``)
+    when ``tip_radius_um > 0``; the flank runs ``length_um`` beyond it."""
+    a, rho = np.deg2rad(half_angle_deg), tip_radius_um
+    if rho > 0:
+        phis = np.linspace(-0.5 * np.pi, -a, ARC_SEGMENTS + 1)
+        pts = [(rho * np.cos(p), y0 + rho + rho * np.sin(p)) for p in phis]
+        pts[0] = (0.0, y0)
+    else:
+        pts = [(0.0, y0)]
+    x, y = pts[-1]
+    pts.append((x + length_um * np.sin(a), y + length_um * np.cos(a)))
+    return [(float(px), float(py)) for px, py in pts]
+
+
 def obstacle(tool: object, name: str, radius_um: float, axisym: bool) -> Obstacle | None:
     """The rigid obstacle of a tool at t = 0 (``None`` for a holding pipette)."""
     R = radius_um
@@ -99,10 +117,9 @@ def obstacle(tool: object, name: str, radius_um: float, axisym: bool) -> Obstacl
         centre = rotation(tool.side) @ np.array([0.0, y0 + tool.radius_um])
         return Circle((float(centre[0]), float(centre[1])), tool.radius_um, name=name)
     if isinstance(tool, Cone):
-        a = np.deg2rad(tool.half_angle_deg)
-        flank = (tool.length_um * np.sin(a), y0 + tool.length_um * np.cos(a))
-        pts = [(0.0, y0), flank] if axisym else [(-flank[0], flank[1]), (0.0, y0), flank]
-        return _turned(pts, tool.side, name)
+        right = cone_profile(tool.half_angle_deg, tool.tip_radius_um, tool.length_um, y0)
+        left = [(-x, y) for x, y in reversed(right) if x > 0.0]
+        return _turned(right if axisym else left + right, tool.side, name)
     if isinstance(tool, StraightPipette):
         return _turned(pipette_profile(tool, R), tool.side, name)
     if isinstance(tool, WedgePipette):
