@@ -88,11 +88,14 @@ def test_plates_give_hertz_at_small_strain_and_equal_forces():
     assert top[-1] == pytest.approx(bottom[-1], rel=0.01)
 
 
-def test_a_wide_hold_takes_outer_surface_facets_only():
+@pytest.mark.parametrize("region", [{"half_width_um": 29.0}, {"cap_deg": 80.0}])
+def test_a_wide_hold_takes_outer_surface_facets_only(region: dict):
+    # the neck's old rear cap took every boundary facet behind its plane: with a cap this wide
+    # that included the symmetry axis below the centre
     spec = {
         "cell": {"outer_diameter_um": 60.0, "mesh_size_um": 6.0, "materials": HOMOGENEOUS},
         "tools": {
-            "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 29.0},
+            "dish": {"type": "holding_pipette", "side": "bottom", **region},
             "plate": {
                 "type": "plate",
                 "displacement_um": {"time_s": [0.0, 1.0], "value": [0.0, 0.1]},

@@ -18,9 +18,10 @@ from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_toler
 from oocyte_fe.crosscheck.comparison import zona_ring_ratio
 from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
-from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
+from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment.driver import cell_mesh
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.fields import point_probes
 from oocyte_fe.fe.material import Material
@@ -75,7 +76,7 @@ def test_held_patch_and_probes_reproduce_a_quadratic_field_exactly() -> None:
     scenario = PressScenario()
     layers = {"zona": Material(7.0, 0.5), "cytoplasm": Material(1.55, 0.5)}
     pts = interior_grid(scenario.radius_um, 15.0, 8.0)
-    materials = LayerMaterials(layers["zona"], layers["cytoplasm"], None)
+    materials = LayerMaterials(layers["zona"], layers["cytoplasm"])
     settings = FeSettings(size_um=14.0, refine_size_um=7.0)
     mesh = cell_mesh(press_experiment(scenario, materials, settings, 10.0, pts))
     held = mesh.boundaries["hold:held"]

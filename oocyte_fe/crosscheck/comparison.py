@@ -24,7 +24,7 @@ from nmsd.parameters import NmsdParameters
 from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement
 from oocyte_fe.crosscheck.agreement import displacement_agreement, force_agreement
-from oocyte_fe.crosscheck.zp_material import LayerMaterials
+from oocyte_fe.experiment.layers import LayerMaterials
 
 
 def zona_ring_ratio(reading: float | str, materials: LayerMaterials) -> float:

@@ -24,9 +24,9 @@ import numpy as np
 import skfem
 
 from oocyte_fe.crosscheck.scenario import PressScenario
-from oocyte_fe.crosscheck.zp_material import LayerMaterials
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.experiment import Experiment, run_experiment
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.fields import stress_fields
 from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip

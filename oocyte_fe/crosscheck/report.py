@@ -21,7 +21,7 @@ from oocyte_fe.crosscheck.agreement import DisplacementAgreement
 from oocyte_fe.crosscheck.fe_press import FePress, pipette_at
 from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_overlay
 from oocyte_fe.crosscheck.scenario import PressScenario
-from oocyte_fe.crosscheck.zp_material import LayerMaterials
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.registry import Figure
@@ -142,7 +142,7 @@ def materials_text(materials: LayerMaterials, creep_file: str, ring_input: float
     )
     return (
         f"ZP: E0 = {z.E_kPa:.4g} kPa, nu = {z.nu:g}, Prony {terms} (from `{creep_file}`"
-        f": {materials.zona_record.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
+        f": {materials.zona.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
         f"nu = {materials.cytoplasm.nu:g}, elastic."
         f" E_zp / E_cyto: {materials.stiffness_ratio(relaxed=False):.4g} instantaneous, "
         f"{materials.stiffness_ratio(relaxed=True):.4g} relaxed (NMSD ring input: "

@@ -107,6 +107,13 @@ class Cell(CaseInputs):
         "(scikit-fem cannot invert curved elements much smaller than the cell, e.g. 0.1 um "
         "at an AFM tip on a 1 mm sphere)",
     )
+    refine_windows_deg: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = (
+        Field(
+            None,
+            description="polar windows (deg from +y) to refine instead of one at each tool, "
+            "e.g. [[20, 160]] along the side of a cell that passes through a pipette",
+        )
+    )
     refine_half_angle_deg: float = Field(
         20.0, gt=0, le=90, description="polar half-width of the refined window at each tool"
     )
@@ -129,6 +136,9 @@ class Cell(CaseInputs):
             raise ValueError(f"mesh_size_um <= half the cytoplasm radius ({r / 2:g} um)")
         if self.refine_size_um is not None and self.refine_size_um > self.mesh_size_um:
             raise ValueError("refine_size_um <= mesh_size_um")
+        for lo, hi in self.refine_windows_deg or []:
+            if not 0 <= lo < hi <= 180:
+                raise ValueError("refine_windows_deg: [lo, hi] with 0 <= lo < hi <= 180")
         for name, (x, y) in self.points.items():
             if np.hypot(x, y) > r * (1 + 1e-9) or (self.symmetry == "axisymmetric" and x < 0):
                 raise ValueError(f"point {name!r} = ({x:g}, {y:g}) inside the cell (radius {r:g})")
@@ -215,15 +225,60 @@ class WedgePipette(ToolBase):
 
 
 class HoldingPipette(CaseInputs):
-    """Holds the outer surface facing it, within ``half_width_um`` of its axis (bonded)."""
+    """Holds the outer surface facing it (bonded, or along its axis only): within
+    ``half_width_um`` of its axis, or a polar cap of ``cap_deg`` about its pole; it may move
+    along its axis by ``displacement_um`` (a rear cap that drives the cell)."""
 
     type: Literal["holding_pipette"]
     side: Side = "bottom"
-    half_width_um: Length
+    half_width_um: float | None = Field(None, gt=0, le=1e4, json_schema_extra={"unit": "um"})
+    cap_deg: float | None = Field(None, gt=0, lt=90, json_schema_extra={"unit": "deg"})
     components: Literal["both", "axial"] = "both"
+    displacement_um: PathSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_region(self) -> HoldingPipette:
+        if (self.half_width_um is None) == (self.cap_deg is None):
+            raise ValueError("half_width_um or cap_deg (one of them)")
+        return self
 
 
-Tool = Plate | Sphere | Cone | StraightPipette | WedgePipette | HoldingPipette
+class SuctionControl(CaseInputs):
+    """The suction as an unknown: the net axial reaction on ``tool`` (a holding pipette with a
+    displacement path) equals ``target_nN``; the suction the experiment needs is the answer."""
+
+    tool: str = Field(min_length=1, max_length=100)
+    target_nN: float = Field(0.0, ge=-1e9, le=1e9)
+
+
+class NeckedPipette(ToolBase):
+    """A bore narrowing through a cosine taper to a neck (``oocyte_fe.neck.pipette``), its
+    axis along +y, the cell ``clearance_um`` from the taper at t = 0."""
+
+    type: Literal["necked_pipette"]
+    bore_diameter_um: Length
+    neck_diameter_um: Length
+    taper_length_um: Length
+    bore_length_um: Length = 300.0
+    neck_length_um: Length = 500.0
+    taper_points: int = Field(41, ge=2, le=10_000)
+    clearance_um: float = Field(0.1, ge=0, le=1e3)
+    seal_tol_um: float = Field(
+        0.5, gt=0, le=100, description="a surface point within this of the wall seals"
+    )
+    suction_Pa: PathSpec | None = None
+    suction_control: SuctionControl | None = None
+
+    @model_validator(mode="after")
+    def _narrowing(self) -> NeckedPipette:
+        if self.neck_diameter_um >= self.bore_diameter_um:
+            raise ValueError("neck_diameter_um below bore_diameter_um")
+        if (self.suction_Pa is None) == (self.suction_control is None):
+            raise ValueError("suction_Pa or suction_control (one of them)")
+        return self
+
+
+Tool = Plate | Sphere | Cone | StraightPipette | NeckedPipette | WedgePipette | HoldingPipette
 """A tool table, told apart by its ``type``."""
 
 
@@ -234,6 +289,8 @@ class TimePath(CaseInputs):
     rtol: float = Field(
         1e-6, gt=0, lt=1e-2, description="Newton tolerance on the relative residual"
     )
+    max_iterations: int = Field(25, ge=2, le=200, description="Newton iterations per step")
+    max_cutbacks: int = Field(8, ge=0, le=30, description="halvings of a failing step")
 
 
 class Record(CaseInputs):
@@ -272,11 +329,22 @@ class Experiment(CaseInputs):
                     raise ValueError(f"{where}: suction_Pa or displacement_um (one of them)")
             if isinstance(tool, WedgePipette) and axisym:
                 raise ValueError(f"{where}: a wedge pipette needs symmetry 'plane_strain'")
-            if isinstance(tool, HoldingPipette) and tool.half_width_um >= r:
+            if isinstance(tool, HoldingPipette) and (tool.half_width_um or 0) >= r:
                 raise ValueError(f"{where}.half_width_um < the cell radius {r:g} um")
+            if isinstance(tool, NeckedPipette):
+                if not axisym or tool.side != "top":
+                    raise ValueError(f"{where}: a necked pipette is axisymmetric, side 'top'")
+                if r + tool.clearance_um >= tool.bore_diameter_um / 2:
+                    raise ValueError(f"{where}.bore_diameter_um > the cell's diameter + clearance")
+                control = tool.suction_control
+                driver = self.tools.get(control.tool) if control else None
+                if control and not (isinstance(driver, HoldingPipette) and driver.displacement_um):
+                    raise ValueError(
+                        f"{where}.suction_control.tool: a holding pipette with displacement_um"
+                    )
             if isinstance(tool, Sphere | Cone | Plate) and tool.displacement_um is None:
                 raise ValueError(f"{where}.displacement_um (a path)")
-            path = getattr(tool, "displacement_um", None)
+            path = tool.displacement_um if isinstance(tool, ToolBase) else None
             if path is not None and max(path.value) - tool.gap_um >= 2 * r:
                 raise ValueError(f"{where}.displacement_um: a travel into the cell below {2 * r:g}")
         held = any(

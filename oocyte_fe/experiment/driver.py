@@ -32,15 +32,17 @@ from oocyte_fe.experiment import tools as tl
 from oocyte_fe.experiment.description import (
     Experiment,
     HoldingPipette,
+    NeckedPipette,
     StraightPipette,
     to_material,
 )
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact
 from oocyte_fe.fe.fields import point_probes
-from oocyte_fe.fe.loads import FollowerPressure, Prescribed
+from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
+from oocyte_fe.neck.suction import seal_mask
 
 
 @dataclass(frozen=True)
@@ -88,7 +90,10 @@ def _refined_mesh(exp: Experiment) -> skfem.Mesh:
     size = cell.mesh_size_um * s
     fine = (cell.refine_size_um or cell.mesh_size_um) * s
     half = cell.refine_half_angle_deg
-    windows = sorted({w for t in exp.tools.values() for w in _windows(t, cell.radius_um, half)})
+    if cell.refine_windows_deg is not None:  # the user's windows instead of the tools'
+        windows = sorted({(float(lo), float(hi)) for lo, hi in cell.refine_windows_deg})
+    else:
+        windows = sorted({w for t in exp.tools.values() for w in _windows(t, cell.radius_um, half)})
     refine = fine < size and bool(windows)
     geom = LayeredOocyte(
         cytoplasm_radius_um=cell.radius_um - cell.zona_thickness_um,
@@ -101,20 +106,16 @@ def _refined_mesh(exp: Experiment) -> skfem.Mesh:
         refine_depth_um=(cell.refine_depth_um or max(cell.zona_thickness_um, 4 * fine))
         if refine
         else None,
-        order=2,
+        order=2 if cell.curved_edges else 1,  # P2 either way; curved or straight edges
     )
-    mesh = layered_oocyte_mesh(geom)
-    if cell.curved_edges:
-        return mesh
-    straight = skfem.MeshTri(mesh.p[:, : mesh.nvertices], mesh.t)
-    return straight.with_subdomains(mesh.subdomains).with_boundaries(mesh.boundaries)
+    return layered_oocyte_mesh(geom)
 
 
 def _windows(tool: object, radius_um: float, half_deg: float) -> list[tuple[float, float]]:
     """Polar windows refined at a tool; a pipette's seal edges (r = a + f and a + w) split
     them, so that mesh vertices sit there and the sealed facets are exactly those under the
     end face (a facet straddling the edge would move the punch's radius by half an element)."""
-    if isinstance(tool, HoldingPipette):
+    if isinstance(tool, HoldingPipette | NeckedPipette):  # a necked pipette: along the side
         return []
     pole = {"top": 0.0, "bottom": 180.0, "left": 90.0, "right": 90.0}[tool.side]
     lo, hi = max(0.0, pole - half_deg), min(180.0, pole + half_deg)
@@ -134,7 +135,7 @@ def _with_holds(mesh: skfem.Mesh, exp: Experiment) -> skfem.Mesh:
     holds = {}
     for name, tool in exp.tools.items():
         if isinstance(tool, HoldingPipette):
-            holds[f"hold:{name}"] = outer[tl.held_facets(tool, mid)]
+            holds[f"hold:{name}"] = outer[tl.held_facets(tool, mid, exp.cell.radius_um)]
         elif isinstance(tool, StraightPipette) and tool.seal == "fixed":
             holds[f"seal:{name}"] = outer[tl.sealed_facets(tool, mid)]
     return mesh.with_boundaries(holds) if holds else mesh
@@ -149,7 +150,12 @@ def _supports(exp: Experiment, mesh: skfem.Mesh) -> list[Prescribed]:
             raise SolverError(f"tools.{name}: the holding pipette holds no facet of the surface")
         axial = 0 if tool.side in ("left", "right") else 1
         components = (0, 1) if tool.components == "both" else (axial,)
-        fixed += [Prescribed(f"hold:{name}", c) for c in components if not (axisym and c == 0)]
+        move = tl.motion(tool)
+        fixed += [
+            Prescribed(f"hold:{name}", c, lambda t, c=c, move=move: move(t)[c])
+            for c in components
+            if not (axisym and c == 0)
+        ]
     seals = [n for n, t in exp.tools.items() if getattr(t, "seal", "") == "fixed"]
     for name in seals:
         if mesh.boundaries[f"seal:{name}"].size == 0:
@@ -162,6 +168,10 @@ def _supports(exp: Experiment, mesh: skfem.Mesh) -> list[Prescribed]:
     return fixed
 
 
+def _controlled(_t: float) -> float:
+    return 0.0  # the suction is the unknown of a ReactionControl, not a function of time
+
+
 def cell_mesh(exp: Experiment) -> skfem.Mesh:
     """The experiment's mesh: refined at each tool, with a boundary ``hold:<tool>`` per holding
     pipette and ``seal:<tool>`` per fixed pipette seal (outer-surface facets only)."""
@@ -171,7 +181,7 @@ def cell_mesh(exp: Experiment) -> skfem.Mesh:
 def run_experiment(
     exp: Experiment,
     log: logging.Logger | None = None,
-    on_frame: Callable[[Frame], None] | None = None,
+    on_frame: Callable[[Problem, Frame], None] | None = None,
 ) -> ExperimentResult:
     """Solve the experiment ``exp`` over its time path; see the module docstring."""
     tic = time.perf_counter()
@@ -187,6 +197,7 @@ def run_experiment(
     e_max = max(m.E_kPa for m in materials.values())
     h = (cell.refine_size_um or cell.mesh_size_um) * exp.mesh_scale
     contacts, pressures, pipettes = [], [], {}
+    control = None
     for name, tool in exp.tools.items():
         rigid = tl.obstacle(tool, name, R, axisym)
         if rigid is None:
@@ -214,13 +225,28 @@ def run_experiment(
                     lagged=True,
                 )
             )
-    problem = Problem(body, _supports(exp, mesh), pressures, contacts, log=log)
+        if isinstance(tool, NeckedPipette):
+            path = tool.suction_Pa
+            pipettes[name] = tool
+            pressures.append(
+                FollowerPressure(
+                    "outer_surface",
+                    (lambda t, path=path: -1e-3 * path(t)) if path else _controlled,
+                    where=seal_mask(tl.necked_pipette(tool, R), tool.seal_tol_um),
+                    name=name,
+                    lagged=True,
+                )
+            )
+            if tool.suction_control is not None:
+                ctl = tool.suction_control
+                control = ReactionControl(name, f"hold:{ctl.tool}", 1, ctl.target_nN)
+    problem = Problem(body, _supports(exp, mesh), pressures, contacts, log=log, control=control)
     probes = point_probes(body, np.array(list(cell.points.values()))) if cell.points else None
     rows: list[dict] = []
     v0 = problem.volume(problem.x)
     outer_vertices = np.unique(mesh.facets[:, mesh.boundaries["outer_surface"]])
 
-    def record(frame: Frame) -> None:
+    def record(frame: Frame, notify: bool = True) -> None:
         u = body.displacement(frame.x)
         row: dict = {"t": frame.t, "volume": frame.volume / v0 - 1.0}
         current = mesh.p[:, outer_vertices] + body.vertex_displacement(frame.x)[:, outer_vertices]
@@ -238,31 +264,36 @@ def run_experiment(
             row[("radius", c.name)] = float(lateral[loaded].max()) if loaded.any() else 0.0
         for k, (pl, _) in enumerate(problem.pressures):
             tool = pipettes[pl.name]
-            p = -pl.pressure(frame.t)
-            mask = problem.applied_masks[k]
-            suction = -p * problem.unit_load(k, frame.x) if mask is not None else 0.0
+            controlled = problem.control is not None and problem.control.load == pl.name
+            p = -problem.control_value if controlled else -pl.pressure(frame.t)
+            suction = -p * problem.unit_load(k, frame.x)
             net -= [np.sum(suction[dofs]) for dofs in body.ubasis.split_indices()]
-            local = tl.rotation(tool.side).T @ current
-            inside = np.abs(local[0]) < tool.inner_radius_um
-            apex = float(local[1][inside].max()) if inside.any() else np.nan
             row[("suction", pl.name)] = p
-            row[("aspiration", pl.name)] = apex - tl.mouth_height(tool, R)
+            if isinstance(tool, StraightPipette):
+                local = tl.rotation(tool.side).T @ current
+                inside = np.abs(local[0]) < tool.inner_radius_um
+                apex = float(local[1][inside].max()) if inside.any() else np.nan
+                row[("aspiration", pl.name)] = apex - tl.mouth_height(tool, R)
         # the cell's balance: forces on tools + on holds = pull of the suction on the cell
         row["hold"] = -net * ([0.0, 1.0] if axisym else [1.0, 1.0])  # axisym: z is net
         if probes is not None:
             row["tracks"] = (probes @ u).reshape(2, -1).T
         rows.append(row)
-        if on_frame is not None:
-            on_frame(frame)
+        if notify and on_frame is not None:
+            on_frame(problem, frame)
 
-    record(problem.frame())
+    record(problem.frame(), notify=False)  # the rest state
     times = np.linspace(exp.time.duration_s / exp.time.frames, exp.time.duration_s, exp.time.frames)
     success, reason, steps = True, "", []
     frames = [problem.frame()]
     try:
         solved = problem.solve(
             times,
-            NewtonSettings(max_iterations=25, rtol=exp.time.rtol, max_cutbacks=8),
+            NewtonSettings(
+                max_iterations=exp.time.max_iterations,
+                rtol=exp.time.rtol,
+                max_cutbacks=exp.time.max_cutbacks,
+            ),
             on_frame=lambda f: (frames.append(f), record(f)),
             max_dt=exp.time.max_step_s,
         )

@@ -14,6 +14,9 @@ Shapes (lengths um, angles deg), in the top frame with the clearance ``g`` (``ga
   ``a <= r <= a + w`` above the mouth plane ``y_m``, its inner corner rounded with radius
   ``f``; ``y_m = sqrt((R + f)^2 - (a + f)^2) - f + g``, so that at ``g = 0`` the rounded corner
   touches the sphere (tangent); the surface inside the bore and ahead of the mouth is sucked;
+* necked pipette (axisymmetric, its axis along +y): a bore, a cosine taper and a neck
+  (:mod:`oocyte_fe.neck.pipette`), the cell ``clearance_um`` from the taper; its suction acts
+  ahead of the seal the cell makes with the wall (:func:`oocyte_fe.neck.suction.seal_mask`);
 * wedge pipette (plane strain): a flat tip of width ``b`` at ``(0, R + g)``, flanks at the
   included angle;
 * a pipette's ``fixed`` seal: the outer-surface facets under its end face are held along its
@@ -34,12 +37,14 @@ from numpy.typing import NDArray
 from oocyte_fe.experiment.description import (
     Cone,
     HoldingPipette,
+    NeckedPipette,
     Plate,
     Sphere,
     StraightPipette,
     WedgePipette,
 )
 from oocyte_fe.fe.obstacles import Circle, Obstacle, Polyline, wedge_tip
+from oocyte_fe.neck import pipette as neck
 
 ROTATION = {
     "top": ((1.0, 0.0), (0.0, 1.0)),
@@ -122,6 +127,8 @@ def obstacle(tool: object, name: str, radius_um: float, axisym: bool) -> Obstacl
         return _turned(right if axisym else left + right, tool.side, name)
     if isinstance(tool, StraightPipette):
         return _turned(pipette_profile(tool, R), tool.side, name)
+    if isinstance(tool, NeckedPipette):
+        return necked_pipette(tool, R).obstacle()
     if isinstance(tool, WedgePipette):
         wedge = wedge_tip((0.0, y0), (0.0, -1.0), tool.width_um, tool.tip_angle_deg, tool.length_um)
         return _turned(list(wedge.points), tool.side, name)
@@ -129,7 +136,8 @@ def obstacle(tool: object, name: str, radius_um: float, axisym: bool) -> Obstacl
 
 
 def motion(tool: object) -> Callable[[float], tuple[float, float]]:
-    """Rigid translation ``w(t) d`` [um] of a tool (still without a displacement path)."""
+    """Rigid translation ``w(t) d`` [um] of a tool (still without a displacement path); for a
+    holding pipette, the displacement of the surface it holds."""
     d = approach(tool.side)
     path = getattr(tool, "displacement_um", None)
 
@@ -140,10 +148,25 @@ def motion(tool: object) -> Callable[[float], tuple[float, float]]:
     return move
 
 
-def held_facets(tool: HoldingPipette, midpoints: NDArray) -> NDArray:
-    """Mask of outer-surface facets (midpoints (2, nf)) held by a holding pipette."""
+def held_facets(tool: HoldingPipette, midpoints: NDArray, radius_um: float) -> NDArray:
+    """Mask of outer-surface facets (midpoints (2, nf)) held by a holding pipette: within
+    ``half_width_um`` of its axis, or beyond the cap plane ``R cos(cap_deg)`` (less 1e-9 R)."""
     local = rotation(tool.side).T @ midpoints  # back to the top frame: the pipette above
+    if tool.cap_deg is not None:
+        return local[1] > radius_um * np.cos(np.deg2rad(tool.cap_deg)) - 1e-9 * radius_um
     return (np.abs(local[0]) <= tool.half_width_um) & (local[1] > 0.0)
+
+
+def necked_pipette(tool: NeckedPipette, radius_um: float) -> neck.NeckedPipette:
+    """The necked pipette placed ``clearance_um`` from a cell of ``radius_um`` at the origin."""
+    return neck.NeckedPipette(
+        bore_radius_um=tool.bore_diameter_um / 2,
+        neck_radius_um=tool.neck_diameter_um / 2,
+        taper_length_um=tool.taper_length_um,
+        bore_length_um=tool.bore_length_um,
+        neck_length_um=tool.neck_length_um,
+        taper_points=tool.taper_points,
+    ).touching(radius_um, tool.clearance_um)
 
 
 def sealed_facets(tool: StraightPipette, midpoints: NDArray) -> NDArray:

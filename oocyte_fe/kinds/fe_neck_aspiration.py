@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
 from oocyte_fe.fe.material import read_material_file
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.kinds.neck_inputs import METRICS, UNITS, NeckInputs
 from oocyte_fe.neck import report
-from oocyte_fe.neck.materials import OocyteMaterials, materials_from_afm_case
+from oocyte_fe.neck.materials import materials_from_afm_case
 from oocyte_fe.neck.passage import PassageResult, PassageSettings, run_passage
 from oocyte_fe.neck.pipette import NeckedPipette
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
@@ -50,7 +51,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     if inp.material_case is None:
         zp, cy = inp.zona_material_file, inp.cytoplasm_material_file
         ctx.step(f"materials: {zp.name}, {cy.name}")
-        mats = OocyteMaterials(read_material_file(zp), read_material_file(cy), zp, cy)
+        mats = LayerMaterials(read_material_file(zp), read_material_file(cy))
         origin = f"read from the case's files `{zp.name}` and `{cy.name}`"
     else:
         afm_dir = (ctx.case_dir / inp.material_case).resolve()

@@ -32,8 +32,9 @@ from oocyte_fe.crosscheck.report import (
     write_press_outputs,
 )
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
-from oocyte_fe.crosscheck.zp_material import LayerMaterials, afm_layer_materials
+from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.kinds.crosscheck_inputs import METRICS, CrosscheckInputs
 from oocyte_fe.kinds.nmsd_cases import build_press
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
