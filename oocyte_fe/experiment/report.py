@@ -40,8 +40,8 @@ def write_history(result: ExperimentResult, output: Output) -> str:
         units[f"{name}_contact_radius"] = "um"
     for name in result.suction_kPa:
         cols[f"{name}_suction"], units[f"{name}_suction"] = result.suction_kPa[name], "kPa"
-        cols[f"{name}_aspiration"] = result.aspiration_change_um[name]
-        units[f"{name}_aspiration"] = "um"
+    for name, length in result.aspiration_change_um.items():
+        cols[f"{name}_aspiration"], units[f"{name}_aspiration"] = length, "um"
     for point, track in result.tracks_um.items():
         for i, axis in enumerate("xy"):
             cols[f"{point}_u{axis}"], units[f"{point}_u{axis}"] = track[:, i], "um"
@@ -85,9 +85,10 @@ def aspiration_figure(result: ExperimentResult, output: Output) -> tuple[str, st
     """Aspiration length against suction, with Theret's line (Phi = 2.1)."""
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     E, _ = an.outer_layer_modulus(result)
-    for name, p in result.suction_kPa.items():
+    for name, length in result.aspiration_change_um.items():
+        p = result.suction_kPa[name]
         a = result.experiment.tools[name].inner_radius_um
-        ax.plot(1e3 * p, result.aspiration_change_um[name], "o-", ms=3, label=f"{name} (FE)")
+        ax.plot(1e3 * p, length, "o-", ms=3, label=f"{name} (FE)")
         line = theret_length_um(p, a, E, THERET_PHI)
         ax.plot(1e3 * p, line, "--", label=f"Theret, Phi = {THERET_PHI}, E = {E:g} kPa")
     ax.set_xlabel("suction (Pa)")
@@ -97,6 +98,20 @@ def aspiration_figure(result: ExperimentResult, output: Output) -> tuple[str, st
     fig.savefig(output("aspiration.png"), dpi=120)
     plt.close(fig)
     return "aspiration.png", "Aspirated length (apex) against suction; dashed: Theret et al. 1988"
+
+
+def suction_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
+    """Suction of each pipette against time (prescribed, or the one a control needs)."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.5))
+    for name, p in result.suction_kPa.items():
+        ax.plot(result.times_s, 1e3 * p, "o-", ms=3, label=name)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("suction (Pa)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(output("suction.png"), dpi=120)
+    plt.close(fig)
+    return "suction.png", "Suction against time (a controlled suction: the one the path needs)"
 
 
 def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:

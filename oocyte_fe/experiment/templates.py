@@ -75,6 +75,37 @@ TEMPLATES: dict[str, dict[str, Any]] = {
         },
         "time": {"duration_s": 1.0, "frames": 8},
     },
+    "neck": {
+        "description": "The seed's oocyte (180 um) pulled through a 200 -> 150 um necked pipette",
+        "cell": {
+            **SEED_CELL,
+            "outer_diameter_um": 180.0,
+            "mesh_size_um": 14.0,
+            "refine_size_um": 7.0,
+            "refine_depth_um": 20.0,
+            "refine_windows_deg": [[20.0, 160.0]],
+            "curved_edges": False,
+            "points": {"equator": [90.0, 0.0]},
+        },
+        "tools": {
+            "pipette": {
+                "type": "necked_pipette",
+                "bore_diameter_um": 200.0,
+                "neck_diameter_um": 150.0,
+                "taper_length_um": 200.0,
+                "friction": 0.2,
+                "suction_control": {"tool": "cap", "target_nN": 0.0},
+            },
+            "cap": {
+                "type": "holding_pipette",
+                "side": "bottom",
+                "cap_deg": 10.0,
+                "components": "axial",
+                "displacement_um": _ramp(1.0, 150.0),
+            },
+        },
+        "time": {"duration_s": 1.0, "frames": 50, "max_iterations": 20},
+    },
     "press": {
         "description": "Plane-strain press of the layered oocyte by a wedge pipette, held opposite",
         "cell": {

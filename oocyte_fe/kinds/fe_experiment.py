@@ -59,6 +59,8 @@ def run_fe_experiment(ctx: CaseContext) -> CaseOutcome:
     rp.write_history(result, ctx.output)
     figures = [Figure(*rp.force_figure(result, ctx.output))] if result.force_nN else []
     if result.suction_kPa:
+        figures.append(Figure(*rp.suction_figure(result, ctx.output)))
+    if result.aspiration_change_um:
         figures.append(Figure(*rp.aspiration_figure(result, ctx.output)))
     if result.tracks_um:
         figures.append(Figure(*rp.tracks_figure(result, ctx.output)))
