@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.contact import Contact, ContactLaw
 from oocyte_fe.fe.loads import FollowerPressure, Prescribed
 from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.obstacles import Circle
@@ -126,7 +126,7 @@ def hertz(
     mesh = block_mesh(W, W, far, refine_point=(0.0, W), refine_size_um=h, refine_radius_um=4 * a)
     body = Body(mesh, {"body": Material(E, nu)}, "axisymmetric")
     sphere = Circle((0.0, W + radius), radius)
-    contact = Contact("top", sphere, penalty=2000.0 * E / a, motion=lambda t: (0.0, -d * t))
+    contact = Contact("top", sphere, ContactLaw(2000.0 * E / a), motion=lambda t: (0.0, -d * t))
     prob = Problem(body, [Prescribed("left", 0), Prescribed("bottom", 1)], contacts=[contact])
     result = prob.solve(np.linspace(0.25, 1.0, 4))
     force = float(result.frames[-1].obstacle_forces["contact"][1])

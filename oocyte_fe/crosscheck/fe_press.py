@@ -217,7 +217,7 @@ def run_fe_press(
             + [-stress_fields(problem, f.x)["mean_stress"] for f in frames[1:]]
         ),
         penetration_um=np.array(
-            [float(f.contact_pressure[PIPETTE].max()) / contact.penalty for f in frames]
+            [float(f.contact_pressure[PIPETTE].max()) / contact.law.penalty for f in frames]
         ),
         steps=len(result.steps),
         cutbacks=result.cutbacks,

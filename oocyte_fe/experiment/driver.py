@@ -37,7 +37,7 @@ from oocyte_fe.experiment.description import (
     to_material,
 )
 from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.contact import Contact, ContactLaw
 from oocyte_fe.fe.fields import point_probes
 from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog
@@ -206,11 +206,13 @@ def run_experiment(
             Contact(
                 "outer_surface",
                 rigid,
-                tool.penalty_factor * e_max / h,
-                tool.friction,
+                ContactLaw(
+                    tool.penalty_factor * e_max / h,
+                    friction=tool.friction,
+                    smoothing_um=tool.smoothing_um,
+                ),
                 motion=tl.motion(tool),
                 name=name,
-                smoothing_um=tool.smoothing_um,
             )
         )
         if isinstance(tool, StraightPipette) and tool.suction_Pa is not None:
