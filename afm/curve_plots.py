@@ -81,7 +81,7 @@ def contact_view(fit: IndentationFit) -> np.ndarray:
     depth = fit.max_indentation_um
     baseline = np.flatnonzero((delta <= 0) & (delta >= -BASELINE_SHOWN * depth))
     keep = delta > 0
-    step = max(1, baseline.size // MAX_BASELINE_POINTS)
+    step = max(1, -(-baseline.size // MAX_BASELINE_POINTS))
     keep[baseline[::step]] = True
     return keep
 
