@@ -11,22 +11,22 @@ the SD of a single value is not defined (NaN, "n/a" in tables).
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from afm.curve import ForceCurve
-from afm.curve_io import TEXT_SUFFIXES, read_curves
+from afm.curve_io import TEXT_SUFFIXES, iter_curves
 from afm.fit import IndentationFit, fit_indentation
 from afm.instrument_io import INSTRUMENT_SUFFIXES
 from afm.pierce import PierceFit, fit_pierce
 from oocyte_fe.errors import InputError, MissingExtraError
 
-MIN_CURVES_PER_WORKER = 50
-"""Fewer curves than this per process are fitted in this process (start-up costs more)."""
+CHUNK_CURVES = 64
+"""Curves sent to a fitting process at a time; a batch of fewer is fitted in this process."""
 
 
 @dataclass(frozen=True)
@@ -137,7 +137,9 @@ def _fit_row(
         if pierce:
             both: PierceFit = fit_pierce(curve, **fit_options)
             return BatchRow(str(file), group, both.zp, both.cytoplasm, **where)
-        return BatchRow(str(file), group, fit_function(curve, **fit_options), **where)
+        fit = fit_function(curve, **fit_options)
+        _ = fit.rating  # rated in the fitting process; the cached rating travels with the fit
+        return BatchRow(str(file), group, fit, **where)
     except (InputError, ValueError, FloatingPointError) as exc:
         return BatchRow(str(file), group, error=str(exc).splitlines()[0], curve=curve, **where)
 
@@ -158,7 +160,7 @@ def _fit_curves(
 def fit_batch(
     files: Sequence[str | Path],
     pierce: bool = False,
-    reader: Callable[..., ForceCurve | Sequence[ForceCurve]] = read_curves,
+    reader: Callable[..., ForceCurve | Iterable[ForceCurve]] = iter_curves,
     read_options: ReadOptions | None = None,
     fit_function: Callable[..., IndentationFit] = fit_indentation,
     workers: int = 1,
@@ -168,49 +170,64 @@ def fit_batch(
     :func:`afm.fit.fit_indentation`, or :func:`afm.nanite_pipeline.fit_nanite_default` for
     nanite's analysis).
 
-    ``reader(file, **options)`` returns one curve or a list (a force map: one row per curve);
-    ``options`` is ``read_options``, or ``read_options(file)`` when it is a function (per-file
-    calibration). The default :func:`afm.curve_io.read_curves` takes
-    ``spring_constant_N_per_m``, ``sensitivity_nm_per_V`` and ``height_channel``.
-    ``fit_options`` go to the fit function (model, geometry, nu, fit range, contact method).
-    A file that cannot be read is one error row; a missing optional dependency is not a
-    curve error and is raised. ``workers`` > 1 fits in that many processes (rows stay in
-    file and curve order; ``fit_function`` must then be a module-level function).
+    ``reader(file, **options)`` returns one curve or several (a list, or an iterator taken
+    as it is read; a force map gives one row per curve); ``options`` is ``read_options``, or
+    ``read_options(file)`` when it is a function (per-file calibration). The default
+    :func:`afm.curve_io.iter_curves` takes ``spring_constant_N_per_m``,
+    ``sensitivity_nm_per_V`` and ``height_channel``. ``fit_options`` go to the fit function
+    (model, geometry, nu, fit range, contact method). A file that cannot be read is an error
+    row (after the rows of the curves read before the error); a missing optional dependency
+    is not a curve error and is raised.
+
+    ``workers`` > 1 fits in that many processes, in chunks of ``CHUNK_CURVES`` sent off as
+    they are read (so reading a large map overlaps with fitting); a batch of fewer curves is
+    fitted here. Rows stay in file and curve order; ``fit_function`` must then be a
+    module-level function.
     """
     result = BatchResult()
-    jobs: list[tuple[int, Path, ForceCurve]] = []
-    for file in map(Path, files):
-        options = read_options(file) if callable(read_options) else dict(read_options or {})
-        try:
-            read = reader(file, **options)
-        except MissingExtraError:
-            raise
-        except (InputError, ValueError, FloatingPointError) as exc:
-            result.rows.append(
-                BatchRow(str(file), file.parent.name, error=str(exc).splitlines()[0])
+    pending: list[tuple[int, Path, ForceCurve]] = []
+    futures: list[tuple[list[int], Future]] = []
+    pool: ProcessPoolExecutor | None = None
+
+    def send() -> None:
+        nonlocal pool
+        indices = [i for i, _, _ in pending]
+        jobs = [(file, curve) for _, file, curve in pending]
+        pending.clear()
+        if workers > 1 and (pool is not None or len(jobs) >= CHUNK_CURVES):
+            pool = pool or ProcessPoolExecutor(max_workers=workers)
+            futures.append(
+                (indices, pool.submit(_fit_curves, jobs, pierce, fit_function, fit_options))
             )
-            continue
-        for curve in [read] if isinstance(read, ForceCurve) else list(read):
-            jobs.append((len(result.rows), file, curve))
-            result.rows.append(BatchRow(str(file), ""))  # replaced by the fitted row below
-    workers = max(1, min(int(workers), len(jobs) // MIN_CURVES_PER_WORKER))
-    pairs = [(file, curve) for _, file, curve in jobs]
-    if workers == 1:
-        fitted = _fit_curves(pairs, pierce, fit_function, fit_options)
-    else:
-        size = -(-len(pairs) // workers)
-        chunks = [pairs[i : i + size] for i in range(0, len(pairs), size)]
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            parts = pool.map(
-                _fit_curves,
-                chunks,
-                [pierce] * len(chunks),
-                [fit_function] * len(chunks),
-                [fit_options] * len(chunks),
-            )
-            fitted = [row for part in parts for row in part]
-    for (index, _, _), row in zip(jobs, fitted, strict=True):
-        result.rows[index] = row
+            return
+        for i, row in zip(
+            indices, _fit_curves(jobs, pierce, fit_function, fit_options), strict=True
+        ):
+            result.rows[i] = row
+
+    try:
+        for file in map(Path, files):
+            options = read_options(file) if callable(read_options) else dict(read_options or {})
+            try:
+                read = reader(file, **options)
+                for curve in [read] if isinstance(read, ForceCurve) else read:
+                    pending.append((len(result.rows), file, curve))
+                    result.rows.append(BatchRow(str(file), ""))  # replaced when fitted
+                    if len(pending) >= CHUNK_CURVES:
+                        send()
+            except MissingExtraError:
+                raise
+            except (InputError, ValueError, FloatingPointError) as exc:
+                error = str(exc).splitlines()[0]
+                result.rows.append(BatchRow(str(file), file.parent.name, error=error))
+        if pending:
+            send()
+        for indices, future in futures:
+            for i, row in zip(indices, future.result(), strict=True):
+                result.rows[i] = row
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
     return result
 
 

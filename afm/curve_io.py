@@ -25,6 +25,7 @@ any ``.csv`` as AFM-Workshop's).
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -32,8 +33,8 @@ import numpy as np
 from afm.creep_data import CreepData
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
 from afm.instrument_io import (
+    iter_instrument_curves,
     read_instrument_creep,
-    read_instrument_curves,
     read_instrument_file,
     recognises,
 )
@@ -151,6 +152,22 @@ def is_instrument_file(path: str | Path) -> bool:
     return not _is_own_table(path) and recognises(path)
 
 
+def iter_curves(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+) -> Iterator[ForceCurve]:
+    """Every approach curve of a file, one at a time (:func:`read_curves`); an afmformats
+    HDF5 force map is read as the curves are taken."""
+    if is_instrument_file(path):
+        yield from iter_instrument_curves(
+            path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
+        )
+    else:
+        yield read_curve(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel)
+
+
 def read_curves(
     path: str | Path,
     spring_constant_N_per_m: float | None = None,
@@ -162,11 +179,7 @@ def read_curves(
     Arguments override the file's metadata; ``height_channel`` applies to instrument files
     (:mod:`afm.instrument_io`).
     """
-    if is_instrument_file(path):
-        return read_instrument_curves(
-            path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
-        )
-    return [read_curve(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel)]
+    return list(iter_curves(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel))
 
 
 def read_curve(

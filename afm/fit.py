@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -86,7 +87,10 @@ class FitRange:
 
 @dataclass(frozen=True)
 class IndentationFit:
-    """Result of :func:`fit_indentation` (arrays cover the fit window)."""
+    """Result of :func:`fit_indentation` (arrays cover the fit window).
+
+    The derived figures (fitted force, rating) are computed once, on first use.
+    """
 
     model: str
     E_kPa: float
@@ -108,23 +112,23 @@ class IndentationFit:
     at_bound: tuple[str, ...] = ()
     """Fit parameters that ended on a bound of the fit (each lowers the quality rating)."""
 
-    @property
+    @cached_property
     def indentation_um(self) -> np.ndarray:
         """delta = x - x0 over the fit window, um (negative before contact)."""
         return self.tip_position_um - self.contact_point_um
 
-    @property
+    @cached_property
     def fitted_force_nN(self) -> np.ndarray:
         """Model force over the fit window, nN."""
         model = get_model(self.model)
         return self.offset_nN + model.force(self.indentation_um, self.E_kPa, self.geometry, self.nu)
 
-    @property
+    @cached_property
     def max_indentation_um(self) -> float:
         """Largest indentation delta of the fit window, um (0 without contact)."""
         return max(float(self.indentation_um.max()), 0.0)
 
-    @property
+    @cached_property
     def modulus_profile(self) -> tuple[np.ndarray, np.ndarray]:
         """E(delta) by depth: (bin centres [um], medians of E(delta) [kPa]) over
         ``MODULUS_BINS`` equal bins from 10 % to 100 % of the largest indentation (NaN for a
@@ -143,7 +147,7 @@ class IndentationFit:
         )
         return 0.5 * (edges[1:] + edges[:-1]), medians
 
-    @property
+    @cached_property
     def modulus_spread(self) -> float:
         """max / min - 1 of :attr:`modulus_profile` (how much E(delta) changes with depth);
         NaN unless every bin has a positive median."""
@@ -152,7 +156,7 @@ class IndentationFit:
             return math.nan
         return float(medians.max() / medians.min() - 1.0)
 
-    @property
+    @cached_property
     def systematic_residual(self) -> float:
         """max_b |mean(F - F_fit) over bin b| / max(F_fit): the contact points cut by depth
         into ``RESIDUAL_BINS`` bins of equal count (noise averages out, a wrong shape does
@@ -166,7 +170,7 @@ class IndentationFit:
         means = [float(b.mean()) for b in np.array_split(residual, RESIDUAL_BINS)]
         return max(abs(m) for m in means) / peak
 
-    @property
+    @cached_property
     def snap_in_nN(self) -> float:
         """Lowest force (baseline removed) over the approach within 10 % of the largest
         indentation before contact, nN (0 when it stays above zero)."""
@@ -176,7 +180,7 @@ class IndentationFit:
             return 0.0
         return min(float(np.min(self.force_nN[before] - self.offset_nN)), 0.0)
 
-    @property
+    @cached_property
     def poor_reasons(self) -> tuple[str, ...]:
         """Why the fit is rated poor, one phrase per criterion failed (empty: good).
 
@@ -216,13 +220,13 @@ class IndentationFit:
             )
         return tuple(reasons)
 
-    @property
+    @cached_property
     def quality(self) -> str:
         """``good``, or ``poor: <reasons>`` (:attr:`poor_reasons`)."""
         reasons = self.poor_reasons
         return "poor: " + "; ".join(reasons) if reasons else "good"
 
-    @property
+    @cached_property
     def rating(self) -> str:
         """Every figure the rating used: R^2, points in contact, systematic residual, snap-in
         and E(delta) spread, with the reasons of a poor rating first."""
