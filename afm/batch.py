@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from afm.curve import ForceCurve
-from afm.curve_io import TEXT_SUFFIXES, iter_curves
+from afm.curve_io import TEXT_SUFFIXES, count_curves, iter_curves
 from afm.fit import IndentationFit, fit_indentation
 from afm.instrument_io import INSTRUMENT_SUFFIXES
 from afm.pierce import PierceFit, fit_pierce
@@ -157,6 +157,23 @@ def _fit_curves(
     return [_fit_row(file, curve, pierce, fit_function, fit_options) for file, curve in jobs]
 
 
+def _read_and_fit(
+    file: Path,
+    options: Mapping[str, object],
+    selection: range,
+    pierce: bool,
+    fit_function: Callable[..., IndentationFit],
+    fit_options: Mapping[str, object],
+) -> list[BatchRow]:
+    """Rows of the curves ``selection`` of ``file``, read and fitted in this process."""
+    try:
+        curves = list(iter_curves(file, **options, selection=selection))
+    except (InputError, ValueError, FloatingPointError) as exc:
+        first = f"curves {selection.start}-{selection.stop - 1}: "
+        return [BatchRow(str(file), file.parent.name, error=first + str(exc).splitlines()[0])]
+    return _fit_curves([(file, c) for c in curves], pierce, fit_function, fit_options)
+
+
 def fit_batch(
     files: Sequence[str | Path],
     pierce: bool = False,
@@ -179,56 +196,63 @@ def fit_batch(
     row (after the rows of the curves read before the error); a missing optional dependency
     is not a curve error and is raised.
 
-    ``workers`` > 1 fits in that many processes, in chunks of ``CHUNK_CURVES`` sent off as
-    they are read (so reading a large map overlaps with fitting); a batch of fewer curves is
-    fitted here. Rows stay in file and curve order; ``fit_function`` must then be a
-    module-level function.
+    ``workers`` > 1 fits in that many processes, in chunks of ``CHUNK_CURVES`` curves sent
+    off as they are read; with the default reader, a file whose curves can be counted
+    without reading them (:func:`afm.curve_io.count_curves`: an afmformats HDF5 map) is
+    read by the processes too, a chunk each. A batch of fewer curves is fitted here. Rows
+    stay in file and curve order; ``fit_function`` must then be a module-level function.
     """
-    result = BatchResult()
-    pending: list[tuple[int, Path, ForceCurve]] = []
-    futures: list[tuple[list[int], Future]] = []
+    segments: list[list[BatchRow] | Future] = []
+    pending: list[tuple[Path, ForceCurve]] = []
     pool: ProcessPoolExecutor | None = None
 
-    def send() -> None:
+    def processes() -> ProcessPoolExecutor:
         nonlocal pool
-        indices = [i for i, _, _ in pending]
-        jobs = [(file, curve) for _, file, curve in pending]
+        pool = pool or ProcessPoolExecutor(max_workers=workers)
+        return pool
+
+    def send() -> None:
+        jobs = pending.copy()
         pending.clear()
         if workers > 1 and (pool is not None or len(jobs) >= CHUNK_CURVES):
-            pool = pool or ProcessPoolExecutor(max_workers=workers)
-            futures.append(
-                (indices, pool.submit(_fit_curves, jobs, pierce, fit_function, fit_options))
+            segments.append(
+                processes().submit(_fit_curves, jobs, pierce, fit_function, fit_options)
             )
-            return
-        for i, row in zip(
-            indices, _fit_curves(jobs, pierce, fit_function, fit_options), strict=True
-        ):
-            result.rows[i] = row
+        elif jobs:
+            segments.append(_fit_curves(jobs, pierce, fit_function, fit_options))
 
     try:
         for file in map(Path, files):
             options = read_options(file) if callable(read_options) else dict(read_options or {})
+            count = count_curves(file, **options) if workers > 1 and reader is iter_curves else None
+            if count is not None and count >= CHUNK_CURVES:
+                send()
+                for start in range(0, count, CHUNK_CURVES):
+                    part = range(start, min(start + CHUNK_CURVES, count))
+                    segments.append(
+                        processes().submit(
+                            _read_and_fit, file, options, part, pierce, fit_function, fit_options
+                        )
+                    )
+                continue
             try:
                 read = reader(file, **options)
                 for curve in [read] if isinstance(read, ForceCurve) else read:
-                    pending.append((len(result.rows), file, curve))
-                    result.rows.append(BatchRow(str(file), ""))  # replaced when fitted
+                    pending.append((file, curve))
                     if len(pending) >= CHUNK_CURVES:
                         send()
             except MissingExtraError:
                 raise
             except (InputError, ValueError, FloatingPointError) as exc:
+                send()
                 error = str(exc).splitlines()[0]
-                result.rows.append(BatchRow(str(file), file.parent.name, error=error))
-        if pending:
-            send()
-        for indices, future in futures:
-            for i, row in zip(indices, future.result(), strict=True):
-                result.rows[i] = row
+                segments.append([BatchRow(str(file), file.parent.name, error=error)])
+        send()
+        rows = [row for s in segments for row in (s.result() if isinstance(s, Future) else s)]
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
-    return result
+    return BatchResult(rows)
 
 
 COLUMNS = {

@@ -89,7 +89,8 @@ class FitRange:
 class IndentationFit:
     """Result of :func:`fit_indentation` (arrays cover the fit window).
 
-    The derived figures (fitted force, rating) are computed once, on first use.
+    The rating and the figures it uses are computed once, on first use (and travel with
+    the fit when it is pickled).
     """
 
     model: str
@@ -112,12 +113,12 @@ class IndentationFit:
     at_bound: tuple[str, ...] = ()
     """Fit parameters that ended on a bound of the fit (each lowers the quality rating)."""
 
-    @cached_property
+    @property
     def indentation_um(self) -> np.ndarray:
         """delta = x - x0 over the fit window, um (negative before contact)."""
         return self.tip_position_um - self.contact_point_um
 
-    @cached_property
+    @property
     def fitted_force_nN(self) -> np.ndarray:
         """Model force over the fit window, nN."""
         model = get_model(self.model)

@@ -251,6 +251,13 @@ def _hdf5_keys(path: Path) -> list[str] | None:
         return None
 
 
+def _hdf5_is_map(path: Path, key: str) -> bool:
+    """True when the curve group ``key`` carries a map grid (a map of one curve is a map)."""
+    h5py = importlib.import_module("h5py")
+    with h5py.File(path, "r") as h5:
+        return "grid shape x" in h5[key].attrs
+
+
 def _hdf5_dataset(group, name: str) -> np.ndarray:
     """A whole dataset through h5py's low-level API (half the time of ``group[name][:]``)."""
     h5py = importlib.import_module("h5py")
@@ -260,7 +267,9 @@ def _hdf5_dataset(group, name: str) -> np.ndarray:
     return values
 
 
-def _hdf5_curves(path: Path, keys: list[str], height_channel: str) -> Iterator[ForceCurve]:
+def _hdf5_curves(
+    path: Path, keys: list[str], height_channel: str, many: bool
+) -> Iterator[ForceCurve]:
     """The curves of an afmformats HDF5 file, read in one pass as they are needed.
 
     afmformats' own loader opens the file again for every column of every curve (about 4 ms
@@ -270,7 +279,6 @@ def _hdf5_curves(path: Path, keys: list[str], height_channel: str) -> Iterator[F
     """
     h5py = importlib.import_module("h5py")
     with h5py.File(path, "r") as h5:
-        many = len(keys) > 1 or "grid shape x" in h5[keys[0]].attrs
         for key in keys:
             index = int(key) if many else None
             source = f"{path} (curve {index})" if many else str(path)
@@ -289,32 +297,51 @@ def _hdf5_curves(path: Path, keys: list[str], height_channel: str) -> Iterator[F
             yield curve_from_record(record, source, channel, path.parent.name, index)
 
 
+def hdf5_map_keys(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+) -> list[str] | None:
+    """The curve groups of an afmformats HDF5 file read in one pass (:func:`_hdf5_curves`),
+    or None for any other file, or when calibration is passed (afmformats' HDF5 loader
+    refuses overrides: its forces are stored in N, so it reports that)."""
+    path = Path(path)
+    if path.suffix.lower() != ".h5" or (spring_constant_N_per_m, sensitivity_nm_per_V) != (
+        None,
+        None,
+    ):
+        return None
+    return _hdf5_keys(path)
+
+
 def iter_instrument_curves(
     path: str | Path,
     spring_constant_N_per_m: float | None = None,
     sensitivity_nm_per_V: float | None = None,
     height_channel: str = "auto",
+    selection: range | None = None,
 ) -> Iterator[ForceCurve]:
     """Every force-distance curve of an instrument file (all curves of a force map), one at a
-    time (an afmformats HDF5 force map is read as the curves are taken).
+    time (an afmformats HDF5 force map is read as the curves are taken); with ``selection``
+    only the curves at those positions in file order (an HDF5 map reads no other).
 
     Curves of a multi-curve file carry their index and map position and are named
     ``"<file> (curve <i>)"`` in errors. A curve that cannot be read raises
     :class:`InputError`.
     """
     path = Path(path)
-    if path.suffix.lower() == ".h5" and (spring_constant_N_per_m, sensitivity_nm_per_V) == (
-        None,
-        None,
-    ):  # afmformats' HDF5 loader refuses overrides (its forces are stored in N)
-        keys = _hdf5_keys(path)
-        if keys is not None:
-            yield from _hdf5_curves(path, keys, height_channel)
-            return
+    keys = hdf5_map_keys(path, spring_constant_N_per_m, sensitivity_nm_per_V)
+    if keys is not None:
+        many = len(keys) > 1 or _hdf5_is_map(path, keys[0])
+        chosen = keys if selection is None else [keys[i] for i in selection if i < len(keys)]
+        yield from _hdf5_curves(path, chosen, height_channel, many)
+        return
     records = load_records(path, spring_constant_N_per_m, sensitivity_nm_per_V)
     records = [r for r in records if r.modality == "force-distance"] or records
     many = len(records) > 1 or "grid shape x" in records[0].metadata
     for i, record in enumerate(records):
+        if selection is not None and i not in selection:
+            continue
         index = int(record.metadata.get("enum", i)) if many else None
         source = f"{path} (curve {index})" if many else str(path)
         yield curve_from_record(record, source, height_channel, path.parent.name, index)

@@ -15,6 +15,7 @@ import numpy as np
 
 from afm.batch import BatchResult
 from afm.creep import CreepFit
+from afm.curve_plots import x_label
 from afm.fit import IndentationFit
 
 
@@ -48,7 +49,7 @@ def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title
         delta, modulus = fit.pointwise_modulus(0.1 * float(fit.indentation_um.max()))
         ax_e.plot(delta, modulus, ".", ms=2, c=data_c, label=f"{label} E(delta)")
         ax_e.axhline(fit.E_kPa, ls="--", lw=1, c=fit_c, label=f"{label} fitted E")
-    ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]", title=title)
+    ax_f.set(xlabel=x_label(fits[0][1].height_channel), ylabel="force [nN]", title=title)
     ax_f.legend(fontsize=7)
     ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) = F / shape(delta) [kPa]")
     ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
