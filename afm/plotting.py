@@ -196,7 +196,7 @@ def strip_figure(
         _plain_log_ticks(ax.yaxis, min(positive), max(positive))
     ax.set_xticks(range(len(fits)), [f"{g}\n(n = {len(v)})" for g, v in fits.items()])
     ax.set_xlim(-0.6, len(fits) - 0.4)
-    ax.set(ylabel="Young's modulus E [kPa]")
+    ax.set(xlabel="group", ylabel="Young's modulus E [kPa]")
     ax.legend(fontsize=7)
     fig.tight_layout()
     return fig
