@@ -23,7 +23,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Literal
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from afm import plotting
 from afm.batch import COLUMNS, BatchResult, GroupStats, curve_files, fit_batch, write_batch_table
@@ -154,6 +154,21 @@ class FitFilesInputs(CaseInputs):
     known_tolerance_pct: float = Field(
         5.0, gt=0, description="largest error against known_moduli", json_schema_extra={"unit": "%"}
     )
+
+    @field_validator("known_moduli")
+    @classmethod
+    def _known_moduli_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        """A known-moduli file must exist inside the case folder (checked at ``validate``;
+        a plain string, not a data file, so ``oocyte-fe new`` leaves it out)."""
+        case_dir = (info.context or {}).get("case_dir")
+        if value is None or case_dir is None:
+            return value
+        where = Path(case_dir) / "case.toml"
+        try:
+            regular_file(inside(value, case_dir, where, "inputs.known_moduli"))
+        except InputError as exc:
+            raise ValueError(exc.expected + ("" if exc.got is None else f" ({exc.got})")) from None
+        return value
 
     @field_validator("model")
     @classmethod
