@@ -100,9 +100,13 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 
 def _plain_log_ticks(axis: matplotlib.axis.Axis, low: float, high: float) -> None:
-    """Log-axis ticks labelled as plain numbers (0.5, 2, 100): at 1, 2, 5 per decade over
-    at most 3 decades, at the powers of ten beyond."""
-    subs = (1.0, 2.0, 5.0) if high <= 1e3 * low else (1.0,)
+    """Log-axis ticks labelled as plain numbers (0.5, 2, 100): at every integer multiple of
+    the power of ten within one decade, at 1, 2, 5 per decade over at most 3 decades, at the
+    powers of ten beyond."""
+    if high <= 10.0 * low:
+        subs: tuple[float, ...] = tuple(float(m) for m in range(1, 10))
+    else:
+        subs = (1.0, 2.0, 5.0) if high <= 1e3 * low else (1.0,)
     axis.set_major_locator(matplotlib.ticker.LogLocator(subs=subs))
     axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
@@ -197,7 +201,7 @@ def strip_figure(
     ax.set_xticks(range(len(fits)), [f"{g}\n(n = {len(v)})" for g, v in fits.items()])
     ax.set_xlim(-0.6, len(fits) - 0.4)
     ax.set(xlabel="group", ylabel="Young's modulus E [kPa]")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
     return fig
 

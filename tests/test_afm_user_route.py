@@ -200,6 +200,21 @@ def test_creep_fit_uses_the_curves_tip(tmp_path):
     assert result.status == "ERROR" and "half_angle_deg_creep" in result.reason
 
 
+def test_creep_fit_takes_the_cone_half_angle_of_the_curves(tmp_path):
+    # item 8: a 30 deg cone's record read with the old default of 10 deg gave 3.3x E0
+    truth = RelaxationProny(2.0, (0.3, 0.2), (0.2, 1.5))
+    t = np.linspace(0.0, 6.0, 1201)
+    j = creep_from_relaxation(truth)(t)
+    delta = np.sqrt(math.pi * 0.5 * 5.0 * j / (4.0 * math.tan(math.radians(30.0))))
+    case = tmp_path / "cone30"
+    _curve_file(case / "curves" / "zp", "a.csv", 6.0, geometry={"half_angle_deg": 30.0})
+    write_creep(case / "zp_creep.csv", t, np.full(t.size, 5.0), delta, 0.0, 1e6)
+    _case(case, 'geometry = { half_angle_deg = 30.0 }\ncreep = { zp = "zp_creep.csv" }\n')
+    _, out = _run(case, tmp_path / "out")
+    E0 = 3.0 * truth.G0_kPa
+    assert read_material(out / "material_zp.toml").E_kPa == pytest.approx(E0, rel=0.01)
+
+
 def test_undetermined_prony_terms_are_flagged_in_every_material_file(tmp_path):
     # item 8: a term longer than the record was flagged in the report only
     truth = RelaxationProny(2.0, (0.3, 0.3), (0.2, 40.0))  # 40 s in a 6 s record
