@@ -20,6 +20,7 @@ from afm.creep import (
     CreepData,
     compliance_from_indentation,
     fit_creep,
+    fit_creep_tip,
     indentation_from_compliance,
 )
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
@@ -149,6 +150,20 @@ def test_fit_pierce_arguments(name, value):
 @given(name=st.sampled_from(["half_angle_deg", "nu", "per_decade"]), value=NONSENSE)
 def test_fit_creep_arguments(name, value):
     fit = _call(fit_creep, GOOD_HOLD, **{name: value})
+    if fit is not None:
+        assert _finite(fit.E0_kPa, fit.E_inf_kPa, fit.relative_rms)
+
+
+@FUZZ
+@given(name=st.sampled_from(["model", "geometry", "radius_um", "nu", "per_decade"]), value=NONSENSE)
+def test_fit_creep_tip_arguments(name, value):
+    # issue 28: the creep fit takes any tip of afm.models
+    kwargs: dict = {"model": "hertz_paraboloid", "geometry": {"radius_um": 5.0}}
+    if name == "radius_um":
+        kwargs["geometry"] = {"radius_um": value}
+    else:
+        kwargs[name] = value
+    fit = _call(fit_creep_tip, GOOD_HOLD, **kwargs)
     if fit is not None:
         assert _finite(fit.E0_kPa, fit.E_inf_kPa, fit.relative_rms)
 
