@@ -125,6 +125,11 @@ class IndentationFit:
         return self.offset_nN + model.force(self.indentation_um, self.E_kPa, self.geometry, self.nu)
 
     @cached_property
+    def peak_force_nN(self) -> float:
+        """Largest fitted force over the window, baseline offset removed, nN."""
+        return float(np.max(self.fitted_force_nN - self.offset_nN))
+
+    @cached_property
     def max_indentation_um(self) -> float:
         """Largest indentation delta of the fit window, um (0 without contact)."""
         return max(float(self.indentation_um.max()), 0.0)
@@ -164,7 +169,7 @@ class IndentationFit:
         not); NaN with fewer points than bins."""
         delta = self.indentation_um
         contact = delta > 0
-        peak = float(np.max(self.fitted_force_nN - self.offset_nN))
+        peak = self.peak_force_nN
         if np.count_nonzero(contact) < RESIDUAL_BINS or not peak > 0:
             return math.nan
         residual = (self.force_nN - self.fitted_force_nN)[contact][np.argsort(delta[contact])]
@@ -206,7 +211,7 @@ class IndentationFit:
                 f"systematic residual {100 * systematic:.0f} % of the peak force "
                 f"(> {100 * MAX_SYSTEMATIC_RESIDUAL:g} %: the model misses the curve's shape)"
             )
-        peak = float(np.max(self.fitted_force_nN - self.offset_nN))
+        peak = self.peak_force_nN
         snap = self.snap_in_nN
         noise = SNAP_IN_NOISE_SDS * self.baseline.noise_nN
         if peak > 0 and -snap > MAX_SNAP_IN * peak and -snap > noise:
@@ -233,7 +238,7 @@ class IndentationFit:
         and E(delta) spread, with the reasons of a poor rating first."""
         spread = self.modulus_spread
         trend = f"{100 * spread:.0f} %" if math.isfinite(spread) else "n/a"
-        peak = float(np.max(self.fitted_force_nN - self.offset_nN))
+        peak = self.peak_force_nN
         snap = 100 * self.snap_in_nN / peak if peak > 0 else math.nan
         figures = (
             f"R^2 {self.r_squared:.3f}, {self.n_contact_points} points in contact, "
