@@ -132,6 +132,22 @@ def test_poor_fits_stay_out_of_statistics_and_material_files(tmp_path):
     assert (out / "material_bad.toml").exists()
 
 
+def test_nanite_fits_of_curves_without_contact_make_no_material_file(tmp_path):
+    # item 3: in nanite mode a group of no-contact curves (R^2 0.2-0.3) made a material file
+    case = tmp_path / "qi"
+    (case / "curves" / "map").mkdir(parents=True)
+    shutil.copy(
+        INSTRUMENT / "fmt-jpk-fd_2020.02.07-16.29.05.036.jpk-qi-data", case / "curves" / "map"
+    )
+    _case(case, 'geometry = { half_angle_deg = 30.0 }\nanalysis = "nanite"\n')
+    _, out = _run(case, tmp_path / "out")
+    rows = _rows(out)
+    assert len(rows) == 4 and {r["quality"] for r in rows} == {"poor"}
+    assert all(float(r["r_squared"]) < 0.5 for r in rows)
+    assert not (out / "material_map.toml").exists()
+    assert "| map | 0 | 4 | - |" in (out / "report.md").read_text()
+
+
 def test_fits_csv_names_model_tip_calibration_and_contact_from_start(tmp_path):
     # item 4: fits.csv lacked model, tip, nu, k, contact points, depth, analysis; the contact
     # point was an absolute instrument height
