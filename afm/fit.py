@@ -239,7 +239,7 @@ class IndentationFit:
         spread = self.modulus_spread
         trend = f"{100 * spread:.0f} %" if math.isfinite(spread) else "n/a"
         peak = self.peak_force_nN
-        snap = 100 * self.snap_in_nN / peak if peak > 0 else math.nan
+        snap = round(100 * self.snap_in_nN / peak, 1) + 0.0 if peak > 0 else math.nan  # no -0.0
         figures = (
             f"R^2 {self.r_squared:.3f}, {self.n_contact_points} points in contact, "
             f"systematic residual {100 * self.systematic_residual:.1f} %, "
