@@ -173,7 +173,7 @@ def strip_figure(
     """Moduli per group as a strip plot on a log axis: one column of points per group
     (jittered sideways), fits rated poor as open circles, and the group's mean +- SD over
     the fits that enter statistics (good ones; poor too with ``include_poor``) as a bar."""
-    fig, ax = plt.subplots(figsize=(1.6 + 1.2 * len(fits), 4.2))
+    fig, ax = plt.subplots(figsize=(3.2 + 1.2 * len(fits), 4.2))
     rng = np.random.default_rng(0)
     for i, group_fits in enumerate(fits.values()):
         moduli = np.array([f.E_kPa for f in group_fits])
@@ -198,10 +198,13 @@ def strip_figure(
     positive = [f.E_kPa for v in fits.values() for f in v if f.E_kPa > 0]
     if positive:
         _plain_log_ticks(ax.yaxis, min(positive), max(positive))
-    ax.set_xticks(range(len(fits)), [f"{g}\n(n = {len(v)})" for g, v in fits.items()])
+    labels = [
+        f"{g}\n({sum(f.quality == 'good' for f in v)} of {len(v)} good)" for g, v in fits.items()
+    ]
+    ax.set_xticks(range(len(fits)), labels)
     ax.set_xlim(-0.6, len(fits) - 0.4)
     ax.set(xlabel="group", ylabel="Young's modulus E [kPa]")
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # beside the points
     fig.tight_layout()
     return fig
 

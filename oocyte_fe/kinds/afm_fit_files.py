@@ -26,7 +26,15 @@ from typing import Literal
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from afm import plotting
-from afm.batch import COLUMNS, BatchResult, GroupStats, curve_files, fit_batch, write_batch_table
+from afm.batch import (
+    COLUMNS,
+    BatchResult,
+    BatchRow,
+    GroupStats,
+    curve_files,
+    fit_batch,
+    write_batch_table,
+)
 from afm.creep import fit_creep_tip
 from afm.curve_io import read_creep
 from afm.curve_plots import plot_curves, plot_name
@@ -248,6 +256,11 @@ def file_stem(group: str) -> str:
     """``group`` as part of a file name: characters other than letters, digits, ``-`` and
     ``_`` become ``_`` (a group name can never reach outside the result folder)."""
     return re.sub(r"[^A-Za-z0-9_-]", "_", group) or "_"
+
+
+def _reason(row: BatchRow) -> str:
+    """A refused row's error without the file name it starts with (the list names it)."""
+    return re.sub(rf"^{re.escape(row.file)}( \(curve \d+\))?: ", "", row.error)
 
 
 def _sd(value: float) -> str:
@@ -477,7 +490,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         f"* `{Path(r.file).relative_to(case_dir).as_posix()}`"
         + ("" if r.curve_index is None else f" curve {r.curve_index}")
         + (f" ([plot](curve_plots/{plot_name(r)}))" if plot_name(r) in plots else "")
-        + f": {r.error}"
+        + f": {_reason(r)}"
         for r in result.failures
     )
     plot_links = "\n".join(
