@@ -116,6 +116,7 @@ def test_scaled_curves(piezo_scale, force_scale, k):
         fit = _call(fit_indentation, curve)
         if fit is not None:
             assert _finite(fit.E_kPa, fit.contact_point_um)
+            assert fit.rating.startswith(("good (", "poor: "))  # issue 28's rating never raises
 
 
 @FUZZ
@@ -132,6 +133,7 @@ def test_arbitrary_force_arrays(force):
         fit = _call(fit_indentation, curve)
         if fit is not None:
             assert _finite(fit.E_kPa, fit.contact_point_um)
+            assert fit.rating.startswith(("good (", "poor: "))  # issue 28's rating never raises
 
 
 @FUZZ
