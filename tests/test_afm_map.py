@@ -23,7 +23,12 @@ def _write_map(path: Path, side: int, n_points: int = 300) -> Path:
     with h5py.File(path, "w") as h5:
         for i in range(side * side):
             curve = indentation_curve(
-                2.0 + 0.05 * i, 3.0, max_piezo_um=6.0, n_points=n_points, noise_fraction=0.01, seed=i
+                2.0 + 0.05 * i,
+                3.0,
+                max_piezo_um=6.0,
+                n_points=n_points,
+                noise_fraction=0.01,
+                seed=i,
             )
             force, height = curve.force_nN * 1e-9, -curve.piezo_um * 1e-6
             data = {
