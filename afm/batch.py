@@ -181,6 +181,7 @@ def fit_batch(
     read_options: ReadOptions | None = None,
     fit_function: Callable[..., IndentationFit] = fit_indentation,
     workers: int = 1,
+    progress: Callable[[int, int], None] | None = None,
     **fit_options: object,
 ) -> BatchResult:
     """Fit every curve of every file (``fit_pierce`` when ``pierce``, else ``fit_function``:
@@ -201,8 +202,9 @@ def fit_batch(
     without reading them (:func:`afm.curve_io.count_curves`: an afmformats HDF5 map) is
     read by the processes too, a chunk each. A batch of fewer curves is fitted here. Rows
     stay in file and curve order; ``fit_function`` must then be a module-level function.
+    ``progress(done, total)`` is called as the fitted curves come back (counts of curves).
     """
-    segments: list[list[BatchRow] | Future] = []
+    segments: list[tuple[list[BatchRow] | Future, int]] = []  # rows (or their future), curves
     pending: list[tuple[Path, ForceCurve]] = []
     pool: ProcessPoolExecutor | None = None
 
@@ -214,12 +216,13 @@ def fit_batch(
     def send() -> None:
         jobs = pending.copy()
         pending.clear()
+        if not jobs:
+            return
         if workers > 1 and (pool is not None or len(jobs) >= CHUNK_CURVES):
-            segments.append(
-                processes().submit(_fit_curves, jobs, pierce, fit_function, fit_options)
-            )
-        elif jobs:
-            segments.append(_fit_curves(jobs, pierce, fit_function, fit_options))
+            future = processes().submit(_fit_curves, jobs, pierce, fit_function, fit_options)
+            segments.append((future, len(jobs)))
+        else:
+            segments.append((_fit_curves(jobs, pierce, fit_function, fit_options), len(jobs)))
 
     try:
         for file in map(Path, files):
@@ -229,11 +232,10 @@ def fit_batch(
                 send()
                 for start in range(0, count, CHUNK_CURVES):
                     part = range(start, min(start + CHUNK_CURVES, count))
-                    segments.append(
-                        processes().submit(
-                            _read_and_fit, file, options, part, pierce, fit_function, fit_options
-                        )
+                    future = processes().submit(
+                        _read_and_fit, file, options, part, pierce, fit_function, fit_options
                     )
+                    segments.append((future, len(part)))
                 continue
             try:
                 read = reader(file, **options)
@@ -246,9 +248,15 @@ def fit_batch(
             except (InputError, ValueError, FloatingPointError) as exc:
                 send()
                 error = str(exc).splitlines()[0]
-                segments.append([BatchRow(str(file), file.parent.name, error=error)])
+                segments.append(([BatchRow(str(file), file.parent.name, error=error)], 1))
         send()
-        rows = [row for s in segments for row in (s.result() if isinstance(s, Future) else s)]
+        rows: list[BatchRow] = []
+        done, total = 0, sum(size for _, size in segments)
+        for segment, size in segments:
+            rows += segment.result() if isinstance(segment, Future) else segment
+            done += size
+            if progress is not None:
+                progress(done, total)
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)

@@ -78,7 +78,11 @@ def test_hdf5_map_reads_as_afmformats_does(tmp_path):
 def test_two_fitting_processes_give_the_rows_of_one(tmp_path):
     path = _write_map(tmp_path / "map.h5", 12)  # 144 curves: three chunks of 64 or fewer
     serial = fit_batch([path], geometry={"half_angle_deg": 10.0})
-    parallel = fit_batch([path], geometry={"half_angle_deg": 10.0}, workers=2)
+    reported: list[tuple[int, int]] = []
+    parallel = fit_batch(
+        [path], geometry={"half_angle_deg": 10.0}, workers=2, progress=lambda *p: reported.append(p)
+    )
+    assert reported == [(64, 144), (128, 144), (144, 144)]  # three chunks, as they come back
     assert len(parallel.rows) == 144
     for a, b in zip(serial.rows, parallel.rows, strict=True):
         assert (a.curve_index, a.map_position_um, a.error) == (b.curve_index, b.map_position_um, "")

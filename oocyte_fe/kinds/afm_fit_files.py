@@ -389,7 +389,11 @@ def run(ctx: CaseContext) -> CaseOutcome:
         fit_options["fit_range"] = FitRange(inp.max_indentation_um, inp.max_force_fraction)
         fit_options["contact_method"] = inp.contact_method
     result = fit_batch(
-        files, read_options=read_options(inp, case_dir), workers=WORKERS, **fit_options
+        files,
+        read_options=read_options(inp, case_dir),
+        workers=WORKERS,
+        progress=lambda done, total: ctx.progress(done, total, "curves fitted"),
+        **fit_options,
     )
     _regroup(result, case_dir, inp.groups)
     fitted = [r for r in result.rows if r.fit is not None and not r.error]
