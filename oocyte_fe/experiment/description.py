@@ -298,6 +298,19 @@ class Record(CaseInputs):
     sections_at_s: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
         default_factory=list, description="times of the section figures"
     )
+    section_window_um: list[float] | None = Field(
+        None,
+        min_length=4,
+        max_length=4,
+        description="[x_min, x_max, y_min, y_max] of the section figures (default: the cell)",
+    )
+
+    @model_validator(mode="after")
+    def _window(self) -> Record:
+        w = self.section_window_um
+        if w is not None and not (w[0] < w[1] and w[2] < w[3]):
+            raise ValueError("section_window_um: [x_min, x_max, y_min, y_max] with min < max")
+        return self
 
 
 class Experiment(CaseInputs):

@@ -18,7 +18,10 @@ import numpy as np
 from oocyte_fe.experiment import analysis as an
 from oocyte_fe.experiment.description import Cone, Plate, Sphere
 from oocyte_fe.experiment.driver import ExperimentResult
+from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.obstacles import Circle
 from oocyte_fe.io import write_history_csv
+from oocyte_fe.plotting import plot_section
 from oocyte_fe.verification import (
     THERET_PHI,
     hertz_force_nN,
@@ -151,3 +154,40 @@ def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
     lines += ["", "| metric | value |", "|---|---|"]
     lines += [f"| {k} | {v:.5g} |" for k, v in metrics.items()]
     return "\n".join(lines)
+
+
+def _obstacle_points(contact: Contact, t: float) -> np.ndarray:
+    """The tool's section curve (k, 2) um at time ``t`` (a circle sampled at 90 points)."""
+    shape = contact.obstacle
+    if isinstance(shape, Circle):
+        a = np.linspace(0.0, 2.0 * np.pi, 91)
+        pts = np.column_stack(
+            [shape.center[0] + shape.radius * np.cos(a), shape.center[1] + shape.radius * np.sin(a)]
+        )
+    else:
+        pts = np.asarray(shape.points, dtype=float)
+    return pts + np.asarray(contact.motion(t), dtype=float)
+
+
+def section_figures(result: ExperimentResult, output: Output) -> list[tuple[str, str]]:
+    """A section (displacement magnitude, tools drawn) at each of ``record.sections_at_s``:
+    the output frame nearest each time."""
+    problem = result.problem
+    axisym = problem.body.axisym > 0
+    times = np.array([f.t for f in result.frames])
+    window = result.experiment.record.section_window_um
+    figures = []
+    for want in result.experiment.record.sections_at_s:
+        frame = result.frames[int(np.argmin(np.abs(times - want)))]
+        name = f"section_t{frame.t:.4g}s.png"
+        plot_section(
+            output(name),
+            problem.body.mesh,
+            problem.body.vertex_displacement(frame.x),
+            mirror=axisym,
+            obstacles=[_obstacle_points(c, frame.t) for c, _ in problem.contacts],
+            title=f"t = {frame.t:.4g} s: displacement magnitude (um)",
+            window=tuple(window) if window else None,
+        )
+        figures.append((name, f"Section at t = {frame.t:.4g} s (asked: {want:g} s), |u| (um)"))
+    return figures

@@ -45,6 +45,11 @@ TEMPLATES: dict[str, dict[str, Any]] = {
             }
         },
         "time": {"duration_s": 2.0, "frames": 10},
+        "record": {
+            "fields": True,
+            "sections_at_s": [2.0],
+            "section_window_um": [-40.0, 40.0, 30.0, 90.0],
+        },
     },
     "plates": {
         "description": "The layered oocyte compressed between two plates to 30 % of its diameter",

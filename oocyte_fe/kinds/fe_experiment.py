@@ -64,6 +64,7 @@ def run_fe_experiment(ctx: CaseContext) -> CaseOutcome:
         figures.append(Figure(*rp.aspiration_figure(result, ctx.output)))
     if result.tracks_um:
         figures.append(Figure(*rp.tracks_figure(result, ctx.output)))
+    figures += [Figure(*f) for f in rp.section_figures(result, ctx.output)]
     if exp.record.fields:
         _fields(ctx, result)
     return CaseOutcome(
