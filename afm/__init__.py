@@ -4,7 +4,7 @@ creep to a Prony series, and the material file the FE models read.
 Internal units: um, nN, kPa, s. ``afm`` never imports ``oocyte_fe``.
 """
 
-from afm.creep import CreepData, CreepFit, fit_creep, material_from_creep_csv
+from afm.creep import CreepData, CreepFit, fit_creep, fit_creep_tip, material_from_creep_csv
 from afm.curve import ForceCurve
 from afm.fit import FitRange, IndentationFit, fit_indentation
 from afm.material_file import MaterialFile, read_material, write_material
@@ -33,6 +33,7 @@ __all__ = [
     "RelaxationProny",
     "creep_from_relaxation",
     "fit_creep",
+    "fit_creep_tip",
     "fit_indentation",
     "fit_pierce",
     "get_model",

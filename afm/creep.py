@@ -10,6 +10,15 @@ opening angle [deg], nu Poisson ratio. For an elastic solid J = 1/G, E = 2 (1 + 
 Sneddon's cone. Assumptions: the load is a step (a ramp much shorter than the shortest time
 scale fitted), the contact area never shrinks, nu does not change with time.
 
+Any axisymmetric tip of :mod:`afm.models` (elastic law F = E shape(delta)) follows the same
+way: under a force step the contact radius grows monotonically and Lee and Radok's
+correspondence gives::
+
+    shape(delta(t)) = F0 J(t) / (2 (1 + nu))        i.e.  J(t) = 2 (1 + nu) shape(delta(t)) / F0
+
+(the cone's line above; for a paraboloid of radius R, delta^(3/2) = 3 (1 - nu) F0 J / (8 sqrt R)).
+:func:`fit_creep_tip` takes the tip by model key and geometry, :func:`fit_creep` the cone.
+
 J(t) is fitted by a creep Prony series with non-negative terms (:func:`fit_creep_prony`):
 non-negative least squares (:func:`scipy.optimize.nnls`) over a fixed grid of retardation
 times, ``per_decade`` per decade between the sampling step and the record length; adjacent
@@ -23,6 +32,7 @@ Reference: E. H. Lee and J. R. M. Radok, J. Appl. Mech. 27 (1960) 438-444.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,7 +42,7 @@ from scipy.optimize import least_squares, nnls
 from afm.creep_data import CreepData
 from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
-from afm.models import POISSON_RATIO
+from afm.models import POISSON_RATIO, get_model
 from afm.models.sneddon_cone import HALF_ANGLE
 from afm.prony_series import CreepProny, RelaxationProny, relaxation_from_creep
 from oocyte_fe.checks import float_array, integer, positive
@@ -76,16 +86,39 @@ def indentation_from_compliance(
     return _finite(delta, "indentation_um")
 
 
+def tip_compliance(
+    indentation_um: np.ndarray,
+    force_nN: float,
+    model: str,
+    geometry: Mapping[str, float],
+    nu: float = 0.5,
+    where: str = "<input>",
+) -> np.ndarray:
+    """J(t) = 2 (1 + nu) shape(delta(t)) / F0, 1/kPa (Lee-Radok, any tip of :mod:`afm.models`)."""
+    tip = get_model(model, where)
+    geometry = tip.check_geometry(geometry, where)
+    nu = POISSON_RATIO.check(nu, where)
+    delta = float_array(where, "indentation_um", indentation_um)
+    force = positive(where, "force_nN", force_nN, expected="a positive clamped force in nN")
+    with np.errstate(all="ignore"):
+        compliance = 2.0 * (1.0 + nu) * tip.shape(np.clip(delta, 0.0, None), geometry, nu) / force
+    return _finite(compliance, "compliance_per_kPa")
+
+
 @dataclass(frozen=True)
 class CreepFit:
-    """Creep fit: the data's J(t), the fitted creep series and its exact relaxation series."""
+    """Creep fit: the data's J(t), the fitted creep series and its exact relaxation series.
+
+    ``model`` and ``geometry`` are the tip the compliance was computed for.
+    """
 
     time_s: np.ndarray
     compliance_per_kPa: np.ndarray
     creep: CreepProny
     relaxation: RelaxationProny
     nu: float
-    half_angle_deg: float
+    model: str
+    geometry: Mapping[str, float]
     clamp_force_nN: float
     relative_rms: float
     undetermined: tuple[str, ...] = ()
@@ -109,10 +142,14 @@ class CreepFit:
         return 2.0 * (1.0 + self.nu) * self.relaxation.G_inf_kPa
 
     def material(self, name: str, source: str) -> MaterialFile:
-        """The material-file record (instantaneous E, nu, normalised Prony terms)."""
+        """The material-file record (instantaneous E, nu, normalised Prony terms).
+
+        The fit's rating is appended to ``source``, so a series with terms the record does
+        not determine carries that flag into the TOML, ANSYS and FEBio files.
+        """
         return MaterialFile(
             name=name,
-            source=source,
+            source=f"{source}; creep fit {self.quality}",
             E_kPa=self.E0_kPa,
             nu=self.nu,
             g=self.relaxation.g,
@@ -263,23 +300,38 @@ def undetermined_terms(creep: CreepProny, time_s: np.ndarray) -> tuple[str, ...]
 def fit_creep(
     data: CreepData, half_angle_deg: float = 10.0, nu: float = 0.5, per_decade: int = 4
 ) -> CreepFit:
-    """Lee-Radok compliance of a force-clamp hold, its creep Prony fit and relaxation series.
+    """:func:`fit_creep_tip` for a cone of half angle ``half_angle_deg`` (deg)."""
+    where = data.source if isinstance(data, CreepData) else "<input>"
+    half_angle_deg = HALF_ANGLE.check(half_angle_deg, where)
+    return fit_creep_tip(data, "sneddon_cone", {"half_angle_deg": half_angle_deg}, nu, per_decade)
+
+
+def fit_creep_tip(
+    data: CreepData,
+    model: str = "sneddon_cone",
+    geometry: Mapping[str, float] | None = None,
+    nu: float = 0.5,
+    per_decade: int = 4,
+) -> CreepFit:
+    """Lee-Radok compliance of a force-clamp hold for the tip ``model`` (with ``geometry``;
+    left-out parameters take the model's default), its creep Prony fit and relaxation series.
 
     Refused (:class:`InputError`): an indentation shrinking during the hold
-    (:func:`check_creeping`), a fit with relative RMS above ``MAX_RELATIVE_RMS``, a half angle
-    outside (0, 90) deg, nu outside (-1, 0.5], ``per_decade`` not an integer in [1, 50].
-    Terms the record cannot determine are listed in ``CreepFit.undetermined`` and make the
-    ``quality`` poor.
+    (:func:`check_creeping`), a fit with relative RMS above ``MAX_RELATIVE_RMS``, a geometry
+    outside the model's bounds, nu outside (-1, 0.5], ``per_decade`` not an integer in
+    [1, 50]. Terms the record cannot determine are listed in ``CreepFit.undetermined`` and
+    make the ``quality`` poor.
     """
     if not isinstance(data, CreepData):
         raise InputError("<input>", "data", "a CreepData record", type(data).__name__)
     src = data.source
-    half_angle_deg = HALF_ANGLE.check(half_angle_deg, src)
+    tip = get_model(model, src)
+    geometry = tip.check_geometry(geometry or {}, src)
     nu = POISSON_RATIO.check(nu, src)
     per_decade = integer(src, "per_decade", per_decade, 1, 50)
     check_creeping(data)
     force = data.clamp_force_nN
-    compliance = compliance_from_indentation(data.indentation_um, force, half_angle_deg, nu)
+    compliance = tip_compliance(data.indentation_um, force, model, geometry, nu, src)
     j_min, j_max = float(np.min(compliance)), float(np.max(compliance))
     if not (j_min > 1e-100 and j_max < 1e100):
         raise InputError(
@@ -299,7 +351,8 @@ def fit_creep(
         creep=creep,
         relaxation=relaxation_from_creep(creep),
         nu=nu,
-        half_angle_deg=half_angle_deg,
+        model=tip.key,
+        geometry=geometry,
         clamp_force_nN=force,
         relative_rms=rms,
         undetermined=undetermined_terms(creep, data.time_s),

@@ -25,6 +25,7 @@ any ``.csv`` as AFM-Workshop's).
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -32,8 +33,9 @@ import numpy as np
 from afm.creep_data import CreepData
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
 from afm.instrument_io import (
+    hdf5_map_keys,
+    iter_instrument_curves,
     read_instrument_creep,
-    read_instrument_curves,
     read_instrument_file,
     recognises,
 )
@@ -151,6 +153,37 @@ def is_instrument_file(path: str | Path) -> bool:
     return not _is_own_table(path) and recognises(path)
 
 
+def iter_curves(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+    selection: range | None = None,
+) -> Iterator[ForceCurve]:
+    """Every approach curve of a file, one at a time (:func:`read_curves`); an afmformats
+    HDF5 force map is read as the curves are taken. ``selection``: only the curves at these
+    positions in file order (an HDF5 map reads no other; :func:`count_curves`)."""
+    if is_instrument_file(path):
+        yield from iter_instrument_curves(
+            path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel, selection
+        )
+    elif selection is None or 0 in selection:
+        yield read_curve(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel)
+
+
+def count_curves(
+    path: str | Path,
+    spring_constant_N_per_m: float | None = None,
+    sensitivity_nm_per_V: float | None = None,
+    height_channel: str = "auto",
+) -> int | None:
+    """How many curves :func:`iter_curves` gives for these arguments, where that is known
+    without reading them (an afmformats HDF5 map); else None. Lets
+    :func:`afm.batch.fit_batch` hand parts of one large map to several processes."""
+    keys = hdf5_map_keys(path, spring_constant_N_per_m, sensitivity_nm_per_V)
+    return None if keys is None else len(keys)
+
+
 def read_curves(
     path: str | Path,
     spring_constant_N_per_m: float | None = None,
@@ -162,11 +195,7 @@ def read_curves(
     Arguments override the file's metadata; ``height_channel`` applies to instrument files
     (:mod:`afm.instrument_io`).
     """
-    if is_instrument_file(path):
-        return read_instrument_curves(
-            path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel
-        )
-    return [read_curve(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel)]
+    return list(iter_curves(path, spring_constant_N_per_m, sensitivity_nm_per_V, height_channel))
 
 
 def read_curve(

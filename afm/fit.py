@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -44,6 +45,19 @@ from oocyte_fe.errors import InputError
 
 MIN_CONTACT_POINTS = 5
 GOOD_R_SQUARED = 0.95
+MAX_MODULUS_SPREAD = 0.3
+"""Largest change of E(delta) with depth rated good: max / min - 1 of its medians over
+``MODULUS_BINS`` depth bins (:attr:`IndentationFit.modulus_profile`)."""
+MODULUS_BINS = 6
+MAX_SYSTEMATIC_RESIDUAL = 0.1
+"""Largest mean residual over any of ``RESIDUAL_BINS`` depth bins of the contact points rated
+good, as a fraction of the largest fitted force (the model missing the curve's shape)."""
+RESIDUAL_BINS = 8
+MAX_SNAP_IN = 0.1
+"""Largest dip below zero force just before contact rated good, as a fraction of the largest
+fitted force (an attractive snap-in the contact models do not hold)."""
+SNAP_IN_NOISE_SDS = 5.0
+"""A dip counts as snap-in only when it is also deeper than this many baseline noise SDs."""
 MAX_BASELINE_PASSES = 4
 """Fits at most: the first, then refits while the baseline reaches past the contact found."""
 BASELINE_MARGIN = 0.1
@@ -73,7 +87,11 @@ class FitRange:
 
 @dataclass(frozen=True)
 class IndentationFit:
-    """Result of :func:`fit_indentation` (arrays cover the fit window)."""
+    """Result of :func:`fit_indentation` (arrays cover the fit window).
+
+    The rating and the figures it uses are computed once, on first use (and travel with
+    the fit when it is pickled).
+    """
 
     model: str
     E_kPa: float
@@ -106,18 +124,128 @@ class IndentationFit:
         model = get_model(self.model)
         return self.offset_nN + model.force(self.indentation_um, self.E_kPa, self.geometry, self.nu)
 
-    @property
-    def quality(self) -> str:
-        """``good``, or ``poor: <reason>`` (fit failed, R^2 < 0.95, too few contact points)."""
+    @cached_property
+    def peak_force_nN(self) -> float:
+        """Largest fitted force over the window, baseline offset removed, nN."""
+        return float(np.max(self.fitted_force_nN - self.offset_nN))
+
+    @cached_property
+    def max_indentation_um(self) -> float:
+        """Largest indentation delta of the fit window, um (0 without contact)."""
+        return max(float(self.indentation_um.max()), 0.0)
+
+    @cached_property
+    def modulus_profile(self) -> tuple[np.ndarray, np.ndarray]:
+        """E(delta) by depth: (bin centres [um], medians of E(delta) [kPa]) over
+        ``MODULUS_BINS`` equal bins from 10 % to 100 % of the largest indentation (NaN for a
+        bin of fewer than 3 points). Flat where the model holds."""
+        depth = self.max_indentation_um
+        delta, modulus = self.pointwise_modulus(0.1 * depth)
+        edges = np.linspace(0.1 * depth, depth, MODULUS_BINS + 1)
+        which = np.clip(np.searchsorted(edges, delta, side="left") - 1, 0, MODULUS_BINS - 1)
+        medians = np.array(
+            [
+                float(np.median(modulus[which == b]))
+                if np.count_nonzero(which == b) >= 3
+                else math.nan
+                for b in range(MODULUS_BINS)
+            ]
+        )
+        return 0.5 * (edges[1:] + edges[:-1]), medians
+
+    @cached_property
+    def modulus_spread(self) -> float:
+        """max / min - 1 of :attr:`modulus_profile` (how much E(delta) changes with depth);
+        NaN unless every bin has a positive median."""
+        medians = self.modulus_profile[1]
+        if not np.all(medians > 0):
+            return math.nan
+        return float(medians.max() / medians.min() - 1.0)
+
+    @cached_property
+    def systematic_residual(self) -> float:
+        """max_b |mean(F - F_fit) over bin b| / max(F_fit): the contact points cut by depth
+        into ``RESIDUAL_BINS`` bins of equal count (noise averages out, a wrong shape does
+        not); NaN with fewer points than bins."""
+        delta = self.indentation_um
+        contact = delta > 0
+        peak = self.peak_force_nN
+        if np.count_nonzero(contact) < RESIDUAL_BINS or not peak > 0:
+            return math.nan
+        residual = (self.force_nN - self.fitted_force_nN)[contact][np.argsort(delta[contact])]
+        means = [float(b.mean()) for b in np.array_split(residual, RESIDUAL_BINS)]
+        return max(abs(m) for m in means) / peak
+
+    @cached_property
+    def snap_in_nN(self) -> float:
+        """Lowest force (baseline removed) over the approach within 10 % of the largest
+        indentation before contact, nN (0 when it stays above zero)."""
+        delta = self.indentation_um
+        before = (delta <= 0) & (delta > -0.1 * self.max_indentation_um)
+        if not before.any():
+            return 0.0
+        return min(float(np.min(self.force_nN[before] - self.offset_nN)), 0.0)
+
+    @cached_property
+    def poor_reasons(self) -> tuple[str, ...]:
+        """Why the fit is rated poor, one phrase per criterion failed (empty: good).
+
+        Criteria: the fit converged and no parameter ended on a bound; at least 20 points in
+        contact; R^2 >= ``GOOD_R_SQUARED``; no systematic residual above
+        ``MAX_SYSTEMATIC_RESIDUAL``; no snap-in deeper than ``MAX_SNAP_IN`` of the largest
+        force (and ``SNAP_IN_NOISE_SDS`` noise SDs); E(delta) changing with depth by at most
+        ``MAX_MODULUS_SPREAD``.
+        """
+        reasons = []
         if not self.success:
-            return f"poor: {self.message}"
+            reasons.append(self.message)
         if self.at_bound:
-            return f"poor: {', '.join(self.at_bound)} at a bound of the fit"
+            reasons.append(f"{', '.join(self.at_bound)} at a bound of the fit")
         if self.n_contact_points < 4 * MIN_CONTACT_POINTS:
-            return f"poor: only {self.n_contact_points} points in contact"
+            reasons.append(f"only {self.n_contact_points} points in contact")
         if not self.r_squared >= GOOD_R_SQUARED:
-            return f"poor: R^2 = {self.r_squared:.3f} < {GOOD_R_SQUARED}"
-        return "good"
+            reasons.append(f"R^2 = {self.r_squared:.3f} < {GOOD_R_SQUARED}")
+        systematic = self.systematic_residual
+        if systematic > MAX_SYSTEMATIC_RESIDUAL:
+            reasons.append(
+                f"systematic residual {100 * systematic:.0f} % of the peak force "
+                f"(> {100 * MAX_SYSTEMATIC_RESIDUAL:g} %: the model misses the curve's shape)"
+            )
+        peak = self.peak_force_nN
+        snap = self.snap_in_nN
+        noise = SNAP_IN_NOISE_SDS * self.baseline.noise_nN
+        if peak > 0 and -snap > MAX_SNAP_IN * peak and -snap > noise:
+            reasons.append(f"snap-in of {snap:.3g} nN at contact ({100 * snap / peak:.0f} %)")
+        spread = self.modulus_spread
+        if spread > MAX_MODULUS_SPREAD:
+            centres, medians = self.modulus_profile
+            low, high = int(np.argmin(medians)), int(np.argmax(medians))
+            reasons.append(
+                f"E(delta) changes with depth: {medians[low]:.4g} kPa at {centres[low]:.3g} um, "
+                f"{medians[high]:.4g} kPa at {centres[high]:.3g} um (+{100 * spread:.0f} %)"
+            )
+        return tuple(reasons)
+
+    @cached_property
+    def quality(self) -> str:
+        """``good``, or ``poor: <reasons>`` (:attr:`poor_reasons`)."""
+        reasons = self.poor_reasons
+        return "poor: " + "; ".join(reasons) if reasons else "good"
+
+    @cached_property
+    def rating(self) -> str:
+        """Every figure the rating used: R^2, points in contact, systematic residual, snap-in
+        and E(delta) spread, with the reasons of a poor rating first."""
+        spread = self.modulus_spread
+        trend = f"{100 * spread:.0f} %" if math.isfinite(spread) else "n/a"
+        peak = self.peak_force_nN
+        snap = round(100 * self.snap_in_nN / peak, 1) + 0.0 if peak > 0 else math.nan  # no -0.0
+        figures = (
+            f"R^2 {self.r_squared:.3f}, {self.n_contact_points} points in contact, "
+            f"systematic residual {100 * self.systematic_residual:.1f} %, "
+            f"snap-in {snap:.1f} %, E(delta) spread {trend}"
+        )
+        return f"{self.quality} ({figures})"
 
     def pointwise_modulus(self, min_indentation_um: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """E(delta) = (F - offset) / shape(delta) at each contact point: (delta [um], E [kPa]).

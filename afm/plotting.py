@@ -1,7 +1,9 @@
-"""Figures of fits (off-screen, matplotlib Agg): curve with fit, E(delta), histogram, J(t), G(t)."""
+"""Figures of fits (off-screen, matplotlib Agg): curve with fit, E(delta), moduli per group
+(strip plot, histogram), modulus maps, J(t) and G(t)."""
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -13,6 +15,7 @@ import numpy as np
 
 from afm.batch import BatchResult
 from afm.creep import CreepFit
+from afm.curve_plots import x_label
 from afm.fit import IndentationFit
 
 
@@ -46,7 +49,7 @@ def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title
         delta, modulus = fit.pointwise_modulus(0.1 * float(fit.indentation_um.max()))
         ax_e.plot(delta, modulus, ".", ms=2, c=data_c, label=f"{label} E(delta)")
         ax_e.axhline(fit.E_kPa, ls="--", lw=1, c=fit_c, label=f"{label} fitted E")
-    ax_f.set(xlabel="tip position x = piezo - F/k [um]", ylabel="force [nN]", title=title)
+    ax_f.set(xlabel=x_label(fits[0][1].height_channel), ylabel="force [nN]", title=title)
     ax_f.legend(fontsize=7)
     ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) = F / shape(delta) [kPa]")
     ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
@@ -74,31 +77,143 @@ def plot_batch(result: BatchResult, folder: str | Path) -> list[Path]:
     return paths
 
 
-def plot_modulus_map(result: BatchResult, file: str | Path, path: str | Path) -> Path:
-    """Young's modulus at each map position of one force-map file (log colour scale, kPa).
+def grid_coordinates(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(grid lines, index of each value): positions of a map cluster where the gaps between
+    sorted values exceed a quarter of the largest gap (the spacing; smaller gaps are the
+    stage's jitter around a grid line); each grid line is its cluster's mean."""
+    order = np.argsort(values, kind="stable")
+    gaps = np.diff(values[order])
+    step = gaps > 0.25 * gaps.max() if gaps.size and gaps.max() > 0 else np.zeros(gaps.size, bool)
+    cluster = np.concatenate(([0], np.cumsum(step)))
+    index = np.empty(values.size, dtype=int)
+    index[order] = cluster
+    lines = np.array([values[index == c].mean() for c in range(int(cluster[-1]) + 1)])
+    return lines, index
 
-    Curves without a fit are drawn as grey crosses; positions are the instrument's (um).
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Pixel edges around sorted grid coordinates (half the spacing beyond the ends)."""
+    if centres.size == 1:
+        return centres[0] + np.array([-0.5, 0.5])
+    mid = 0.5 * (centres[1:] + centres[:-1])
+    return np.concatenate(([2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]))
+
+
+def _plain_log_ticks(axis: matplotlib.axis.Axis, low: float, high: float) -> None:
+    """Log-axis ticks labelled as plain numbers (0.5, 2, 100): at every integer multiple of
+    the power of ten within one decade, at 1, 2, 5 per decade over at most 3 decades, at the
+    powers of ten beyond."""
+    if high <= 10.0 * low:
+        subs: tuple[float, ...] = tuple(float(m) for m in range(1, 10))
+    else:
+        subs = (1.0, 2.0, 5.0) if high <= 1e3 * low else (1.0,)
+    axis.set_major_locator(matplotlib.ticker.LogLocator(subs=subs))
+    axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
+def _log_colorbar(fig: plt.Figure, mappable, ax: plt.Axes, label: str) -> None:
+    """A colour bar with plain-number ticks (:func:`_plain_log_ticks`)."""
+    bar = fig.colorbar(mappable, ax=ax, label=label)
+    _plain_log_ticks(bar.ax.yaxis, mappable.norm.vmin, mappable.norm.vmax)
+
+
+def modulus_map_figure(result: BatchResult, file: str | Path) -> plt.Figure:
+    """Young's modulus of one force-map file on the map's own grid (log colour scale, kPa).
+
+    Each curve fills its grid pixel (:func:`grid_coordinates`; pixel edges halfway between
+    the grid lines, um);
+    curves rated poor carry a black ring, refused curves are grey pixels.
     """
     rows = result.map_rows(file)
     if not rows:
         raise ValueError(f"{file}: no force-map curves in this batch")
     xy = np.array([r.map_position_um for r in rows])
-    fitted = np.array([r.fit is not None for r in rows])
-    fig, ax = plt.subplots(figsize=(5.5, 4.5))
-    if fitted.any():
-        moduli = np.array([r.fit.E_kPa for r in rows if r.fit is not None])
-        positive = moduli[moduli > 0]
-        norm = matplotlib.colors.LogNorm(positive.min(), positive.max()) if positive.size else None
-        points = ax.scatter(
-            xy[fitted, 0], xy[fitted, 1], c=moduli, s=120, marker="s", cmap="viridis", norm=norm
+    xs, ix = grid_coordinates(xy[:, 0])
+    ys, iy = grid_coordinates(xy[:, 1])
+    grid = np.full((ys.size, xs.size), np.nan)
+    for r, i, j in zip(rows, ix, iy, strict=True):
+        if r.fit is not None and not r.error and r.fit.E_kPa > 0:
+            grid[j, i] = r.fit.E_kPa
+    fig, ax = plt.subplots(figsize=(6.2, 5.2))
+    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="lightgrey")
+    finite = grid[np.isfinite(grid)]
+    norm = matplotlib.colors.LogNorm(finite.min(), finite.max()) if finite.size else None
+    mesh = ax.pcolormesh(_edges(xs), _edges(ys), np.ma.masked_invalid(grid), cmap=cmap, norm=norm)
+    if finite.size:
+        _log_colorbar(fig, mesh, ax, "E [kPa]")
+    poor = np.array([r.fit is not None and not r.error and not r.good for r in rows])
+    if poor.any():
+        ax.scatter(
+            xy[poor, 0], xy[poor, 1], s=40, facecolors="none", edgecolors="k", label="rated poor"
         )
-        fig.colorbar(points, ax=ax, label="E [kPa]")
-    if (~fitted).any():
-        ax.scatter(xy[~fitted, 0], xy[~fitted, 1], c="grey", marker="x", s=60, label="no fit")
-        ax.legend(fontsize=7)
-    ax.set(xlabel="x [um]", ylabel="y [um]", title=f"{Path(file).name}: modulus map")
-    ax.set_aspect("equal", adjustable="datalim")
-    return _save(fig, path)
+    refused = np.array([r.fit is None or bool(r.error) for r in rows])
+    if refused.any():
+        ax.scatter([], [], marker="s", c="lightgrey", label="refused")
+    if poor.any() or refused.any():
+        ax.legend(fontsize=7, loc="upper right", framealpha=0.8)
+    ax.set(xlabel="x [um]", ylabel="y [um]")
+    ax.set_title(
+        "\n".join(textwrap.wrap(f"{Path(file).name}: modulus map ({len(rows)} curves)", 60)),
+        fontsize=9,
+    )
+    ax.set_aspect("equal")
+    fig.tight_layout()
+    return fig
+
+
+def plot_modulus_map(result: BatchResult, file: str | Path, path: str | Path) -> Path:
+    """:func:`modulus_map_figure` written to ``path``."""
+    return _save(modulus_map_figure(result, file), path)
+
+
+def strip_figure(
+    fits: Mapping[str, Sequence[IndentationFit]], include_poor: bool = False
+) -> plt.Figure:
+    """Moduli per group as a strip plot on a log axis: one column of points per group
+    (jittered sideways), fits rated poor as open circles, and the group's mean +- SD over
+    the fits that enter statistics (good ones; poor too with ``include_poor``) as a bar."""
+    fig, ax = plt.subplots(figsize=(3.2 + 1.2 * len(fits), 4.2))
+    rng = np.random.default_rng(0)
+    for i, group_fits in enumerate(fits.values()):
+        moduli = np.array([f.E_kPa for f in group_fits])
+        good = np.array([f.quality == "good" for f in group_fits])
+        jitter = i + rng.uniform(-0.2, 0.2, moduli.size)
+        ax.scatter(jitter[good], moduli[good], s=12, c=f"C{i}", label=None)
+        ax.scatter(
+            jitter[~good], moduli[~good], s=16, facecolors="none", edgecolors=f"C{i}", label=None
+        )
+        used = moduli[good | include_poor]
+        used = used[used > 0]
+        if used.size:
+            mean = float(used.mean())
+            ax.hlines(mean, i - 0.3, i + 0.3, colors="k", lw=2)
+            if used.size > 1:
+                sd = float(used.std(ddof=1))
+                ax.vlines(i + 0.32, max(mean - sd, used.min() / 2), mean + sd, colors="k", lw=1)
+    ax.scatter([], [], s=12, c="grey", label="rated good")
+    ax.scatter([], [], s=16, facecolors="none", edgecolors="grey", label="rated poor")
+    ax.hlines([], 0, 0, colors="k", lw=2, label="mean (+- SD)")
+    ax.set_yscale("log")
+    positive = [f.E_kPa for v in fits.values() for f in v if f.E_kPa > 0]
+    if positive:
+        _plain_log_ticks(ax.yaxis, min(positive), max(positive))
+    labels = [
+        f"{g}\n({sum(f.quality == 'good' for f in v)} of {len(v)} good)" for g, v in fits.items()
+    ]
+    ax.set_xticks(range(len(fits)), labels)
+    ax.set_xlim(-0.6, len(fits) - 0.4)
+    ax.set(xlabel="group", ylabel="Young's modulus E [kPa]")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))  # beside the points
+    fig.tight_layout()
+    return fig
+
+
+def plot_strip(
+    fits: Mapping[str, Sequence[IndentationFit]], path: str | Path, include_poor: bool = False
+) -> Path:
+    """:func:`strip_figure` written to ``path``."""
+    return _save(strip_figure(fits, include_poor), path)
 
 
 def plot_histogram(

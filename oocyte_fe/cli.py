@@ -194,11 +194,14 @@ def list_kinds(
 def new(
     kind: str = typer.Argument(..., help="The case kind (oocyte-fe kinds lists them)."),
     folder: Path = typer.Argument(..., help="The case folder to write (must not hold a case)."),
+    template: str = typer.Option(
+        None, "--template", help="A ready experiment of the kind (fe_experiment: plates, ...)."
+    ),
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
     """Write a case folder for KIND: case.toml with every input and data-file templates."""
     try:
-        written = new_case(get_kind(kind, "oocyte-fe new"), folder)
+        written = new_case(get_kind(kind, "oocyte-fe new"), folder, template)
     except InputError as exc:
         raise _fail(exc, debug) from None
     for path in written:

@@ -73,7 +73,10 @@ def test_default_analysis_differs_from_nanite_by_its_contact_weighting(name):
     pytest.importorskip("nanite", reason="nanite (the 'bench' extra) is not installed")
     rows = _benchmark().parity_rows(instrument_file(name))
     for r in rows:
-        assert r.default_quality == "good", r
+        # clean curves: no criterion but E(delta)'s change near contact rates them poor (U3's
+        # paraboloid 27 -> 36 kPa, issue 28; spot3's 19 -> 14 kPa within its first 30 nm)
+        assert r.default_quality == "good" or "E(delta) changes" in r.default_quality, r
+        assert ";" not in r.default_quality, r
         assert abs(r.default_unweighted_difference) < 0.01, r
 
 

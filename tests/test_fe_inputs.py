@@ -9,7 +9,7 @@ import pytest
 
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.contact import Contact, ContactLaw
 from oocyte_fe.fe.loads import FollowerPressure, Prescribed
 from oocyte_fe.fe.material import Material, Prony, read_material_file
 from oocyte_fe.fe.obstacles import Circle, flat_plate, necked_pipette_wall
@@ -67,7 +67,7 @@ def test_obstacle_starting_inside_the_body() -> None:
     body = Body(rectangle(1, 1, 2, 2), {"solid": Material(1.0, 0.3)}, "plane_strain")
     sphere = Circle((0.5, 1.1), 0.3, name="sphere")
     with pytest.raises(InputError, match="sphere: obstacle: .*penetration 0.1"):
-        Problem(body, contacts=[Contact("top", sphere, penalty=10.0, name="sphere")])
+        Problem(body, contacts=[Contact("top", sphere, ContactLaw(10.0), name="sphere")])
 
 
 def test_pipette_profile_must_increase() -> None:
@@ -122,7 +122,7 @@ def test_frictionless_plate_contact_force_balances_pressure() -> None:
         body,
         [Prescribed("left", 0)],
         [FollowerPressure("top", lambda t: p * t)],
-        [Contact("bottom", plate, penalty=1e3)],
+        [Contact("bottom", plate, ContactLaw(1e3))],
     )
     frame = prob.solve([1.0]).frames[-1]
     # the follower pressure acts on the deformed (laterally stretched) top: force p * length
@@ -140,7 +140,7 @@ def test_plate_penetration_follows_the_penalty_law(smoothing: float) -> None:
     C1-smoothed law is in its linear branch)."""
     body = Body(rectangle(2.0, 1.0, 4, 2), {"solid": Material(1.0, 0.3)}, "plane_strain")
     p, eps = 1e-2, 1e3
-    contact = Contact("bottom", flat_plate(0.0, -1.0, 3.0), penalty=eps, smoothing_um=smoothing)
+    contact = Contact("bottom", flat_plate(0.0, -1.0, 3.0), ContactLaw(eps, smoothing_um=smoothing))
     prob = Problem(
         body, [Prescribed("left", 0)], [FollowerPressure("top", lambda t: p * t)], [contact]
     )

@@ -25,7 +25,7 @@ def test_short_passage_force_balance_and_volume() -> None:
     prob = res.problem
     # reaction at the rear cap from the FE residual = wall force - suction force (history)
     r, _, _ = prob.assemble(prob.x, prob.t, 1.0)
-    cap = prob.body.boundary_dofs("rear_cap", 1)
+    cap = prob.body.boundary_dofs("hold:rear_cap", 1)
     wall = res.series("wall_force_nN")[-1]
     assert wall > 500.0  # in contact, pushing on the glass
     assert r[cap].sum() == pytest.approx(res.series("push_force_nN")[-1], abs=0.01 * wall)

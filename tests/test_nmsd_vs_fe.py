@@ -15,13 +15,18 @@ import skfem
 
 from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
-from oocyte_fe.crosscheck.fe_press import FeSettings, held_mesh, point_probes
+from oocyte_fe.crosscheck.comparison import zona_ring_ratio
+from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.driver import cell_mesh
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.body import Body
+from oocyte_fe.fe.fields import point_probes
 from oocyte_fe.fe.material import Material
-from oocyte_fe.kinds.fe_nmsd_crosscheck import CrosscheckInputs, _nmsd_setup, _zona_ratio
+from oocyte_fe.kinds.crosscheck_inputs import CrosscheckInputs
+from oocyte_fe.kinds.fe_nmsd_crosscheck import nmsd_setup
 from oocyte_fe.runner.registry import CaseContext
 from oocyte_fe.runner.run import plan, run_cases
 
@@ -69,14 +74,16 @@ def test_bad_creep_record_is_an_input_error(tmp_path: Path) -> None:
 
 def test_held_patch_and_probes_reproduce_a_quadratic_field_exactly() -> None:
     scenario = PressScenario()
-    mesh = held_mesh(scenario, FeSettings(size_um=14.0, refine_size_um=7.0))
-    held = mesh.boundaries["held"]
+    layers = {"zona": Material(7.0, 0.5), "cytoplasm": Material(1.55, 0.5)}
+    pts = interior_grid(scenario.radius_um, 15.0, 8.0)
+    materials = LayerMaterials(layers["zona"], layers["cytoplasm"])
+    settings = FeSettings(size_um=14.0, refine_size_um=7.0)
+    mesh = cell_mesh(press_experiment(scenario, materials, settings, 10.0, pts))
+    held = mesh.boundaries["hold:held"]
     mid = mesh.p[:, mesh.facets[:, held]].mean(axis=1)
     assert np.all(mid[0] < 0) and np.all(np.abs(mid[1]) <= 25.0)
     assert np.hypot(*mid).min() == pytest.approx(scenario.radius_um, rel=5e-3)  # chord midpoints
-    layers = {"zona": Material(7.0, 0.5), "cytoplasm": Material(1.55, 0.5)}
     body = Body(mesh, layers, "plane_strain")
-    pts = interior_grid(scenario.radius_um, 15.0, 8.0)
     straight = skfem.Basis(skfem.MeshTri(mesh.p, mesh.t), body.uelem)
     u = straight.project(lambda x: np.array([x[0] ** 2 - x[1], 0.5 * x[0] * x[1]]))
     got = (point_probes(body, pts) @ u).reshape(2, -1)
@@ -158,7 +165,7 @@ def test_nmsd_area_stiffness_reaches_the_lattice_and_is_checked(tmp_path: Path) 
     assert CrosscheckInputs(**files).nmsd_area_stiffness == 0.0  # default: the paper's model
     inputs = CrosscheckInputs(**files, nmsd_area_stiffness=3.79, nmsd_n_steps=4)
     ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
-    setup, base = _nmsd_setup(ctx, 1.0)
+    setup, base = nmsd_setup(ctx, 1.0)
     assert base.area_stiffness == 3.79 and setup.lattice.cells is not None
 
 
@@ -169,8 +176,11 @@ def test_nmsd_zona_ring_reaches_the_lattice_at_the_cytoplasm_radius(tmp_path: Pa
     assert CrosscheckInputs(**files).nmsd_zona_stiffness_ratio == 1.0  # the paper's lattice
     inputs = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio=4.52, nmsd_n_steps=4)
     ctx = CaseContext("x", CASE, tmp_path, inputs, True, logging.getLogger("test"))
-    setup, base = _nmsd_setup(
-        ctx, _zona_ratio(inputs, afm_layer_materials(files["creep_data"], 1.55))
+    setup, base = nmsd_setup(
+        ctx,
+        zona_ring_ratio(
+            inputs.nmsd_zona_stiffness_ratio, afm_layer_materials(files["creep_data"], 1.55)
+        ),
     )
     assert base.zona_stiffness_ratio == 4.52
     assert base.zona_inner_radius_um == pytest.approx(83.597 / 2)
@@ -181,7 +191,7 @@ def test_nmsd_zona_ring_reaches_the_lattice_at_the_cytoplasm_radius(tmp_path: Pa
     )
     ctx = CaseContext("x", CASE, tmp_path, wide, True, logging.getLogger("test"))
     with pytest.raises(InputError, match="zona_inner_radius_um"):
-        _nmsd_setup(ctx, 4.52)
+        nmsd_setup(ctx, 4.52)
 
 
 def test_nmsd_zona_ratio_from_the_afm_layers_is_relaxed_or_instantaneous() -> None:
@@ -193,9 +203,15 @@ def test_nmsd_zona_ratio_from_the_afm_layers_is_relaxed_or_instantaneous() -> No
     e0, g_inf = materials.zona.E_kPa, 1.0 - sum(materials.zona.prony.g)
     relaxed = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm_relaxed")
     instant = CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm_instantaneous")
-    assert _zona_ratio(relaxed, materials) == pytest.approx(e0 * g_inf / 1.55, rel=1e-12)
-    assert _zona_ratio(instant, materials) == pytest.approx(e0 / 1.55, rel=1e-12)
+    assert zona_ring_ratio(relaxed.nmsd_zona_stiffness_ratio, materials) == pytest.approx(
+        e0 * g_inf / 1.55, rel=1e-12
+    )
+    assert zona_ring_ratio(instant.nmsd_zona_stiffness_ratio, materials) == pytest.approx(
+        e0 / 1.55, rel=1e-12
+    )
     made_relaxed = made["E0_kPa"] * (1.0 - sum(made["prony_g"])) / 1.55
-    assert _zona_ratio(relaxed, materials) == pytest.approx(made_relaxed, rel=0.02)
+    assert zona_ring_ratio(relaxed.nmsd_zona_stiffness_ratio, materials) == pytest.approx(
+        made_relaxed, rel=0.02
+    )
     with pytest.raises(pydantic.ValidationError, match="nmsd_zona_stiffness_ratio"):
         CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm")

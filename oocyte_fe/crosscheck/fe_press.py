@@ -18,25 +18,22 @@ reference points are interpolated in the P2 field (:meth:`skfem.Basis.probes`).
 from __future__ import annotations
 
 import logging
-import time
 from dataclasses import dataclass
 
 import numpy as np
 import skfem
 
 from oocyte_fe.crosscheck.scenario import PressScenario
-from oocyte_fe.crosscheck.zp_material import LayerMaterials
-from oocyte_fe.errors import InputError
-from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.contact import Contact
+from oocyte_fe.errors import InputError, SolverError
+from oocyte_fe.experiment import Experiment, run_experiment
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.fields import stress_fields
-from oocyte_fe.fe.loads import Prescribed
+from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip
-from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem
-from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
 
 PIPETTE = "pipette"
 HELD = "held"
+"""Tool names of the press experiment (the holder's facets are the boundary ``hold:held``)."""
 
 
 @dataclass(frozen=True)
@@ -113,24 +110,6 @@ class FePress:
         return self.point_displacement_um[k]
 
 
-def held_mesh(scenario: PressScenario, settings: FeSettings) -> skfem.Mesh:
-    """Layered plane-strain disc (P2, curved) with the extra boundary ``held``."""
-    half = settings.refine_half_window_deg
-    geom = LayeredOocyte(
-        cytoplasm_radius_um=0.5 * scenario.cytoplasm_diameter_um,
-        zona_thickness_um=scenario.zona_thickness_um,
-        form="plane_strain",
-        size_um=settings.size_um,
-        refine_polar_deg=(90.0 - half, 90.0 + half),
-        refine_size_um=settings.refine_size_um,
-        refine_depth_um=settings.refine_depth_um,
-        order=2,
-    )
-    mesh = layered_oocyte_mesh(geom)
-    w = scenario.hold_half_width_um
-    return mesh.with_boundaries({HELD: lambda x: (x[0] < 0.0) & (np.abs(x[1]) <= w)})
-
-
 def pipette_at(scenario: PressScenario, advance_um: float, length_um: float = 80.0) -> Polyline:
     """The wedge pipette after ``advance_um`` of travel (mouth at x = R - advance)."""
     return wedge_tip(
@@ -142,20 +121,70 @@ def pipette_at(scenario: PressScenario, advance_um: float, length_um: float = 80
     )
 
 
-def point_probes(body: Body, points_um: np.ndarray):
-    """Matrix (2 p, n_u) giving the displacement components at reference points (p, 2) um.
+def _inline(material: Material) -> dict:
+    """A layer's material as the experiment description's inline table (same floats)."""
+    table: dict = {"E_kPa": material.E_kPa, "nu": material.nu}
+    if material.prony.g:
+        table["prony"] = {"g": list(material.prony.g), "tau_s": list(material.prony.tau_s)}
+    return table
 
-    scikit-fem cannot locate points in a curved ``MeshTri2``, so the points are located and
-    the P2 field evaluated on the straight-sided mesh of the same vertices and elements (the
-    same dof numbering); that differs only in the curved outer elements, by less than the
-    sagitta ``h^2 / (8 R)`` of their outer edge.
-    """
-    mesh = body.mesh
-    straight = skfem.MeshTri(mesh.p, mesh.t)
-    basis = skfem.Basis(straight, body.uelem, intorder=body.intorder)
-    if basis.N != body.n_u:
-        raise InputError(body.source, "mesh", "a mesh whose straight copy has the same dofs")
-    return basis.probes(np.asarray(points_um, dtype=float).T)
+
+def press_experiment(
+    scenario: PressScenario,
+    materials: LayerMaterials,
+    settings: FeSettings,
+    travel_um: float,
+    points_um: np.ndarray,
+) -> Experiment:
+    """The press as an FE experiment: a wedge pipette on the right advancing ``travel_um`` at
+    the scenario speed, a holding pipette on the left (the held rim, both components), one
+    output frame every ``step_um``, the given points followed."""
+    if not travel_um > 0:
+        raise InputError(settings.source, "travel_um", "> 0", travel_um)
+    v = scenario.speed_um_s
+    n_out = max(1, int(np.ceil(travel_um / settings.step_um - 1e-9)))
+    duration = travel_um / v
+    return Experiment.model_validate(
+        {
+            "description": "NMSD press scenario, plane strain",
+            "cell": {
+                "outer_diameter_um": 2.0 * scenario.radius_um,
+                "zona_thickness_um": scenario.zona_thickness_um,
+                "symmetry": "plane_strain",
+                "mesh_size_um": settings.size_um,
+                "refine_size_um": settings.refine_size_um,
+                "refine_depth_um": settings.refine_depth_um,
+                "refine_half_angle_deg": settings.refine_half_window_deg,
+                "materials": {
+                    "zona": _inline(materials.zona),
+                    "cytoplasm": _inline(materials.cytoplasm),
+                },
+                "points": {f"p{i}": [float(x), float(y)] for i, (x, y) in enumerate(points_um)},
+            },
+            "tools": {
+                PIPETTE: {
+                    "type": "wedge_pipette",
+                    "side": "right",
+                    "width_um": scenario.pipette_width_um,
+                    "tip_angle_deg": scenario.tip_angle_deg,
+                    "penalty_factor": settings.penalty_factor,
+                    "smoothing_um": settings.contact_smoothing_um,
+                    "displacement_um": {"time_s": [0.0, duration], "value": [0.0, travel_um]},
+                },
+                HELD: {
+                    "type": "holding_pipette",
+                    "side": "left",
+                    "half_width_um": scenario.hold_half_width_um,
+                },
+            },
+            "time": {
+                "duration_s": duration,
+                "frames": n_out,
+                "max_step_s": settings.max_step_um / v,
+                "rtol": settings.rtol,
+            },
+        }
+    )
 
 
 def run_fe_press(
@@ -166,61 +195,32 @@ def run_fe_press(
     points_um: np.ndarray,
     log: logging.Logger | None = None,
 ) -> FePress:
-    """Press the FE disc ``travel_um`` at the scenario speed; record every ``step_um``."""
-    if not travel_um > 0:
-        raise InputError(settings.source, "travel_um", "> 0", travel_um)
-    tic = time.perf_counter()
-    mesh = held_mesh(scenario, settings)
-    body = Body(
-        mesh, {"zona": materials.zona, "cytoplasm": materials.cytoplasm}, "plane_strain", order=2
-    )
-    v = scenario.speed_um_s
-    e_max = max(materials.zona.E_kPa, materials.cytoplasm.E_kPa)
-    penalty = settings.penalty_factor * e_max / settings.refine_size_um
-    pipette = pipette_at(scenario, 0.0)
-    contact = Contact(
-        "outer_surface",
-        pipette,
-        penalty,
-        motion=lambda t: (-v * t, 0.0),
-        name=PIPETTE,
-        smoothing_um=settings.contact_smoothing_um,
-    )
-    problem = Problem(body, [Prescribed(HELD, 0), Prescribed(HELD, 1)], contacts=[contact], log=log)
-    n_out = max(1, int(np.ceil(travel_um / settings.step_um - 1e-9)))
-    advances = np.linspace(0.0, travel_um, n_out + 1)
-    probes = point_probes(body, points_um)
-    frames: list[Frame] = []
-    solved = problem.solve(
-        advances[1:] / v,
-        NewtonSettings(max_iterations=25, rtol=settings.rtol, max_cutbacks=8),
-        on_frame=frames.append,
-        max_dt=settings.max_step_um / v,
-    )
-    n_p = len(points_um)
-    u_pts = [np.zeros((n_p, 2))]
-    u_vert = [np.zeros((2, mesh.nvertices))]
-    p_vert = [np.zeros(mesh.nvertices)]
-    force, pen = [0.0], [0.0]
-    for f in frames:
-        u = body.displacement(f.x)
-        u_pts.append((probes @ u).reshape(2, n_p).T)
-        u_vert.append(body.vertex_displacement(f.x))
-        p_vert.append(-stress_fields(problem, f.x)["mean_stress"])
-        force.append(float(f.obstacle_forces[PIPETTE][0]))
-        pen.append(float(f.contact_pressure[PIPETTE].max()) / penalty)
+    """Press the FE disc ``travel_um`` at the scenario speed through the one experiment
+    driver (:func:`~oocyte_fe.experiment.run_experiment`); record every ``step_um``."""
+    exp = press_experiment(scenario, materials, settings, travel_um, points_um)
+    result = run_experiment(exp, log=log)
+    if not result.success:
+        raise SolverError(result.reason, result)
+    problem = result.problem
+    contact = problem.contacts[0][0]
+    frames = result.frames
     return FePress(
-        mesh=mesh,
-        pipette=pipette,
-        advance_um=advances,
-        force_nN_per_um=np.array(force),
+        mesh=problem.body.mesh,
+        pipette=contact.obstacle,
+        advance_um=np.linspace(0.0, travel_um, exp.time.frames + 1),
+        force_nN_per_um=result.force_nN[PIPETTE][:, 0],
         points_um=np.asarray(points_um, dtype=float),
-        point_displacement_um=np.array(u_pts),
-        vertex_displacement_um=np.array(u_vert),
-        vertex_pressure_kPa=np.array(p_vert),
-        penetration_um=np.array(pen),
-        steps=len(solved.steps),
-        cutbacks=solved.cutbacks,
-        newton_iterations=sum(s.iterations for s in solved.steps),
-        seconds=time.perf_counter() - tic,
+        point_displacement_um=np.stack([result.tracks_um[name] for name in exp.cell.points], 1),
+        vertex_displacement_um=np.array([problem.body.vertex_displacement(f.x) for f in frames]),
+        vertex_pressure_kPa=np.array(  # the rest state, then -tr(sigma)/3 of each frame
+            [np.zeros(problem.body.mesh.nvertices)]
+            + [-stress_fields(problem, f.x)["mean_stress"] for f in frames[1:]]
+        ),
+        penetration_um=np.array(
+            [float(f.contact_pressure[PIPETTE].max()) / contact.law.penalty for f in frames]
+        ),
+        steps=len(result.steps),
+        cutbacks=result.cutbacks,
+        newton_iterations=result.newton_iterations,
+        seconds=result.seconds,
     )

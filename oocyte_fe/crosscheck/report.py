@@ -21,7 +21,8 @@ from oocyte_fe.crosscheck.agreement import DisplacementAgreement
 from oocyte_fe.crosscheck.fe_press import FePress, pipette_at
 from oocyte_fe.crosscheck.plotting import plot_displacement_arrows, plot_force_overlay
 from oocyte_fe.crosscheck.scenario import PressScenario
-from oocyte_fe.crosscheck.zp_material import LayerMaterials
+from oocyte_fe.experiment.layers import LayerMaterials
+from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.registry import Figure
 
@@ -141,7 +142,7 @@ def materials_text(materials: LayerMaterials, creep_file: str, ring_input: float
     )
     return (
         f"ZP: E0 = {z.E_kPa:.4g} kPa, nu = {z.nu:g}, Prony {terms} (from `{creep_file}`"
-        f": {materials.zona_record.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
+        f": {materials.zona.source}). Cytoplasm: E = {materials.cytoplasm.E_kPa:g} kPa, "
         f"nu = {materials.cytoplasm.nu:g}, elastic."
         f" E_zp / E_cyto: {materials.stiffness_ratio(relaxed=False):.4g} instantaneous, "
         f"{materials.stiffness_ratio(relaxed=True):.4g} relaxed (NMSD ring input: "
@@ -180,3 +181,51 @@ def spindle_table(agree: DisplacementAgreement, slow_error: np.ndarray, scale: f
             f"{agree.error_um[k].max():.2f} | {slow_error[k]:.2f} |"
         )
     return "\n".join(rows)
+
+
+def write_press_outputs(
+    output: Callable[[str], Path],
+    fe: FePress,
+    fe_nN: np.ndarray,
+    cal: CalibrationResult,
+    agree: DisplacementAgreement,
+    scenario: PressScenario,
+) -> None:
+    """The FE press's VTU/PVD series (``fields/``), ``force_history.csv`` (uN) and
+    ``spindle_history.csv`` (um) of both models."""
+    with FieldSeriesWriter(output("fields"), fe.mesh, "press") as series:
+        for k, advance in enumerate(fe.advance_um):
+            series.write(
+                advance / scenario.speed_um_s,  # s
+                fe.vertex_displacement_um[k],
+                pressure=fe.vertex_pressure_kPa[k],
+                obstacles={"pipette": np.asarray(pipette_at(scenario, advance).points)},
+            )
+    write_history_csv(
+        output("force_history.csv"),
+        {
+            "advance": fe.advance_um,
+            "force_fe_per_thickness": fe.force_nN_per_um,
+            "force_fe": fe_nN * UN,
+            "force_nmsd": cal.force_nN * UN,
+            "penetration": fe.penetration_um,
+        },
+        {
+            "advance": "um",
+            "force_fe_per_thickness": "nN_per_um",
+            "force_fe": "uN",
+            "force_nmsd": "uN",
+            "penetration": "um",
+        },
+    )
+    columns = {
+        "advance": fe.advance_um[1:],
+        "spindle_fe_ux": agree.spindle_fe_um[:, 0],
+        "spindle_fe_uy": agree.spindle_fe_um[:, 1],
+        "spindle_nmsd_ux": agree.spindle_nmsd_um[:, 0],
+        "spindle_nmsd_uy": agree.spindle_nmsd_um[:, 1],
+        "spindle_error": agree.spindle_error_um,
+        "goal": agree.spindle_tolerance_um,
+        "grid_error_max": agree.error_um.max(axis=1),
+    }
+    write_history_csv(output("spindle_history.csv"), columns, dict.fromkeys(columns, "um"))

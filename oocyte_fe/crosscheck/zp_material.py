@@ -9,35 +9,12 @@ Section 3.1: no prominent creep) with the AFM modulus ``E_cyto`` in kPa.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 from afm.creep import material_from_creep_csv
-from afm.material_file import MaterialFile
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.material import Material, Prony
-
-
-@dataclass(frozen=True)
-class LayerMaterials:
-    """The two FE materials and the ZP record they came from."""
-
-    zona: Material
-    cytoplasm: Material
-    zona_record: MaterialFile
-
-    def stiffness_ratio(self, relaxed: bool) -> float:
-        """``E_zp / E_cyto`` [-]: instantaneous (``E0`` of each layer) or relaxed
-        (``E0 g_inf``, ``g_inf = 1 - sum g_i``, the modulus left after every Prony term has
-        relaxed).
-
-        The relaxed ratio is the one a Kelvin-Voigt lattice link reads: its spring carries the
-        equilibrium stress and its dashpot the rate-dependent excess.
-        """
-        zona, cyto = self.zona, self.cytoplasm
-        if relaxed:
-            return zona.E_kPa * zona.prony.g_inf / (cyto.E_kPa * cyto.prony.g_inf)
-        return zona.E_kPa / cyto.E_kPa
 
 
 def afm_layer_materials(
@@ -54,4 +31,4 @@ def afm_layer_materials(
     prony = Prony(record.g, record.tau_s, source=str(creep_csv))
     zona = Material(record.E_kPa, nu, prony, name="zona", source=record.source)
     cytoplasm = Material(cytoplasm_E_kPa, nu, name="cytoplasm", source="AFM modulus, elastic")
-    return LayerMaterials(zona, cytoplasm, record)
+    return LayerMaterials(zona, cytoplasm)

@@ -48,30 +48,69 @@ def _still(_t: float) -> tuple[float, float]:
 
 
 @dataclass(frozen=True)
-class Contact:
-    """Contact of the boundary ``boundary`` with a rigid ``obstacle`` moving by ``motion(t)``.
+class ContactLaw:
+    """The penalty contact law, chosen in one place: the normal law and the friction law.
 
     ``penalty`` (normal) and ``tangential_penalty`` in kPa/um; ``friction`` the Coulomb
-    coefficient ``mu`` (0.2 in the seed paper's Table 1). ``smoothing_um`` > 0 makes the
-    normal law C1: ``lambda = eps pen^2 / (2 delta)`` for a penetration ``pen < delta``, then
-    ``eps (pen - delta/2)``; a point that touches lightly then no longer switches the tangent
-    on and off between iterations (contact chatter at corners). ``smooth_friction`` uses the
-    tanh-regularised return mapping of the module docstring instead of the exact one.
+    coefficient ``mu`` (0.2 in the seed paper's Table 1). Normal law: ``lambda = eps <-g>``,
+    or with ``smoothing_um = delta > 0`` the C1 law ``lambda = eps pen^2 / (2 delta)`` for a
+    penetration ``pen < delta``, then ``eps (pen - delta/2)`` (a point that touches lightly
+    no longer switches the tangent on and off between iterations: contact chatter at
+    corners). Friction law: the exact Coulomb return mapping, or with ``smooth_friction`` its
+    tanh-regularised counterpart (module docstring).
     """
 
-    boundary: str
-    obstacle: Obstacle
     penalty: float
     friction: float = 0.0
     tangential_penalty: float | None = None
-    motion: Callable[[float], tuple[float, float]] = _still
-    name: str = "contact"
     smoothing_um: float = 0.0
     smooth_friction: bool = False
 
     @property
     def eps_t(self) -> float:
         return self.penalty if self.tangential_penalty is None else self.tangential_penalty
+
+    def normal(self, pen: NDArray) -> tuple[NDArray, NDArray]:
+        """Normal pressure ``lambda`` [kPa] and ``d lambda / d pen`` [kPa/um] at penetrations
+        ``pen`` [um] (negative: open)."""
+        closed = pen > 0.0
+        delta = self.smoothing_um
+        if delta > 0.0:  # C1 law: quadratic over the first delta of penetration, then linear
+            lam = self.penalty * np.where(
+                pen >= delta, pen - delta / 2.0, np.where(closed, pen**2 / (2.0 * delta), 0.0)
+            )
+            return lam, self.penalty * np.clip(pen / delta, 0.0, 1.0)
+        return self.penalty * np.where(closed, pen, 0.0), np.where(closed, self.penalty, 0.0)
+
+    def tangential(
+        self, s_trial: NDArray, lam: NDArray, dlam: NDArray, closed: NDArray
+    ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+        """Shear ``q`` [kPa], ``k_tt = -dq/ds``, ``k_tn = -dq/d pen`` and the slip to store,
+        at trial slips ``s_trial`` [um] under the pressures ``lam``."""
+        limit = self.friction * lam
+        if self.smooth_friction:
+            return _smooth_return(s_trial, limit, self.eps_t, self.friction, dlam)
+        q_trial = -self.eps_t * s_trial
+        stick = closed & (limit > 0.0) & (np.abs(q_trial) <= limit)  # mu = 0: never sticks
+        slip = closed & ~stick
+        sgn = np.sign(s_trial)
+        q = np.where(stick, q_trial, np.where(slip, -limit * sgn, 0.0))
+        s_new = np.where(stick, s_trial, np.where(slip, limit * sgn / self.eps_t, 0.0))
+        k_tt = np.where(stick, self.eps_t, 0.0)
+        k_tn = np.where(slip, -self.friction * dlam * sgn, 0.0)
+        return q, k_tt, k_tn, s_new
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Contact of the boundary ``boundary`` with a rigid ``obstacle`` moving by ``motion(t)``,
+    under the contact ``law``."""
+
+    boundary: str
+    obstacle: Obstacle
+    law: ContactLaw
+    motion: Callable[[float], tuple[float, float]] = _still
+    name: str = "contact"
 
 
 @dataclass
@@ -113,30 +152,9 @@ def evaluate(
     gap, n, kappa = contact.obstacle.distance_curvature(X + u_q - d)
     tau = np.stack([-n[1], n[0]])
     pen = -gap
-    closed = pen > 0.0
-    delta = contact.smoothing_um
-    if delta > 0.0:  # C1 law: quadratic over the first delta of penetration, then linear
-        lam = contact.penalty * np.where(
-            pen >= delta, pen - delta / 2.0, np.where(closed, pen**2 / (2.0 * delta), 0.0)
-        )
-        dlam = contact.penalty * np.clip(pen / delta, 0.0, 1.0)
-    else:
-        lam = contact.penalty * np.where(closed, pen, 0.0)
-        dlam = np.where(closed, contact.penalty, 0.0)
+    lam, dlam = contact.law.normal(pen)
     ds = np.einsum("i...,i...->...", (u_q - state.u) - (d - d_n), tau)
-    s_trial = state.slip + ds
-    limit = contact.friction * lam
-    if contact.smooth_friction:
-        q, k_tt, k_tn, s_new = _smooth_return(s_trial, limit, contact.eps_t, contact.friction, dlam)
-    else:
-        q_trial = -contact.eps_t * s_trial
-        stick = closed & (limit > 0.0) & (np.abs(q_trial) <= limit)  # mu = 0: never sticks
-        slip = closed & ~stick
-        sgn = np.sign(s_trial)
-        q = np.where(stick, q_trial, np.where(slip, -limit * sgn, 0.0))
-        s_new = np.where(stick, s_trial, np.where(slip, limit * sgn / contact.eps_t, 0.0))
-        k_tt = np.where(stick, contact.eps_t, 0.0)
-        k_tn = np.where(slip, -contact.friction * dlam * sgn, 0.0)
+    q, k_tt, k_tn, s_new = contact.law.tangential(state.slip + ds, lam, dlam, pen > 0.0)
     return ContactEval(
         gap=gap,
         normal=n,

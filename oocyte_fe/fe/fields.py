@@ -10,8 +10,11 @@ what a VTU point field and a figure need; they are not used in the solution.
 from __future__ import annotations
 
 import numpy as np
+import skfem
 from numpy.typing import NDArray
 
+from oocyte_fe.errors import InputError
+from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.material import response
 from oocyte_fe.fe.solver import Frame, Problem
 
@@ -65,3 +68,19 @@ def contact_pressure_at_vertices(problem: Problem, frame: Frame) -> NDArray:
             np.add.at(acc, verts[end], p)
             np.add.at(total, verts[end], 1.0)
     return acc / np.where(total > 0, total, 1.0)
+
+
+def point_probes(body: Body, points_um: np.ndarray):
+    """Matrix (2 p, n_u) giving the displacement components at reference points (p, 2) um.
+
+    scikit-fem cannot locate points in a curved ``MeshTri2``, so the points are located and
+    the P2 field evaluated on the straight-sided mesh of the same vertices and elements (the
+    same dof numbering); that differs only in the curved outer elements, by less than the
+    sagitta ``h^2 / (8 R)`` of their outer edge.
+    """
+    mesh = body.mesh
+    straight = skfem.MeshTri(mesh.p, mesh.t)
+    basis = skfem.Basis(straight, body.uelem, intorder=body.intorder)
+    if basis.N != body.n_u:
+        raise InputError(body.source, "mesh", "a mesh whose straight copy has the same dofs")
+    return basis.probes(np.asarray(points_um, dtype=float).T)

@@ -1,10 +1,14 @@
 """Case kind ``afm_fit_files``: the user's own curve files -> fit table -> material files.
 
 The whole user route without Python: a folder (or glob) of curve files inside the case folder,
-the tip model, nu, the fit range and contact method, groups (by subfolder or pattern) and an
-optional creep file per group. Writes ``fits.csv`` (one row per curve, bad curves with their
-error), a plot per curve, a histogram and mean +- SD per group, a modulus map per force-map
-file, and per group ``material_<group>.toml`` with its ANSYS and FEBio blocks.
+the tip model, nu, the cantilever calibration where the files lack it (globally or per file
+pattern), the fit range and contact method, groups (by subfolder or pattern) and an optional
+creep file per group. Writes ``fits.csv`` (one row per curve, with its rating and why, refused
+curves with their error; columns in :data:`afm.batch.COLUMNS`), a plot per curve (refused ones
+showing why), a strip plot and mean +- SD per group over the curves rated good (poor ones
+only with ``include_poor``), a modulus map per force-map file, and per group
+``material_<group>.toml`` with its ANSYS and FEBio blocks. The run ends with "done: N fitted,
+M poor, K refused".
 """
 
 from __future__ import annotations
@@ -14,16 +18,24 @@ import fnmatch
 import math
 import os
 import re
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import Literal
 
-import numpy as np
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from afm import plotting
-from afm.batch import BatchResult, curve_files, fit_batch, write_batch_table
-from afm.creep import fit_creep
+from afm.batch import (
+    COLUMNS,
+    BatchResult,
+    BatchRow,
+    GroupStats,
+    curve_files,
+    fit_batch,
+    write_batch_table,
+)
+from afm.creep import fit_creep_tip
 from afm.curve_io import read_creep
 from afm.curve_plots import plot_curves, plot_name
 from afm.fe_export import ansys_prony_block, febio_material
@@ -31,11 +43,26 @@ from afm.fit import FitRange
 from afm.material_file import MaterialFile, write_material
 from afm.models import MODELS
 from afm.nanite_pipeline import fit_nanite_default
+from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import KNOWN_MODULI
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.runner.schema import CaseInputs
+
+
+class Calibration(CaseInputs):
+    """Cantilever calibration for the files of one pattern (overrides the files' own)."""
+
+    spring_constant_N_per_m: float | None = Field(
+        None, gt=0, description="spring constant", json_schema_extra={"unit": "N/m"}
+    )
+    sensitivity_nm_per_V: float | None = Field(
+        None,
+        gt=0,
+        description="deflection sensitivity (for deflection recorded in volts)",
+        json_schema_extra={"unit": "nm/V"},
+    )
 
 
 class FitFilesInputs(CaseInputs):
@@ -57,6 +84,25 @@ class FitFilesInputs(CaseInputs):
         le=0.5,
         description="Poisson ratio of the sample",
         json_schema_extra={"unit": "1"},
+    )
+    spring_constant_N_per_m: float | None = Field(
+        None,
+        gt=0,
+        description="spring constant for every file (overrides the files' own; needed for "
+        "files without one, e.g. AFM-Workshop CSV, NT-MDT)",
+        json_schema_extra={"unit": "N/m"},
+    )
+    sensitivity_nm_per_V: float | None = Field(
+        None,
+        gt=0,
+        description="deflection sensitivity for every file (overrides the files' own)",
+        json_schema_extra={"unit": "nm/V"},
+    )
+    calibration: dict[str, Calibration] = Field(
+        default_factory=dict,
+        description="glob pattern on the file path relative to the case folder -> "
+        "{ spring_constant_N_per_m, sensitivity_nm_per_V } for those files (first match; "
+        "over the global values)",
     )
     max_indentation_um: float | None = Field(
         None, gt=0, description="fit range: depth past contact", json_schema_extra={"unit": "um"}
@@ -89,21 +135,48 @@ class FitFilesInputs(CaseInputs):
         default_factory=dict,
         description="group name -> force-clamp creep CSV: its material gets E0 and a Prony series",
     )
-    half_angle_deg_creep: float = Field(
-        10.0,
+    half_angle_deg_creep: float | None = Field(
+        None,
         gt=0,
         lt=90,
-        description="cone half angle for the creep fit",
+        description="cone half angle of the creep probe when it differs from the curves' tip "
+        "(default: the creep fit uses the curves' model and geometry)",
         json_schema_extra={"unit": "deg"},
     )
-    known_moduli: DataFile | None = Field(
+    include_poor: bool = Field(
+        False,
+        description="keep fits rated poor in the group means and material files (default: "
+        "left out, counted as n_poor)",
+    )
+    curve_plots: Literal["all", "poor", "none"] = Field(
+        "all",
+        description="per-curve figures: every curve, only the poor and refused ones, or none "
+        "(large force maps)",
+    )
+    known_moduli: str | None = Field(
         None,
-        description="optional CSV (file, E_kPa) of known moduli to check the fits against",
+        description="optional CSV (file, E_kPa) of known moduli to check the fits against, "
+        "relative to the case folder",
         json_schema_extra=KNOWN_MODULI,
     )
     known_tolerance_pct: float = Field(
         5.0, gt=0, description="largest error against known_moduli", json_schema_extra={"unit": "%"}
     )
+
+    @field_validator("known_moduli")
+    @classmethod
+    def _known_moduli_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        """A known-moduli file must exist inside the case folder (checked at ``validate``;
+        a plain string, not a data file, so ``oocyte-fe new`` leaves it out)."""
+        case_dir = (info.context or {}).get("case_dir")
+        if value is None or case_dir is None:
+            return value
+        where = Path(case_dir) / "case.toml"
+        try:
+            regular_file(inside(value, case_dir, where, "inputs.known_moduli"))
+        except InputError as exc:
+            raise ValueError(exc.expected + ("" if exc.got is None else f" ({exc.got})")) from None
+        return value
 
     @field_validator("model")
     @classmethod
@@ -120,8 +193,8 @@ class FitFilesInputs(CaseInputs):
         return self
 
 
-PLOT_WORKERS = min(2, os.cpu_count() or 1)
-"""Processes drawing the per-curve plots (the machine's 2 cores)."""
+WORKERS = min(2, os.cpu_count() or 1)
+"""Processes fitting the curves and drawing the per-curve plots (the machine's 2 cores)."""
 
 METRICS = {
     "n_curves": "curves read (a force map counts each of its curves)",
@@ -185,28 +258,106 @@ def file_stem(group: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]", "_", group) or "_"
 
 
-def _sd(values: np.ndarray) -> float:
-    """Sample SD (ddof = 1); 0 for a single value."""
-    return float(values.std(ddof=1)) if values.size > 1 else 0.0
+def _reason(row: BatchRow) -> str:
+    """A refused row's error without the file name it starts with (the list names it)."""
+    return re.sub(rf"^{re.escape(row.file)}( \(curve \d+\))?: ", "", row.error)
+
+
+def _sd(value: float) -> str:
+    """An SD for a table: ``n/a`` where it is not defined (n = 1)."""
+    return f"{value:.3g}" if math.isfinite(value) else "n/a"
+
+
+def read_options(inp: FitFilesInputs, case_dir: Path) -> Callable[[Path], dict[str, object]]:
+    """Reader keywords of each file: the height channel and the calibration (the first
+    ``calibration`` pattern matching the file's path relative to ``case_dir``, then the
+    global ``spring_constant_N_per_m`` / ``sensitivity_nm_per_V``)."""
+
+    def options(file: Path) -> dict[str, object]:
+        relative = file.relative_to(case_dir).as_posix()
+        match = next((c for p, c in inp.calibration.items() if fnmatch.fnmatch(relative, p)), None)
+        found: dict[str, object] = {}
+        if inp.height_channel is not None:
+            found["height_channel"] = inp.height_channel
+        for key in ("spring_constant_N_per_m", "sensitivity_nm_per_V"):
+            value = getattr(match, key) if match is not None else None
+            value = getattr(inp, key) if value is None else value
+            if value is not None:
+                found[key] = value
+        return found
+
+    return options
+
+
+def creep_tip(inp: FitFilesInputs, where: Path) -> tuple[str, dict[str, float]]:
+    """Tip of the creep fit: the curves' model and geometry, or the cone of
+    ``half_angle_deg_creep`` (only with a cone model: another tip has no half angle)."""
+    if inp.half_angle_deg_creep is None:
+        return inp.model, dict(inp.geometry)
+    if inp.model != "sneddon_cone":
+        raise InputError(
+            where,
+            "inputs.half_angle_deg_creep",
+            f"left out with model = {inp.model!r} (the creep fit uses the curves' tip)",
+            inp.half_angle_deg_creep,
+        )
+    return "sneddon_cone", {"half_angle_deg": inp.half_angle_deg_creep}
 
 
 def _group_material(
-    group: str, values: np.ndarray, inp: FitFilesInputs, ctx: CaseContext
-) -> tuple[MaterialFile, str]:
+    group: str, stats: GroupStats | None, inp: FitFilesInputs, ctx: CaseContext
+) -> tuple[MaterialFile, str, str] | None:
+    """(material, how it was made, E_inf text), or None for a group with no fit to average
+    and no creep record."""
     creep_file = inp.creep.get(group)
     if creep_file is None:
+        if stats is None or stats.n == 0:
+            return None
         source = (
-            f"afm_fit_files case: mean of {values.size} {inp.model} fits "
-            f"({values.mean():.4g} +- {_sd(values):.3g} kPa), elastic"
+            f"afm_fit_files case: mean of {stats.n} {inp.model} fits rated "
+            f"{'good or poor' if inp.include_poor else 'good'} "
+            f"({stats.mean_kPa:.4g} +- {_sd(stats.sd_kPa)} kPa), elastic"
         )
-        return MaterialFile(group, source, float(values.mean()), inp.nu), "elastic (mean E)"
-    fit = fit_creep(read_creep(creep_file), inp.half_angle_deg_creep, inp.nu)
-    plotting.plot_creep(fit, ctx.output(f"creep_{file_stem(group)}.png"))
+        return MaterialFile(group, source, stats.mean_kPa, inp.nu), "elastic (mean E)", "-"
+    model, geometry = creep_tip(inp, ctx.case_dir / "case.toml")
+    fit = fit_creep_tip(read_creep(creep_file), model, geometry, inp.nu)
+    figure = f"creep_{file_stem(group)}.png"
+    plotting.plot_creep(fit, ctx.output(figure))
+    tip = ", ".join(f"{k} {v:g}" for k, v in fit.geometry.items())
     source = (
-        f"afm_fit_files case: creep {Path(creep_file).name}, Lee-Radok cone "
-        f"(alpha {inp.half_angle_deg_creep:g} deg), Prony fit, exact relaxation series"
+        f"afm_fit_files case: creep {Path(creep_file).name}, Lee-Radok {model} ({tip}), "
+        "Prony fit, exact relaxation series"
     )
-    return fit.material(group, source), f"creep Prony fit ({fit.quality})"
+    how = f"creep Prony fit, {model} ({tip}): {fit.quality}; [J(t), G(t)]({figure})"
+    return fit.material(group, source), how, f"{fit.E_inf_kPa:.4g}"
+
+
+def _fit_range_text(inp: FitFilesInputs) -> str:
+    if inp.analysis == "nanite":
+        return "whole approach"
+    parts = []
+    if inp.max_indentation_um is not None:
+        parts.append(f"to {inp.max_indentation_um:g} um past contact")
+    if inp.max_force_fraction is not None:
+        parts.append(f"to {inp.max_force_fraction:g} of the peak force")
+    return " and ".join(parts) or "whole approach"
+
+
+ANALYSES = {
+    "default": "afm.fit.fit_indentation: baseline line (offset and tilt) fitted before contact "
+    "and removed; every point of the fit window weighted equally; contact point free",
+    "nanite": "afm.nanite_pipeline.fit_nanite_default, nanite's default: constant offset, "
+    "free baseline in the fit, residuals within 1 um of contact weighted down",
+}
+"""What each ``analysis`` does, for the report and ``fits.csv``."""
+
+WHY_NOT_NANITE = (
+    "The default analysis weights every point equally, where nanite weights the residuals "
+    "within 1 um of the contact point down (by |x - x0| / 1 um): nanite's fit can then settle "
+    "on a contact point up the rise, where its model misses the start of contact (up to 9x "
+    "higher E on some instrument files; docs/afm.md, 'The default analysis against nanite'). "
+    'Set analysis = "nanite" to reproduce a nanite/PyJibe analysis.'
+)
 
 
 @case_kind("afm_fit_files", inputs=FitFilesInputs, metrics=METRICS)
@@ -214,9 +365,12 @@ def run(ctx: CaseContext) -> CaseOutcome:
     """Fit every curve file of the case folder; table, plots, statistics, material files."""
     inp: FitFilesInputs = ctx.inputs  # type: ignore[assignment]
     case_dir = ctx.case_dir
+    where = case_dir / "case.toml"
     files = find_curve_files(case_dir, inp.curves)
     for group, file in inp.creep.items():
         _inside(case_dir, Path(file), f"inputs.creep.{group}")
+    if inp.creep:
+        creep_tip(inp, where)  # refuse a bad creep tip before fitting
 
     ctx.step(f"fitting {len(files)} files")
     fit_options: dict[str, object] = {"model": inp.model, "geometry": inp.geometry, "nu": inp.nu}
@@ -224,7 +378,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         fit_range = (inp.max_indentation_um, inp.max_force_fraction)
         if fit_range != (None, None) or inp.contact_method != "fit":
             raise InputError(
-                case_dir / "case.toml",
+                where,
                 "inputs.analysis",
                 'no fit range and contact_method = "fit" with analysis = "nanite" (it fits '
                 "the whole approach, contact point free)",
@@ -234,25 +388,34 @@ def run(ctx: CaseContext) -> CaseOutcome:
     else:
         fit_options["fit_range"] = FitRange(inp.max_indentation_um, inp.max_force_fraction)
         fit_options["contact_method"] = inp.contact_method
-    if inp.height_channel is not None:
-        fit_options["read_options"] = {"height_channel": inp.height_channel}
-    result = fit_batch(files, **fit_options)
+    result = fit_batch(
+        files,
+        read_options=read_options(inp, case_dir),
+        workers=WORKERS,
+        progress=lambda done, total: ctx.progress(done, total, "curves fitted"),
+        **fit_options,
+    )
     _regroup(result, case_dir, inp.groups)
-    good = [r for r in result.rows if r.fit is not None and not r.error]
+    fitted = [r for r in result.rows if r.fit is not None and not r.error]
+    n_poor = sum(1 for r in fitted if not r.good)
+    done = f"done: {len(fitted)} fitted, {n_poor} poor, {len(result.rows) - len(fitted)} refused"
 
     ctx.step("plots")
     plot_dir = ctx.output("curve_plots/.keep").parent
-    plots = {p.name for p in plot_curves(result, plot_dir, workers=PLOT_WORKERS)}
+    plots = {p.name for p in plot_curves(result, plot_dir, workers=WORKERS, which=inp.curve_plots)}
     links = {
         i: f"curve_plots/{plot_name(r)}" for i, r in enumerate(result.rows) if plot_name(r) in plots
     }
-    write_batch_table(result, ctx.output("fits.csv"), case_dir, links)
-    groups = sorted({r.group for r in good})
-    by_group = {g: np.array([r.fit.E_kPa for r in good if r.group == g]) for g in groups}
+    write_batch_table(
+        result, ctx.output("fits.csv"), case_dir, links, inp.analysis, _fit_range_text(inp)
+    )
+    stats = {s.group: s for s in result.stats(inp.include_poor) if s.quantity == "E_kPa"}
+    groups = sorted(stats)
     figures = []
-    if good:
-        plotting.plot_histogram(by_group, ctx.output("histogram.png"))
-        figures.append(Figure("histogram.png", "Fitted Young's moduli per group"))
+    if fitted:
+        by_group = {g: [r.fit for r in fitted if r.group == g] for g in groups}
+        plotting.plot_strip(by_group, ctx.output("moduli.png"), inp.include_poor)
+        figures.append(Figure("moduli.png", "Fitted Young's moduli per group (log axis)"))
     map_files = sorted({r.file for r in result.rows if r.map_position_um is not None})
     for file in map_files:
         name = f"modulus_map_{Path(file).stem}.png"
@@ -263,34 +426,48 @@ def run(ctx: CaseContext) -> CaseOutcome:
     unknown = sorted(set(inp.creep) - set(groups))
     if unknown:
         raise InputError(
-            case_dir / "case.toml",
+            where,
             f"inputs.creep.{unknown[0]}",
             f"a group of the fitted curves (one of {', '.join(groups) or 'none'})",
         )
     material_lines = []
     for group in groups:
-        material, how = _group_material(group, by_group[group], inp, ctx)
+        made = _group_material(group, stats.get(group), inp, ctx)
+        if made is None:
+            material_lines.append(f"| {group} | - | - | - | - | none: no fit rated good |")
+            continue
+        material, how, e_inf = made
         stem = f"material_{file_stem(group)}"
         write_material(material, ctx.output(f"{stem}.toml"))
         ctx.output(f"{stem}_ansys.inp").write_text(ansys_prony_block(material))
         ctx.output(f"{stem}_febio.xml").write_text(febio_material(material))
         material_lines.append(
-            f"| {group} | {material.E_kPa:.4g} | {material.nu:g} | {len(material.g)} | {how} |"
+            f"| {group} | {material.E_kPa:.4g} | {e_inf} | {material.nu:g} | {len(material.g)} "
+            f"| {how} |"
         )
 
-    n_poor = sum(1 for r in good if r.fit.quality != "good")
     metrics: dict[str, float | list[float]] = {
         "n_curves": float(len(result.rows)),
-        "n_fitted": float(len(good)),
-        "n_failed": float(len(result.rows) - len(good)),
+        "n_fitted": float(len(fitted)),
+        "n_failed": float(len(result.rows) - len(fitted)),
         "n_poor": float(n_poor),
     }
-    checks = []
+    checks = [
+        Check(
+            done,
+            float(len(fitted)),
+            bool(fitted),
+            "at least one curve fitted",
+            unit="curves",
+        )
+    ]
     if inp.known_moduli is not None:
-        known = _known(_inside(case_dir, Path(inp.known_moduli), "inputs.known_moduli"))
+        field = "inputs.known_moduli"
+        known_file = regular_file(inside(inp.known_moduli, case_dir, where, field), field)
+        known = _known(known_file)
         errors = [
             abs(r.fit.E_kPa / known[key] - 1)
-            for r in good
+            for r in fitted
             if (key := Path(r.file).relative_to(case_dir).as_posix()) in known
         ]
         worst = 100 * max(errors) if errors else 100.0  # none fitted: count as 100 % off
@@ -304,35 +481,57 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 unit="%",
             )
         )
+    ctx.step(done)
 
-    stats = "\n".join(
-        f"| {g} | {v.size} | {v.mean():.3f} +- {_sd(v):.3f} |" for g, v in by_group.items()
+    used = "fits rated good or poor" if inp.include_poor else "fits rated good"
+    poor_left_out = "are left out (include_poor = true keeps them)"
+    table = "\n".join(
+        f"| {s.group} | {s.n} | {s.n_poor} | "
+        + (f"{s.mean_kPa:.4g} +- {_sd(s.sd_kPa)} |" if s.n else "- |")
+        for s in stats.values()
     )
     failed = "\n".join(
-        f"* `{Path(r.file).relative_to(case_dir).as_posix()}`: {r.error}" for r in result.failures
+        f"* `{Path(r.file).relative_to(case_dir).as_posix()}`"
+        + ("" if r.curve_index is None else f" curve {r.curve_index}")
+        + (f" ([plot](curve_plots/{plot_name(r)}))" if plot_name(r) in plots else "")
+        + f": {_reason(r)}"
+        for r in result.failures
     )
-    links = "\n".join(
-        f"* [{Path(r.file).name}](curve_plots/{plot_name(r)}): E = {r.fit.E_kPa:.4g} kPa, "
-        f"{r.fit.quality}"
-        for r in good
+    plot_links = "\n".join(
+        f"* [{Path(r.file).name}"
+        + ("" if r.curve_index is None else f" curve {r.curve_index}")
+        + f"](curve_plots/{plot_name(r)}): E = {r.fit.E_kPa:.4g} kPa, {r.fit.rating}"
+        for r in fitted
         if plot_name(r) in plots
     )
     contact = f", contact by {inp.contact_method}" if inp.analysis == "default" else ""
+    analysis = f"**{inp.analysis}**: {ANALYSES[inp.analysis]}."
+    if inp.analysis == "default":
+        analysis += " " + WHY_NOT_NANITE
+    columns = "\n".join(f"* `{name}`: {text}" for name, text in COLUMNS.items())
     sections = [
+        ("Result", f"{done} ({len(result.rows)} curves in {len(files)} files)."),
         (
             "Moduli per group (mean +- SD, kPa)",
-            f"{len(good)} of {len(result.rows)} curves fitted ({inp.model}, nu = {inp.nu:g}, "
-            f"{inp.analysis} analysis{contact}); every row is in `fits.csv`.\n\n"
-            "| group | n | E [kPa] |\n|---|---|---|\n" + stats,
+            f"Over the {used} ({inp.model}, nu = {inp.nu:g}, {inp.analysis} analysis"
+            f"{contact}; fit range: {_fit_range_text(inp)}); n_poor fits rated poor "
+            f"{'are included' if inp.include_poor else poor_left_out}"
+            "; SD n/a for n = 1. Every row is in `fits.csv`.\n\n"
+            "| group | n | n_poor | E [kPa] |\n|---|---|---|---|\n" + table,
         ),
-        ("Curves not fitted (skipped)", failed or "none"),
+        ("Analysis", analysis),
+        ("Curves refused (skipped)", failed or "none"),
         (
             "Material files",
-            "| group | E [kPa] | nu | Prony terms | from |\n|---|---|---|---|---|\n"
+            "| group | E0 [kPa] | E_inf [kPa] | nu | Prony terms | from |\n"
+            "|---|---|---|---|---|---|\n"
             + "\n".join(material_lines)
             + "\n\nEach as `material_<group>.toml` (read by the FE cases), "
-            "`material_<group>_ansys.inp` and `material_<group>_febio.xml`.",
+            "`material_<group>_ansys.inp` and `material_<group>_febio.xml`; a creep fit's "
+            "rating (and any Prony term the record does not determine) is written into their "
+            "source line.",
         ),
-        ("Curve plots", links or "none"),
+        ("Columns of fits.csv", columns),
+        ("Curve plots", plot_links or "none"),
     ]
     return CaseOutcome(metrics=metrics, figures=figures, sections=sections, checks=checks)

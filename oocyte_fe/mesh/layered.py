@@ -51,11 +51,17 @@ class LayeredOocyte:
     refine_depth_um: float | None = None
     order: int = 1
     centre_offset_um: float = 0.0
+    refine_windows_deg: tuple[tuple[float, float], ...] = ()
+
+    """``refine_windows_deg``: further polar windows refined like ``refine_polar_deg`` (needs
+    ``refine_size_um``), e.g. both poles of a cell between plates. ``zona_thickness_um = 0``
+    is a homogeneous cell: subdomain ``cytoplasm`` only, no ``interface``."""
 
     def __post_init__(self) -> None:
         src = "LayeredOocyte"
         validate.positive(src, "cytoplasm_radius_um", self.cytoplasm_radius_um)
-        validate.positive(src, "zona_thickness_um", self.zona_thickness_um)
+        if not self.zona_thickness_um >= 0:  # NaN refused too
+            raise InputError(src, "zona_thickness_um", ">= 0 um", self.zona_thickness_um)
         validate.positive(src, "size_um", self.size_um)
         validate.one_of(src, "form", self.form, tuple(BOUNDARIES))
         validate.element_order(src, self.order)
@@ -89,6 +95,14 @@ class LayeredOocyte:
                 raise InputError(
                     src, "refine_size_um", f"<= size_um = {self.size_um:g}", self.refine_size_um
                 )
+        for lo, hi in self.refine_windows_deg:
+            if not 0.0 <= lo < hi <= 180.0 or self.refine_size_um is None:
+                raise InputError(
+                    src,
+                    "refine_windows_deg",
+                    "(lo, hi) windows with 0 <= lo < hi <= 180 deg and refine_size_um",
+                    self.refine_windows_deg,
+                )
         if self.refine_depth_um is not None:
             validate.positive(src, "refine_depth_um", self.refine_depth_um)
 
@@ -98,12 +112,16 @@ class LayeredOocyte:
         return self.cytoplasm_radius_um + self.zona_thickness_um
 
 
+def _windows(geom: LayeredOocyte) -> list[tuple[float, float]]:
+    first = [geom.refine_polar_deg] if geom.refine_polar_deg is not None else []
+    return first + list(geom.refine_windows_deg)
+
+
 def _angles(geom: LayeredOocyte) -> np.ndarray:
     """Polar angles (deg) of the points splitting each circle into arcs of <= 90 deg."""
     full = 180.0 if geom.form == "axisymmetric" else 360.0
     angles = list(np.arange(0.0, full + 1e-9, 90.0))
-    if geom.refine_polar_deg is not None:
-        lo, hi = geom.refine_polar_deg
+    for lo, hi in _windows(geom):
         angles += [lo, hi] if geom.form == "axisymmetric" else [lo, hi, 360 - lo, 360 - hi]
     angles = np.unique(np.round(angles, 9))
     return angles if geom.form == "axisymmetric" else angles[angles < 360.0]
@@ -124,39 +142,57 @@ def _build(geom: LayeredOocyte) -> float:
         arcs = [geo.addCircleArc(pts[(k + 1) % len(pts)], centre, pts[k]) for k in range(n)]
         return pts, arcs
 
-    p_in, c_in = circle(geom.cytoplasm_radius_um)
+    layered = geom.zona_thickness_um > 0.0  # else a homogeneous cell: one region, no interface
+    if layered:
+        p_in, c_in = circle(geom.cytoplasm_radius_um)
     p_out, c_out = circle(geom.outer_radius_um)
+    if not layered:
+        p_in, c_in = p_out, c_out
+    axis: list[int] = []
     if geom.form == "axisymmetric":
-        top = geo.addLine(p_out[0], p_in[0])
+        if layered:
+            top = geo.addLine(p_out[0], p_in[0])
         upper = geo.addLine(p_in[0], centre)
         lower = geo.addLine(centre, p_in[-1])
-        bottom = geo.addLine(p_in[-1], p_out[-1])
+        axis = [upper, lower]
+        if layered:
+            bottom = geo.addLine(p_in[-1], p_out[-1])
+            axis = [top, upper, lower, bottom]
         cyto_loop = geo.addCurveLoop([upper, lower, *reversed(c_in)])
-        zona_loop = geo.addCurveLoop([top, *(-c for c in c_in), bottom, *reversed(c_out)])
+        if layered:
+            zona_loop = geo.addCurveLoop([top, *(-c for c in c_in), bottom, *reversed(c_out)])
         cyto = geo.addPlaneSurface([cyto_loop])
-        zona = geo.addPlaneSurface([zona_loop])
+        if layered:
+            zona = geo.addPlaneSurface([zona_loop])
     else:
         cyto_loop = geo.addCurveLoop(list(reversed(c_in)))
-        zona_loop = geo.addCurveLoop(list(reversed(c_out)))
+        if layered:
+            zona_loop = geo.addCurveLoop(list(reversed(c_out)))
         cyto = geo.addPlaneSurface([cyto_loop])
-        zona = geo.addPlaneSurface([zona_loop, cyto_loop])
+        if layered:
+            zona = geo.addPlaneSurface([zona_loop, cyto_loop])
     geo.synchronize()
     if geom.form == "plane_strain":
         gmsh.model.mesh.embed(0, [centre], 2, cyto)
 
     add_physical(2, [cyto], "cytoplasm")
-    add_physical(2, [zona], "zona")
+    if layered:
+        add_physical(2, [zona], "zona")
     add_physical(1, c_out, "outer_surface")
-    add_physical(1, c_in, "interface")
-    if geom.form == "axisymmetric":
-        add_physical(1, [top, upper, lower, bottom], "axis")
+    if layered:
+        add_physical(1, c_in, "interface")
+    if axis:
+        add_physical(1, axis, "axis")
 
-    if geom.refine_polar_deg is not None:
-        lo, hi = geom.refine_polar_deg
+    if _windows(geom):
         bounds = angles if geom.form == "axisymmetric" else np.append(angles, 360.0)
         mids = 0.5 * (bounds[:-1] + bounds[1:])
         folded = np.minimum(mids, 360.0 - mids)
-        window = [c for c, m in zip(c_out, folded, strict=True) if lo <= m <= hi]
+        window = [
+            c
+            for c, m in zip(c_out, folded, strict=True)
+            if any(lo <= m <= hi for lo, hi in _windows(geom))
+        ]
         depth = geom.refine_depth_um or geom.zona_thickness_um
         refine_near(distance_to_curves(window), geom.size_um, geom.refine_size_um, depth)
     return geom.size_um

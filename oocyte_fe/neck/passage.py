@@ -27,16 +27,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from oocyte_fe.checks import numeric_fields
-from oocyte_fe.errors import InputError, SolverError
+from oocyte_fe.errors import InputError
+from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.fe import contact as ct
 from oocyte_fe.fe.body import Body
-from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
 from oocyte_fe.fe.material import Material
-from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog
-from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
+from oocyte_fe.fe.solver import Frame, Problem, StepLog
 from oocyte_fe.neck.periphery import MaterialPoints
 from oocyte_fe.neck.pipette import NeckedPipette
-from oocyte_fe.neck.suction import axial_dofs, axial_suction_force, seal_mask
+from oocyte_fe.neck.suction import axial_dofs, axial_suction_force
+
+PIPETTE = "pipette"
+CAP = "rear_cap"
+"""Tool names of the passage experiment (the cap's facets are the boundary ``hold:rear_cap``)."""
 
 
 @dataclass(frozen=True)
@@ -73,18 +76,6 @@ class PassageSettings:
         for name, ok in checks.items():
             if not ok:
                 raise InputError("PassageSettings", name, "a value in range", getattr(self, name))
-
-    def mesh_geometry(self, cytoplasm_radius_um: float, zona_um: float) -> LayeredOocyte:
-        """P2 layered mesh, refined by ``refine_factor`` within 20 um of the side (20-160 deg)."""
-        refine = self.refine_factor > 1
-        return LayeredOocyte(
-            cytoplasm_radius_um=cytoplasm_radius_um,
-            zona_thickness_um=zona_um,
-            size_um=self.size_um,
-            refine_polar_deg=(20.0, 160.0) if refine else None,
-            refine_size_um=self.size_um / self.refine_factor if refine else None,
-            refine_depth_um=20.0 if refine else None,
-        )
 
 
 @dataclass
@@ -131,8 +122,78 @@ def _wall_split(problem: Problem, t: float) -> tuple[float, float, NDArray, NDAr
     return normal, friction, (X + uq)[1].ravel(), ev.pressure.ravel()
 
 
-def _unused_pressure(_t: float) -> float:
-    return 0.0  # the suction is the unknown of the ReactionControl, not a function of time
+def _inline(material: Material) -> dict:
+    table: dict = {"E_kPa": material.E_kPa, "nu": material.nu}
+    if material.prony.g:
+        table["prony"] = {"g": list(material.prony.g), "tau_s": list(material.prony.tau_s)}
+    return table
+
+
+def passage_experiment(
+    materials: dict[str, Material],
+    settings: PassageSettings,
+    pipette: NeckedPipette | None = None,
+    cytoplasm_radius_um: float = 75.0,
+    zona_um: float = 15.0,
+) -> Experiment:
+    """The passage as an FE experiment: a necked pipette above the cell, a rear cap of
+    ``cap_deg`` (held axially) advancing ``advance_um`` in ``duration_s``, the suction the
+    unknown that keeps the cap's net axial push at zero; refined along the side (20-160 deg)."""
+    s = settings
+    pip = pipette or NeckedPipette()
+    refine = s.refine_factor > 1
+    cell = {
+        "outer_diameter_um": 2.0 * (cytoplasm_radius_um + zona_um),
+        "zona_thickness_um": zona_um,
+        "mesh_size_um": s.size_um,
+        "curved_edges": False,  # straight-edged P2, as the passage was verified
+        "materials": {name: _inline(m) for name, m in materials.items()},
+    }
+    if refine:
+        cell |= {
+            "refine_size_um": s.size_um / s.refine_factor,
+            "refine_depth_um": 20.0,
+            "refine_windows_deg": [[20.0, 160.0]],
+        }
+    ramp = {"time_s": [0.0, s.duration_s], "value": [0.0, s.advance_um]}
+    return Experiment.model_validate(
+        {
+            "description": "the oocyte through a necked pipette",
+            "cell": cell,
+            "tools": {
+                PIPETTE: {
+                    "type": "necked_pipette",
+                    "bore_diameter_um": 2.0 * pip.bore_radius_um,
+                    "neck_diameter_um": 2.0 * pip.neck_radius_um,
+                    "taper_length_um": pip.taper_length_um,
+                    "bore_length_um": pip.bore_length_um,
+                    "neck_length_um": pip.neck_length_um,
+                    "taper_points": pip.taper_points,
+                    "clearance_um": s.clearance_um,
+                    "seal_tol_um": s.seal_tol_um,
+                    "friction": s.friction,
+                    "penalty_factor": s.penalty_factor,
+                    "suction_control": {"tool": CAP, "target_nN": 0.0},
+                },
+                CAP: {
+                    "type": "holding_pipette",
+                    "side": "bottom",
+                    "cap_deg": s.cap_deg,
+                    "components": "axial",
+                    "displacement_um": ramp,
+                },
+            },
+            # 1e-6 of the force scale: contact with friction converges only linearly near
+            # stick-slip fronts, and 1e-6 is far below what the deformation figures resolve
+            "time": {
+                "duration_s": s.duration_s,
+                "frames": s.steps,
+                "rtol": 1e-6,
+                "max_iterations": 20,
+                "max_cutbacks": s.max_cutbacks,
+            },
+        }
+    )
 
 
 def run_passage(
@@ -144,67 +205,46 @@ def run_passage(
     log: logging.Logger | None = None,
     on_frame: Callable[[PassageResult, Frame], None] | None = None,
 ) -> PassageResult:
-    """Solve one passage; a driver that finds no equilibrium ends it early (``failure``)."""
+    """Solve one passage through the one experiment driver
+    (:func:`~oocyte_fe.experiment.run_experiment`); a driver that finds no equilibrium ends
+    it early (``failure``)."""
     s = settings
+    exp = passage_experiment(materials, s, pipette, cytoplasm_radius_um, zona_um)
     radius = cytoplasm_radius_um + zona_um
-    mesh = layered_oocyte_mesh(s.mesh_geometry(cytoplasm_radius_um, zona_um))
-    cap_z = -radius * np.cos(np.deg2rad(s.cap_deg)) + 1e-9 * radius
-    mesh = mesh.with_boundaries({"rear_cap": lambda x: x[1] < cap_z}, boundaries_only=True)
-    body = Body(mesh, materials, "axisymmetric", order=2)
-    pipette = (pipette or NeckedPipette()).touching(radius, s.clearance_um)
-    e_max = max(m.E_kPa for m in materials.values())
-    h = s.size_um / s.refine_factor
-    contact = ct.Contact(
-        "outer_surface",
-        pipette.obstacle(),
-        s.penalty_factor * e_max / h,
-        s.friction,
-        name="pipette",
-    )
-    where = seal_mask(pipette, s.seal_tol_um)
-    rate = s.advance_um / s.duration_s
-    fixed = [Prescribed("axis", 0), Prescribed("rear_cap", 1, lambda t: rate * t)]
-    problem = Problem(
-        body,
-        fixed,
-        [
-            FollowerPressure(
-                "outer_surface",
-                _unused_pressure,
-                where=where,
-                name="suction",
-                lagged=s.lagged_seal,
-            )
-        ],
-        [contact],
-        log=log,
-        control=ReactionControl("suction", "rear_cap", 1),
-    )
-    fb = body.facet_basis("outer_surface")
-    z_dofs = axial_dofs(body.ubasis)
-    result = PassageResult(s, pipette, problem, MaterialPoints.on_surface(mesh))
-    v0 = problem.volume(problem.x)
+    placed = (pipette or NeckedPipette()).touching(radius, s.clearance_um)
+    state: dict = {}
 
-    def record(frame: Frame) -> None:
+    def record(problem: Problem, frame: Frame) -> None:
+        if not state:
+            body = problem.body
+            state.update(
+                result=PassageResult(s, placed, problem, MaterialPoints.on_surface(body.mesh)),
+                fb=body.facet_basis("outer_surface"),
+                z_dofs=axial_dofs(body.ubasis),
+                v0=problem.volume(np.zeros(body.n_dofs)),
+            )
+        result, body = state["result"], problem.body
         u = body.displacement(frame.x)
         applied = -problem.control_value
-        suction = axial_suction_force(fb, z_dofs, u, applied, problem.applied_masks[0])
+        suction = axial_suction_force(
+            state["fb"], state["z_dofs"], u, applied, problem.applied_masks[0]
+        )
         normal, friction, z_q, lam = _wall_split(problem, frame.t)
-        wall = float(frame.obstacle_forces["pipette"][1])
+        wall = float(frame.obstacle_forces[PIPETTE][1])
         uv = body.vertex_displacement(frame.x)
         up = result.points.displacement(body.ubasis, u)
         w = centroid_advance(body, u)
         row = {
             "time_s": frame.t,
             "centroid_advance_um": w,
-            "front_pole_um": float(uv[1, np.argmax(mesh.p[1])]),
+            "front_pole_um": float(uv[1, np.argmax(body.mesh.p[1])]),
             "suction_kPa": applied,
             "suction_force_nN": suction,
             "wall_force_nN": wall,
             "wall_normal_nN": normal,
             "wall_friction_nN": friction,
             "push_force_nN": wall - suction,
-            "volume_change": frame.volume / v0 - 1.0,
+            "volume_change": frame.volume / state["v0"] - 1.0,
             "max_contact_kPa": float(lam.max()) if lam.size else 0.0,
             "radial_inward_um": result.points.radial_inward(up).tolist(),
             "deformation_um": result.points.deformation(up, w).tolist(),
@@ -216,13 +256,10 @@ def run_passage(
         if on_frame is not None:
             on_frame(result, frame)
 
-    times = np.linspace(s.duration_s / s.steps, s.duration_s, s.steps)
-    # 1e-6 of the force scale: contact with friction converges only linearly near stick-slip
-    # fronts, and 1e-6 is far below what the deformation figures resolve
-    settings_newton = NewtonSettings(max_cutbacks=s.max_cutbacks, rtol=1e-6)
-    try:
-        solved = problem.solve(times, settings_newton, on_frame=record)
-        result.steps = solved.steps
-    except SolverError as exc:
-        result.failure = str(exc)
+    solved = run_experiment(exp, log=log, on_frame=record)
+    result = state.get("result") or PassageResult(
+        s, placed, solved.problem, MaterialPoints.on_surface(solved.problem.body.mesh)
+    )
+    result.steps = list(solved.steps)
+    result.failure = solved.reason
     return result

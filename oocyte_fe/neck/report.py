@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.neck import plotting
-from oocyte_fe.neck.materials import OocyteMaterials
 from oocyte_fe.neck.passage import PassageResult
 from oocyte_fe.runner.registry import Figure
 
@@ -134,7 +134,7 @@ def neck_sections(
     main: PassageResult,
     radial_um: np.ndarray,
     deform_um: np.ndarray,
-    mats: OocyteMaterials,
+    mats: LayerMaterials,
     comparisons: list[Section],
     failures: list[str],
     materials_origin: str,

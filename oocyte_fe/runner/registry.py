@@ -18,6 +18,7 @@ import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from pydantic import BaseModel
 
@@ -130,6 +131,8 @@ class CaseKind:
     inputs: type[BaseModel]
     metrics: Mapping[str, str]
     run: Callable[[CaseContext], CaseOutcome]
+    templates: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    """Ready ``[inputs]`` tables by name, for ``oocyte-fe new KIND DIR --template NAME``."""
 
     @property
     def module(self) -> str:
@@ -142,11 +145,13 @@ def case_kind(
     inputs: type[BaseModel],
     metrics: Mapping[str, str],
     description: str = "",
+    templates: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> Callable[[Callable[[CaseContext], CaseOutcome]], Callable[[CaseContext], CaseOutcome]]:
     """Register ``run`` as the case kind ``name``.
 
     ``metrics`` maps each metric name the kind reports to a one-line description with its
     unit; case files may only name these in ``[reference]`` and ``[tolerances]``.
+    ``templates`` are ready ``[inputs]`` tables by name (``oocyte-fe new --template``).
     """
     if not issubclass(inputs, CaseInputs):
         raise TypeError(
@@ -159,7 +164,9 @@ def case_kind(
         if existing is not None and existing.module != run.__module__:
             raise ValueError(f"case kind {name!r} is already registered by {existing.module}")
         text = description or ((run.__doc__ or "").strip().splitlines() or [""])[0]
-        _KINDS[name] = CaseKind(name, text, inputs, dict(metrics), _naming_the_case_file(run))
+        _KINDS[name] = CaseKind(
+            name, text, inputs, dict(metrics), _naming_the_case_file(run), dict(templates or {})
+        )
         return run
 
     return register

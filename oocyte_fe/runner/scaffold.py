@@ -177,13 +177,16 @@ def _table(
     return lines
 
 
-def new_case(kind: CaseKind, folder: Path) -> list[Path]:
+def new_case(kind: CaseKind, folder: Path, template: str | None = None) -> list[Path]:
     """Write a case folder for ``kind``: ``case.toml`` and a template per data file.
 
+    With ``template`` (one of ``kind.templates``) the ``[inputs]`` are that ready experiment.
     Refuses a folder that already has a ``case.toml``. Returns the files written.
     """
     if (folder / CASE_FILE).exists():
         raise InputError(folder / CASE_FILE, "", "a new folder (this case exists; not overwritten)")
+    if template is not None or kind.templates:
+        return _new_from_template(kind, folder, template)
     files: dict[str, InputDoc] = {}
     lines = [
         f"# A {kind.name} case written by `oocyte-fe new`: edit the inputs, then",
@@ -216,3 +219,25 @@ def new_case(kind: CaseKind, folder: Path) -> list[Path]:
         path.write_text(doc.template)
         written.append(path)
     return written
+
+
+def _new_from_template(kind: CaseKind, folder: Path, template: str | None) -> list[Path]:
+    """``case.toml`` whose ``[inputs]`` is the kind's template ``template``."""
+    names = ", ".join(sorted(kind.templates)) or "none for this kind"
+    if template not in kind.templates:
+        raise InputError("--template", "", f"one of the kind's templates ({names})", template)
+    inputs = dict(kind.templates[template])
+    description = str(inputs.pop("description", f"My {kind.name} case"))
+    head = [
+        f"# A {kind.name} case from the template {template!r} (`oocyte-fe new`): edit it, then",
+        f"#   oocyte-fe validate {folder}   and   oocyte-fe run {folder}",
+        f"# Templates of this kind: {names}. Metrics:",
+        *[f"#   {name}: {desc}" for name, desc in kind.metrics.items()],
+        "",
+    ]
+    body = {"kind": kind.name, "description": description, "timeout_s": DEFAULT_TIMEOUT_S}
+    text = "\n".join(head) + tomli_w.dumps(body) + "\n" + tomli_w.dumps({"inputs": inputs})
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / CASE_FILE
+    path.write_text(text)
+    return [path]

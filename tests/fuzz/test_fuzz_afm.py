@@ -20,6 +20,7 @@ from afm.creep import (
     CreepData,
     compliance_from_indentation,
     fit_creep,
+    fit_creep_tip,
     indentation_from_compliance,
 )
 from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
@@ -115,6 +116,7 @@ def test_scaled_curves(piezo_scale, force_scale, k):
         fit = _call(fit_indentation, curve)
         if fit is not None:
             assert _finite(fit.E_kPa, fit.contact_point_um)
+            assert fit.rating.startswith(("good (", "poor: "))  # issue 28's rating never raises
 
 
 @FUZZ
@@ -131,6 +133,7 @@ def test_arbitrary_force_arrays(force):
         fit = _call(fit_indentation, curve)
         if fit is not None:
             assert _finite(fit.E_kPa, fit.contact_point_um)
+            assert fit.rating.startswith(("good (", "poor: "))  # issue 28's rating never raises
 
 
 @FUZZ
@@ -149,6 +152,20 @@ def test_fit_pierce_arguments(name, value):
 @given(name=st.sampled_from(["half_angle_deg", "nu", "per_decade"]), value=NONSENSE)
 def test_fit_creep_arguments(name, value):
     fit = _call(fit_creep, GOOD_HOLD, **{name: value})
+    if fit is not None:
+        assert _finite(fit.E0_kPa, fit.E_inf_kPa, fit.relative_rms)
+
+
+@FUZZ
+@given(name=st.sampled_from(["model", "geometry", "radius_um", "nu", "per_decade"]), value=NONSENSE)
+def test_fit_creep_tip_arguments(name, value):
+    # issue 28: the creep fit takes any tip of afm.models
+    kwargs: dict = {"model": "hertz_paraboloid", "geometry": {"radius_um": 5.0}}
+    if name == "radius_um":
+        kwargs["geometry"] = {"radius_um": value}
+    else:
+        kwargs[name] = value
+    fit = _call(fit_creep_tip, GOOD_HOLD, **kwargs)
     if fit is not None:
         assert _finite(fit.E0_kPa, fit.E_inf_kPa, fit.relative_rms)
 

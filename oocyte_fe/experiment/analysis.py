@@ -1,0 +1,109 @@
+"""What an experiment's curves say against the closed forms a lab would use.
+
+For the first tool of each type (the metrics of kind ``fe_experiment``):
+
+* suction pipette: the slope ``s = sum(dP L) / sum(dP^2)`` of the aspiration-length change
+  against suction over the frames with ``L <= 0.25 a`` (the small-strain part), the effective
+  wall factor of a homogeneous cell ``Phi = 2 pi E s / (3 a)`` (Theret: 2.0-2.1), and the
+  modulus a user infers with Theret's formula, ``E_app = 3 Phi a / (2 pi s)``, ``Phi = 2.1``;
+* cone and sphere: the FE force over Sneddon's cone / the sphere (Hertz's problem solved
+  exactly for a sphere by Sneddon, ``afm``'s ``hertz_sphere``, with the effective radius
+  ``Rp R / (Rp + R)``) at the deepest frame, with the modulus of the outer layer, and the
+  modulus that the same ``afm`` model fits to the FE curve (linear least squares in E over
+  every frame in contact);
+* plates (each pressing by its advance ``d``): the force over Hertz (sphere on a rigid flat,
+  radius R) at the first frame, and the force at the last.
+
+Forces are the compressive (approach-direction) component on the tool [nN], depths its advance
+beyond the clearance [um], pressures kPa.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from afm import get_model
+from oocyte_fe.experiment import tools as tl
+from oocyte_fe.experiment.description import Cone, Plate, Sphere, StraightPipette
+from oocyte_fe.experiment.driver import ExperimentResult
+from oocyte_fe.verification import (
+    THERET_PHI,
+    hertz_force_nN,
+    sneddon_cone_force_nN,
+    theret_length_um,
+)
+
+SMALL_STRAIN = 0.25
+"""Largest ``L / a`` used for the Theret slope."""
+
+
+def push_force_nN(result: ExperimentResult, name: str) -> np.ndarray:
+    """Compressive force on tool ``name`` along its approach direction [nN] per frame."""
+    d = tl.approach(result.experiment.tools[name].side)
+    return -result.force_nN[name] @ d
+
+
+def depth_um(result: ExperimentResult, name: str) -> np.ndarray:
+    """Advance of tool ``name`` beyond its clearance [um] (0 before contact)."""
+    tool = result.experiment.tools[name]
+    return np.maximum(result.advance_um[name] - tool.gap_um, 0.0)
+
+
+def outer_layer_modulus(result: ExperimentResult) -> tuple[float, float]:
+    """(E [kPa], nu) of the layer the tools touch: the ZP, or the cytoplasm without one."""
+    layers = {r.name: r.material for r in result.problem.body.regions}
+    m = layers.get("zona", layers["cytoplasm"])
+    return m.E_kPa, m.nu
+
+
+def _first(result: ExperimentResult, kind: type) -> str | None:
+    return next((n for n, t in result.experiment.tools.items() if isinstance(t, kind)), None)
+
+
+def theret_slope(result: ExperimentResult, name: str) -> float:
+    """Least-squares slope of the aspiration change [um] against suction [kPa], L <= 0.25 a."""
+    a = result.experiment.tools[name].inner_radius_um
+    p, L = result.suction_kPa[name], result.aspiration_change_um[name]
+    use = (p > 0) & (L <= SMALL_STRAIN * a)
+    if not use.any():
+        use = p > 0
+    return float(np.sum(p[use] * L[use]) / np.sum(p[use] ** 2))
+
+
+def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
+    """The metrics of the module docstring for the tools present."""
+    out: dict[str, float] = {}
+    E, nu = outer_layer_modulus(result)
+    homogeneous = result.experiment.cell.zona_thickness_um == 0
+    pipette = _first(result, StraightPipette)
+    if pipette is not None and pipette in result.suction_kPa:
+        a = result.experiment.tools[pipette].inner_radius_um
+        s = theret_slope(result, pipette)
+        out["theret_modulus_kPa"] = 3 * THERET_PHI * a / (2 * np.pi * s)
+        if homogeneous:
+            out["theret_phi"] = s / theret_length_um(1.0, a, E, 1.0)
+    R = result.experiment.cell.radius_um
+    for kind, model in ((Cone, "sneddon_cone"), (Sphere, "hertz_sphere")):
+        name = _first(result, kind)
+        if name is None:
+            continue
+        tool = result.experiment.tools[name]
+        d, F = depth_um(result, name), push_force_nN(result, name)
+        if isinstance(tool, Cone):
+            label, geometry = "cone", {"half_angle_deg": tool.half_angle_deg}
+            exact = sneddon_cone_force_nN(E, nu, tool.half_angle_deg, d[-1])
+        else:
+            label, geometry = "sphere", {"radius_um": tool.radius_um * R / (tool.radius_um + R)}
+            exact = E * get_model(model).shape(d[-1:], geometry, nu)[0]  # Sneddon's sphere
+        out[f"{label}_force_ratio"] = float(F[-1] / exact)
+        shape = get_model(model).shape(d, geometry, nu)
+        out[f"{label}_fit_modulus_kPa"] = float(np.sum(F * shape) / np.sum(shape**2))
+    plate = _first(result, Plate)
+    if plate is not None:
+        d, F = depth_um(result, plate), push_force_nN(result, plate)
+        k = int(np.argmax(d > 0))
+        out["plate_hertz_ratio"] = float(F[k] / hertz_force_nN(E, nu, R, d[k]))
+        out["plate_force_nN"] = float(F[-1])
+    out["completed_fraction"] = float(result.times_s[-1] / result.experiment.time.duration_s)
+    out["volume_change"] = float(np.max(np.abs(result.volume_change)))
+    return out

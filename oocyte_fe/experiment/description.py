@@ -1,0 +1,378 @@
+"""An FE experiment on a layered cell, declared as data (``case.toml`` ``[inputs]``).
+
+One description serves every experiment a micromanipulation lab runs on an oocyte: the cell
+(outer diameter, ZP thickness, a material per layer, mesh), the material points to follow, the
+rigid tools with their paths or loads, the time path and what to record. Every part is named
+once (tools by their table name) and validated where it enters, relations between fields
+included (a ZP thicker than the cell's radius, a point outside the cell, a pipette wider than
+the cell, a path shorter than the experiment). Units: um, s, kPa; ``_Pa`` fields are
+converted to kPa here, at the file boundary.
+
+Coordinates: the cell's centre at the origin; ``axisymmetric`` is the half-section ``x = r >= 0``
+about the ``y = z`` axis, ``plane_strain`` the full disc. A tool sits on one ``side`` of the
+cell (``top``: above it on +y, moving along -y towards the centre; ``bottom``, ``left``,
+``right`` likewise); in axisymmetry only ``top`` and ``bottom`` lie on the axis.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import AfterValidator, Field, model_validator
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.fe.material import Material, Prony, read_material_file
+from oocyte_fe.runner.schema import CaseInputs, DataFile
+
+Side = Literal["top", "bottom", "left", "right"]
+Length = Annotated[float, Field(gt=0, le=1e4)]
+Friction = Annotated[float, Field(ge=0, le=2)]
+
+
+def _readable_material(path: Path) -> Path:
+    try:
+        read_material_file(path)
+    except InputError as exc:  # pydantic names the case file and the field
+        raise ValueError(f"a material file ({exc})") from None
+    return path
+
+
+MaterialFile = Annotated[DataFile, AfterValidator(_readable_material)]
+"""A material TOML written by the AFM route (``afm.write_material``): E, nu, Prony terms."""
+
+
+class PronyTerms(CaseInputs):
+    """Normalised relaxation terms ``G(t)/G0 = g_inf + sum g_i exp(-t/tau_i)``."""
+
+    g: list[Annotated[float, Field(ge=0, lt=1)]] = Field(description="relaxation fractions g_i")
+    tau_s: list[Annotated[float, Field(ge=1e-9, le=1e9)]] = Field(
+        description="relaxation times", json_schema_extra={"unit": "s"}
+    )
+
+    @model_validator(mode="after")
+    def _paired(self) -> PronyTerms:
+        if len(self.g) != len(self.tau_s) or sum(self.g) >= 1:
+            raise ValueError("as many g as tau_s, with sum(g) < 1")
+        return self
+
+
+class InlineMaterial(CaseInputs):
+    """A neo-Hookean layer with an optional Prony series (the seed's ANSYS model)."""
+
+    E_kPa: float = Field(ge=1e-6, le=1e9, description="Young's modulus at t = 0")
+    nu: float = Field(0.5, ge=0, le=0.5, description="Poisson's ratio (0.5: incompressible)")
+    prony: PronyTerms | None = None
+
+
+LayerMaterial = MaterialFile | InlineMaterial
+
+
+def to_material(spec: LayerMaterial, name: str) -> Material:
+    """The FE material of a layer (a material file or inline constants)."""
+    if isinstance(spec, InlineMaterial):
+        prony = (
+            Prony(tuple(spec.prony.g), tuple(spec.prony.tau_s), source=name)
+            if spec.prony
+            else Prony()
+        )
+        return Material(spec.E_kPa, spec.nu, prony, name=name, source=name)
+    return read_material_file(spec)
+
+
+class Layers(CaseInputs):
+    zona: LayerMaterial | None = Field(None, description="the ZP (needed if thicker than 0)")
+    cytoplasm: LayerMaterial
+
+
+class Cell(CaseInputs):
+    """The cell: a cytoplasm inside a ZP shell (``zona_thickness_um = 0``: homogeneous)."""
+
+    outer_diameter_um: float = Field(ge=1, le=1e4, json_schema_extra={"unit": "um"})
+    zona_thickness_um: float = Field(0.0, ge=0, le=1e4, json_schema_extra={"unit": "um"})
+    symmetry: Literal["axisymmetric", "plane_strain"] = "axisymmetric"
+    dimension: Literal[2] = Field(2, description="2: a section (axisymmetric or plane strain)")
+    materials: Layers
+    mesh_size_um: float = Field(ge=0.01, le=1e3, json_schema_extra={"unit": "um"})
+    refine_size_um: float | None = Field(
+        None, ge=0.005, le=1e3, description="element size near each tool (default: mesh_size)"
+    )
+    refine_depth_um: float | None = Field(
+        None, gt=0, le=1e4, description="depth of the refined zone below the surface"
+    )
+    curved_edges: bool = Field(
+        True,
+        description="quadratic elements with curved edges on the surface; false: straight "
+        "(scikit-fem cannot invert curved elements much smaller than the cell, e.g. 0.1 um "
+        "at an AFM tip on a 1 mm sphere)",
+    )
+    refine_windows_deg: list[Annotated[list[float], Field(min_length=2, max_length=2)]] | None = (
+        Field(
+            None,
+            description="polar windows (deg from +y) to refine instead of one at each tool, "
+            "e.g. [[20, 160]] along the side of a cell that passes through a pipette",
+        )
+    )
+    refine_half_angle_deg: float = Field(
+        20.0, gt=0, le=90, description="polar half-width of the refined window at each tool"
+    )
+    points: dict[str, Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(
+        default_factory=dict, description="material points to follow (x, y) um, by name"
+    )
+
+    @property
+    def radius_um(self) -> float:
+        return 0.5 * self.outer_diameter_um
+
+    @model_validator(mode="after")
+    def _geometry(self) -> Cell:
+        r = self.radius_um
+        if self.zona_thickness_um >= 0.5 * r:
+            raise ValueError(f"zona_thickness_um < half the outer radius ({0.5 * r:g} um)")
+        if self.zona_thickness_um > 0 and self.materials.zona is None:
+            raise ValueError("materials.zona when zona_thickness_um > 0")
+        if self.mesh_size_um > (r - self.zona_thickness_um) / 2:
+            raise ValueError(f"mesh_size_um <= half the cytoplasm radius ({r / 2:g} um)")
+        if self.refine_size_um is not None and self.refine_size_um > self.mesh_size_um:
+            raise ValueError("refine_size_um <= mesh_size_um")
+        for lo, hi in self.refine_windows_deg or []:
+            if not 0 <= lo < hi <= 180:
+                raise ValueError("refine_windows_deg: [lo, hi] with 0 <= lo < hi <= 180")
+        for name, (x, y) in self.points.items():
+            if np.hypot(x, y) > r * (1 + 1e-9) or (self.symmetry == "axisymmetric" and x < 0):
+                raise ValueError(f"point {name!r} = ({x:g}, {y:g}) inside the cell (radius {r:g})")
+        return self
+
+
+class PathSpec(CaseInputs):
+    """A piecewise-linear history ``value(time_s)``, held after its last time."""
+
+    time_s: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(min_length=2)
+    value: list[Annotated[float, Field(ge=-1e6, le=1e6)]] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _increasing(self) -> PathSpec:
+        if len(self.time_s) != len(self.value):
+            raise ValueError("as many values as times")
+        t = self.time_s
+        if t[0] != 0 or any(b <= a for a, b in zip(t, t[1:], strict=False)):
+            raise ValueError("times increasing from 0")
+        return self
+
+    def __call__(self, t: float) -> float:
+        return float(np.interp(t, self.time_s, self.value))
+
+
+class ToolBase(CaseInputs):
+    side: Side = "top"
+    gap_um: float = Field(0.0, ge=0, le=1e4, description="clearance to the cell at t = 0")
+    friction: Friction = 0.0
+    penalty_factor: float = Field(
+        20.0, gt=0, le=1e6, description="normal penalty eps_N h / E_max (h: refine size)"
+    )
+    smoothing_um: float = Field(0.0, ge=0, le=10, description="C1 smoothing of the contact law")
+    displacement_um: PathSpec | None = Field(
+        None, description="advance towards the cell's centre (um) against time (s)"
+    )
+
+
+class Plate(ToolBase):
+    type: Literal["plate"]
+
+
+class Sphere(ToolBase):
+    type: Literal["sphere"]
+    radius_um: Length
+
+
+class Cone(ToolBase):
+    type: Literal["cone"]
+    half_angle_deg: float = Field(gt=1, lt=89)
+    length_um: Length = 20.0
+    tip_radius_um: float = Field(
+        0.0, ge=0, le=100, description="a spherically blunted apex (0: sharp; see docs/fe.md)"
+    )
+
+
+class StraightPipette(ToolBase):
+    type: Literal["straight_pipette"]
+    inner_radius_um: Length
+    wall_um: Length
+    mouth_fillet_um: float = Field(0.0, ge=0, le=1e3)
+    length_um: Length = 50.0
+    suction_Pa: PathSpec | None = Field(
+        None, description="suction (pressure drop) on the surface inside the bore, Pa"
+    )
+    seal: Literal["fixed", "contact"] = Field(
+        "fixed",
+        description="fixed: the surface under the end face held axially (Theret's rigid punch; "
+        "it holds the cell); contact: the glass by contact only (hold the cell otherwise)",
+    )
+
+    @model_validator(mode="after")
+    def _fillet(self) -> StraightPipette:
+        if self.mouth_fillet_um >= self.wall_um:
+            raise ValueError("mouth_fillet_um < wall_um")
+        return self
+
+
+class WedgePipette(ToolBase):
+    type: Literal["wedge_pipette"]
+    width_um: Length
+    tip_angle_deg: float = Field(gt=0, lt=180)
+    length_um: Length = 80.0
+
+
+class HoldingPipette(CaseInputs):
+    """Holds the outer surface facing it (bonded, or along its axis only): within
+    ``half_width_um`` of its axis, or a polar cap of ``cap_deg`` about its pole; it may move
+    along its axis by ``displacement_um`` (a rear cap that drives the cell)."""
+
+    type: Literal["holding_pipette"]
+    side: Side = "bottom"
+    half_width_um: float | None = Field(None, gt=0, le=1e4, json_schema_extra={"unit": "um"})
+    cap_deg: float | None = Field(None, gt=0, lt=90, json_schema_extra={"unit": "deg"})
+    components: Literal["both", "axial"] = "both"
+    displacement_um: PathSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_region(self) -> HoldingPipette:
+        if (self.half_width_um is None) == (self.cap_deg is None):
+            raise ValueError("half_width_um or cap_deg (one of them)")
+        return self
+
+
+class SuctionControl(CaseInputs):
+    """The suction as an unknown: the net axial reaction on ``tool`` (a holding pipette with a
+    displacement path) equals ``target_nN``; the suction the experiment needs is the answer."""
+
+    tool: str = Field(min_length=1, max_length=100)
+    target_nN: float = Field(0.0, ge=-1e9, le=1e9)
+
+
+class NeckedPipette(ToolBase):
+    """A bore narrowing through a cosine taper to a neck (``oocyte_fe.neck.pipette``), its
+    axis along +y, the cell ``clearance_um`` from the taper at t = 0."""
+
+    type: Literal["necked_pipette"]
+    bore_diameter_um: Length
+    neck_diameter_um: Length
+    taper_length_um: Length
+    bore_length_um: Length = 300.0
+    neck_length_um: Length = 500.0
+    taper_points: int = Field(41, ge=2, le=10_000)
+    clearance_um: float = Field(0.1, ge=0, le=1e3)
+    seal_tol_um: float = Field(
+        0.5, gt=0, le=100, description="a surface point within this of the wall seals"
+    )
+    suction_Pa: PathSpec | None = None
+    suction_control: SuctionControl | None = None
+
+    @model_validator(mode="after")
+    def _narrowing(self) -> NeckedPipette:
+        if self.neck_diameter_um >= self.bore_diameter_um:
+            raise ValueError("neck_diameter_um below bore_diameter_um")
+        if (self.suction_Pa is None) == (self.suction_control is None):
+            raise ValueError("suction_Pa or suction_control (one of them)")
+        return self
+
+
+Tool = Plate | Sphere | Cone | StraightPipette | NeckedPipette | WedgePipette | HoldingPipette
+"""A tool table, told apart by its ``type``."""
+
+
+class TimePath(CaseInputs):
+    duration_s: float = Field(gt=0, le=1e9, json_schema_extra={"unit": "s"})
+    frames: int = Field(gt=0, le=10_000, description="output frames (one solver step each)")
+    max_step_s: float | None = Field(None, gt=0, le=1e9, description="largest solver step")
+    rtol: float = Field(
+        1e-6, gt=0, lt=1e-2, description="Newton tolerance on the relative residual"
+    )
+    max_iterations: int = Field(25, ge=2, le=200, description="Newton iterations per step")
+    max_cutbacks: int = Field(8, ge=0, le=30, description="halvings of a failing step")
+
+
+class Record(CaseInputs):
+    fields: bool = Field(False, description="VTU/PVD field series and its viewer script")
+    sections_at_s: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
+        default_factory=list, description="times of the section figures"
+    )
+    section_window_um: list[float] | None = Field(
+        None,
+        min_length=4,
+        max_length=4,
+        description="[x_min, x_max, y_min, y_max] of the section figures (default: the cell)",
+    )
+
+    @model_validator(mode="after")
+    def _window(self) -> Record:
+        w = self.section_window_um
+        if w is not None and not (w[0] < w[1] and w[2] < w[3]):
+            raise ValueError("section_window_um: [x_min, x_max, y_min, y_max] with min < max")
+        return self
+
+
+class Experiment(CaseInputs):
+    """A whole experiment: cell, tools (by name), time path, recorders."""
+
+    description: str = Field("", max_length=2000)
+    cell: Cell
+    tools: dict[str, Tool] = Field(min_length=1)
+    time: TimePath
+    record: Record = Record()
+    mesh_scale: float = Field(
+        1.0, ge=0.25, le=8, description="multiplies every element size (quick runs: 2)"
+    )
+
+    @model_validator(mode="after")
+    def _relations(self) -> Experiment:
+        r = self.cell.radius_um
+        axisym = self.cell.symmetry == "axisymmetric"
+        for name, tool in self.tools.items():
+            where = f"tools.{name}"
+            if axisym and tool.side not in ("top", "bottom"):
+                raise ValueError(f"{where}.side 'top' or 'bottom' (on the axis) in axisymmetry")
+            if isinstance(tool, StraightPipette):
+                if not axisym:
+                    raise ValueError(f"{where}: a straight pipette needs symmetry 'axisymmetric'")
+                if tool.inner_radius_um + tool.mouth_fillet_um >= r:
+                    raise ValueError(f"{where}.inner_radius_um + mouth_fillet_um < {r:g} um")
+                if (tool.suction_Pa is None) == (tool.displacement_um is None):
+                    raise ValueError(f"{where}: suction_Pa or displacement_um (one of them)")
+            if isinstance(tool, WedgePipette) and axisym:
+                raise ValueError(f"{where}: a wedge pipette needs symmetry 'plane_strain'")
+            if isinstance(tool, HoldingPipette) and (tool.half_width_um or 0) >= r:
+                raise ValueError(f"{where}.half_width_um < the cell radius {r:g} um")
+            if isinstance(tool, NeckedPipette):
+                if not axisym or tool.side != "top":
+                    raise ValueError(f"{where}: a necked pipette is axisymmetric, side 'top'")
+                if r + tool.clearance_um >= tool.bore_diameter_um / 2:
+                    raise ValueError(f"{where}.bore_diameter_um > the cell's diameter + clearance")
+                control = tool.suction_control
+                driver = self.tools.get(control.tool) if control else None
+                if control and not (isinstance(driver, HoldingPipette) and driver.displacement_um):
+                    raise ValueError(
+                        f"{where}.suction_control.tool: a holding pipette with displacement_um"
+                    )
+            if isinstance(tool, Sphere | Cone | Plate) and tool.displacement_um is None:
+                raise ValueError(f"{where}.displacement_um (a path)")
+            path = tool.displacement_um if isinstance(tool, ToolBase) else None
+            if path is not None and max(path.value) - tool.gap_um >= 2 * r:
+                raise ValueError(f"{where}.displacement_um: a travel into the cell below {2 * r:g}")
+        held = any(
+            isinstance(t, HoldingPipette) or (isinstance(t, StraightPipette) and t.seal == "fixed")
+            for t in self.tools.values()
+        )
+        if not held:
+            sides = {t.side for t in self.tools.values()}
+            if not (axisym and {"top", "bottom"} <= sides):
+                raise ValueError(
+                    "tools: a holding_pipette, a pipette with seal 'fixed', or (axisymmetric) "
+                    "tools on top and bottom that press the cell throughout: the cell needs "
+                    "support"
+                )
+        for t in self.record.sections_at_s:
+            if t > self.time.duration_s:
+                raise ValueError(f"record.sections_at_s within the duration ({t:g} s)")
+        return self

@@ -1,0 +1,193 @@
+"""The report of an FE experiment: history CSV, curves against closed forms, fields, text.
+
+Physics stays in :mod:`~oocyte_fe.experiment.driver` and :mod:`~oocyte_fe.experiment.analysis`;
+this module only writes what they return (off-screen figures, Agg backend).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from oocyte_fe.experiment import analysis as an
+from oocyte_fe.experiment.description import Cone, Plate, Sphere
+from oocyte_fe.experiment.driver import ExperimentResult
+from oocyte_fe.fe.contact import Contact
+from oocyte_fe.fe.obstacles import Circle
+from oocyte_fe.io import write_history_csv
+from oocyte_fe.plotting import plot_section
+from oocyte_fe.verification import (
+    THERET_PHI,
+    hertz_force_nN,
+    sneddon_cone_force_nN,
+    theret_length_um,
+)
+
+Output = Callable[[str], Path]
+
+
+def write_history(result: ExperimentResult, output: Output) -> str:
+    """``history.csv``: one row per frame, every recorded series with its unit."""
+    cols: dict[str, np.ndarray] = {"time": result.times_s, "volume_change": result.volume_change}
+    units = {"time": "s", "volume_change": "1"}
+    for name in result.force_nN:
+        cols[f"{name}_advance"], units[f"{name}_advance"] = result.advance_um[name], "um"
+        cols[f"{name}_force"], units[f"{name}_force"] = an.push_force_nN(result, name), "nN"
+        cols[f"{name}_contact_radius"] = result.contact_radius_um[name]
+        units[f"{name}_contact_radius"] = "um"
+    for name in result.suction_kPa:
+        cols[f"{name}_suction"], units[f"{name}_suction"] = result.suction_kPa[name], "kPa"
+    for name, length in result.aspiration_change_um.items():
+        cols[f"{name}_aspiration"], units[f"{name}_aspiration"] = length, "um"
+    for point, track in result.tracks_um.items():
+        for i, axis in enumerate("xy"):
+            cols[f"{point}_u{axis}"], units[f"{point}_u{axis}"] = track[:, i], "um"
+    write_history_csv(output("history.csv"), cols, units)
+    return "history.csv"
+
+
+def _closed_form(result: ExperimentResult, name: str, depth: np.ndarray) -> np.ndarray | None:
+    tool = result.experiment.tools[name]
+    E, nu = an.outer_layer_modulus(result)
+    R = result.experiment.cell.radius_um
+    if isinstance(tool, Cone):
+        return sneddon_cone_force_nN(E, nu, tool.half_angle_deg, depth)
+    if isinstance(tool, Sphere):
+        return hertz_force_nN(E, nu, tool.radius_um * R / (tool.radius_um + R), depth)
+    if isinstance(tool, Plate):
+        return hertz_force_nN(E, nu, R, depth)
+    return None
+
+
+def force_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
+    """Force against advance per tool, with Sneddon/Hertz of the outer layer's modulus."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    for name in result.force_nN:
+        d = an.depth_um(result, name)
+        ax.plot(d, an.push_force_nN(result, name), "o-", ms=3, label=f"{name} (FE)")
+        exact = _closed_form(result, name, d)
+        if exact is not None:
+            ax.plot(d, exact, "--", label=f"{name}: closed form, E of the outer layer")
+    ax.set_xlabel("advance beyond contact (um)")
+    ax.set_ylabel("force on the tool (nN)")
+    ax.legend(fontsize=7)
+    ax.set_title(result.experiment.description[:60] or "force against advance", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(output("force_advance.png"), dpi=120)
+    plt.close(fig)
+    return "force_advance.png", "Force on each tool against its advance; dashed: closed form"
+
+
+def aspiration_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
+    """Aspiration length against suction, with Theret's line (Phi = 2.1)."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    E, _ = an.outer_layer_modulus(result)
+    for name, length in result.aspiration_change_um.items():
+        p = result.suction_kPa[name]
+        a = result.experiment.tools[name].inner_radius_um
+        ax.plot(1e3 * p, length, "o-", ms=3, label=f"{name} (FE)")
+        line = theret_length_um(p, a, E, THERET_PHI)
+        ax.plot(1e3 * p, line, "--", label=f"Theret, Phi = {THERET_PHI}, E = {E:g} kPa")
+    ax.set_xlabel("suction (Pa)")
+    ax.set_ylabel("aspiration length change (um)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(output("aspiration.png"), dpi=120)
+    plt.close(fig)
+    return "aspiration.png", "Aspirated length (apex) against suction; dashed: Theret et al. 1988"
+
+
+def suction_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
+    """Suction of each pipette against time (prescribed, or the one a control needs)."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.5))
+    for name, p in result.suction_kPa.items():
+        ax.plot(result.times_s, 1e3 * p, "o-", ms=3, label=name)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("suction (Pa)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(output("suction.png"), dpi=120)
+    plt.close(fig)
+    return "suction.png", "Suction against time (a controlled suction: the one the path needs)"
+
+
+def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
+    """Displacement magnitude of each material point against time."""
+    fig, ax = plt.subplots(figsize=(5.5, 3.5))
+    for point, track in result.tracks_um.items():
+        ax.plot(result.times_s, np.linalg.norm(track, axis=1), label=point)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("|u| (um)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(output("tracks.png"), dpi=120)
+    plt.close(fig)
+    return "tracks.png", "Displacement of the material points"
+
+
+def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
+    """The report's run summary: what was solved, how, and how it ended."""
+    exp = result.experiment
+    lines = [
+        f"{exp.cell.symmetry}, outer diameter {exp.cell.outer_diameter_um:g} um, ZP "
+        f"{exp.cell.zona_thickness_um:g} um; {result.n_dofs} unknowns; "
+        f"{len(result.steps)} steps, {result.newton_iterations} Newton iterations, "
+        f"{result.cutbacks} cutbacks; {result.seconds:.1f} s.",
+        "",
+        "| tool | type | final advance (um) | final force (nN) | contact radius (um) |",
+        "|---|---|---|---|---|",
+    ]
+    for name in result.force_nN:
+        lines.append(
+            f"| {name} | {exp.tools[name].type} | {result.advance_um[name][-1]:.4g} | "
+            f"{an.push_force_nN(result, name)[-1]:.4g} | "
+            f"{result.contact_radius_um[name][-1]:.4g} |"
+        )
+    if not result.success:
+        lines += ["", f"**Ended early** at t = {result.times_s[-1]:.4g} s: {result.reason}"]
+    lines += ["", "| metric | value |", "|---|---|"]
+    lines += [f"| {k} | {v:.5g} |" for k, v in metrics.items()]
+    return "\n".join(lines)
+
+
+def _obstacle_points(contact: Contact, t: float) -> np.ndarray:
+    """The tool's section curve (k, 2) um at time ``t`` (a circle sampled at 90 points)."""
+    shape = contact.obstacle
+    if isinstance(shape, Circle):
+        a = np.linspace(0.0, 2.0 * np.pi, 91)
+        pts = np.column_stack(
+            [shape.center[0] + shape.radius * np.cos(a), shape.center[1] + shape.radius * np.sin(a)]
+        )
+    else:
+        pts = np.asarray(shape.points, dtype=float)
+    return pts + np.asarray(contact.motion(t), dtype=float)
+
+
+def section_figures(result: ExperimentResult, output: Output) -> list[tuple[str, str]]:
+    """A section (displacement magnitude, tools drawn) at each of ``record.sections_at_s``:
+    the output frame nearest each time."""
+    problem = result.problem
+    axisym = problem.body.axisym > 0
+    times = np.array([f.t for f in result.frames])
+    window = result.experiment.record.section_window_um
+    figures = []
+    for want in result.experiment.record.sections_at_s:
+        frame = result.frames[int(np.argmin(np.abs(times - want)))]
+        name = f"section_t{frame.t:.4g}s.png"
+        plot_section(
+            output(name),
+            problem.body.mesh,
+            problem.body.vertex_displacement(frame.x),
+            mirror=axisym,
+            obstacles=[_obstacle_points(c, frame.t) for c, _ in problem.contacts],
+            title=f"t = {frame.t:.4g} s: displacement magnitude (um)",
+            window=tuple(window) if window else None,
+        )
+        figures.append((name, f"Section at t = {frame.t:.4g} s (asked: {want:g} s), |u| (um)"))
+    return figures

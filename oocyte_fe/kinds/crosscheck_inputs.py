@@ -1,0 +1,272 @@
+"""Inputs and metrics of the case kind ``nmsd_vs_fe`` (its schema, apart from its run)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from afm.curve_io import read_creep
+from nmsd.pipette import (
+    CONTACT_STIFFNESS_NN_PER_UM,
+    HOLD_HALF_WIDTH_UM,
+    TABLE_I_TIP_ANGLE_DEG,
+    TABLE_I_WIDTH_UM,
+)
+from nmsd.tableII import read_force_displacement
+from oocyte_fe.kinds.data_templates import CREEP, TABLE_II
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+
+ZonaRatioReading = Literal["afm_relaxed", "afm_instantaneous"]
+
+
+class CrosscheckInputs(CaseInputs):
+    """Scenario, materials, FE mesh/steps, NMSD lattice/calibration, comparison grid."""
+
+    creep_data: Annotated[DataFile, DataReader(read_creep)] = Field(
+        description="ZP force-clamp creep CSV (afm.curve_io format)",
+        json_schema_extra=CREEP,
+    )
+    table2_data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
+        description="Table II CSV: displacement_um, force_*_uN",
+        json_schema_extra=TABLE_II,
+    )
+    cell_diameter_um: float = Field(
+        115.625, gt=0, description="Table I R_c, outer diameter", json_schema_extra={"unit": "um"}
+    )
+    cytoplasm_diameter_um: float = Field(
+        83.597, gt=0, description="Table I R_zp, inside the ZP", json_schema_extra={"unit": "um"}
+    )
+    pipette_width_um: float = Field(
+        TABLE_I_WIDTH_UM,
+        gt=0,
+        description="injection pipette width (Table I d_inj)",
+        json_schema_extra={"unit": "um"},
+    )
+    tip_angle_deg: float = Field(
+        TABLE_I_TIP_ANGLE_DEG,
+        ge=0,
+        lt=180,
+        description="injection pipette tip angle (Table I theta_inj)",
+        json_schema_extra={"unit": "deg"},
+    )
+    speed_um_s: float = Field(
+        30.0, gt=0, description="pipette speed", json_schema_extra={"unit": "um/s"}
+    )
+    hold_half_width_um: float = Field(
+        HOLD_HALF_WIDTH_UM,
+        gt=0,
+        description="holding pipette mouth half-width",
+        json_schema_extra={"unit": "um"},
+    )
+    spindle_paper_um: tuple[float, float] = Field(
+        (15.8718, 18.1392),
+        description="the paper's spindle position (x, y)",
+        json_schema_extra={"unit": "um"},
+    )
+    travel_um: float = Field(
+        62.5, gt=0, description="pipette travel, um", json_schema_extra={"unit": "um"}
+    )
+    nu: float = Field(
+        0.5,
+        gt=-1,
+        le=0.5,
+        description="Poisson ratio of both layers",
+        json_schema_extra={"unit": "1"},
+    )
+    cytoplasm_E_kPa: float = Field(
+        1.55,
+        gt=0,
+        description="cytoplasm Young's modulus (seed 001 Table 1)",
+        json_schema_extra={"unit": "kPa"},
+    )
+    afm_half_angle_deg: float = Field(
+        10.0,
+        gt=0,
+        lt=90,
+        description="AFM cone half angle of the creep record",
+        json_schema_extra={"unit": "deg"},
+    )
+    thickness_um: float = Field(
+        115.625,
+        gt=0,
+        description="effective plane-strain thickness",
+        json_schema_extra={"unit": "um"},
+    )
+    fe_size_um: float = Field(
+        6.0,
+        gt=0,
+        description="FE element size away from the pipette",
+        json_schema_extra={"unit": "um"},
+    )
+    fe_refine_size_um: float = Field(
+        2.5, gt=0, description="FE element size under the pipette", json_schema_extra={"unit": "um"}
+    )
+    fe_refine_half_window_deg: float = Field(
+        30.0,
+        gt=0,
+        lt=90,
+        description="half angle of the refined window",
+        json_schema_extra={"unit": "deg"},
+    )
+    fe_refine_depth_um: float = Field(
+        20.0, gt=0, description="depth of the refined band", json_schema_extra={"unit": "um"}
+    )
+    fe_step_um: float = Field(
+        2.5, gt=0, description="FE pipette advance per step", json_schema_extra={"unit": "um"}
+    )
+    fe_max_step_um: float = Field(
+        1.25, gt=0, description="largest FE step after cutbacks", json_schema_extra={"unit": "um"}
+    )
+    fe_penalty_factor: float = Field(
+        30.0,
+        gt=0,
+        description="FE contact penalty = factor * E_max / h",
+        json_schema_extra={"unit": "1"},
+    )
+    fe_rtol: float = Field(
+        1e-6,
+        gt=0,
+        lt=1e-2,
+        description="FE Newton relative tolerance",
+        json_schema_extra={"unit": "1"},
+    )
+    fe_contact_smoothing_um: float = Field(
+        0.2,
+        ge=0,
+        description="C1 smoothing of the normal contact law, um (0: exact kink)",
+        json_schema_extra={"unit": "um"},
+    )
+    nmsd_spacings_across: int = Field(
+        17,
+        ge=2,
+        le=101,
+        description="NMSD grid spacings across the diameter",
+        json_schema_extra={"unit": "1"},
+    )
+    nmsd_dl_c: float = Field(
+        0.8, gt=0, description="NMSD critical link strain of eq 3", json_schema_extra={"unit": "1"}
+    )
+    nmsd_damping: Literal["nodal", "link"] = Field(
+        "nodal", description="NMSD eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
+    )
+    nmsd_area_stiffness: float = Field(
+        0.0,
+        ge=0,
+        description="NMSD cell area term kappa h / k1 (dimensionless, nmsd.area); 0: the paper's "
+        "model. nmsd.area.area_stiffness_for_poisson(nu) gives the value for a Poisson ratio",
+        json_schema_extra={"unit": "1"},
+    )
+    nmsd_zona_stiffness_ratio: Annotated[float, Field(gt=0)] | ZonaRatioReading = Field(
+        1.0,
+        description="NMSD ZP ring: k1, k2 of the links beyond cytoplasm_diameter_um / 2 times "
+        "this (E_zp / E_cyto, nmsd.zona); 1: the paper's uniform lattice; 'afm_relaxed' / "
+        "'afm_instantaneous': the ratio of the FE layers' relaxed / instantaneous moduli",
+        json_schema_extra={"unit": "1"},
+    )
+    nmsd_contact_stiffness_nN_per_um: float = Field(
+        CONTACT_STIFFNESS_NN_PER_UM,
+        gt=0,
+        description="NMSD penalty stiffness of the pipette contact",
+        json_schema_extra={"unit": "nN/um"},
+    )
+    nmsd_k2_over_k1_min: float = Field(
+        50.0,
+        ge=0,
+        description="calibration constraint k2 >= this x k1 (eq 8: 50; 0 lifts it, e.g. against "
+        "a neo-Hookean FE reference, which does not stiffen like k2 >= 50 k1 cubic links)",
+        json_schema_extra={"unit": "1"},
+    )
+    nmsd_n_steps: int = Field(
+        50,
+        ge=1,
+        le=100_000,
+        description="NMSD steps over the travel",
+        json_schema_extra={"unit": "1"},
+    )
+    n_starts: int = Field(
+        2, ge=1, le=100, description="calibration starts", json_schema_extra={"unit": "1"}
+    )
+    max_evaluations: int = Field(
+        60,
+        ge=4,
+        le=100_000,
+        description="press simulations per calibration start",
+        json_schema_extra={"unit": "1"},
+    )
+    grid_spacing_um: float = Field(
+        10.0,
+        gt=0,
+        description="spacing of the displacement comparison grid",
+        json_schema_extra={"unit": "um"},
+    )
+    grid_margin_um: float = Field(
+        8.0,
+        ge=0,
+        description="margin of the grid inside the cell boundary",
+        json_schema_extra={"unit": "um"},
+    )
+    arrow_advances_um: list[Annotated[float, Field(gt=0)]] = Field(
+        default_factory=lambda: [20.0, 40.0, 60.0],
+        description="pipette advances of the displacement arrow plots",
+        json_schema_extra={"unit": "um"},
+    )
+    goal_abs_um: float = Field(
+        2.0,
+        gt=0,
+        description="displacement agreement goal, absolute",
+        json_schema_extra={"unit": "um"},
+    )
+    goal_rel: float = Field(
+        0.10,
+        gt=0,
+        description="displacement agreement goal, relative",
+        json_schema_extra={"unit": "1"},
+    )
+    drag_scale: float = Field(
+        0.01,
+        gt=0,
+        description="diagnostic: NMSD drag d0, d1 times this",
+        json_schema_extra={"unit": "1"},
+    )
+    check_speed_um_s: float = Field(
+        0.0,
+        ge=0,
+        description="rate check: press both models again at this speed, the NMSD with the "
+        "constants calibrated at speed_um_s (not refitted); 0: off",
+        json_schema_extra={"unit": "um/s"},
+    )
+    calibrate_both_speeds: bool = Field(
+        False,
+        description="fit the NMSD to the FE force at speed_um_s and check_speed_um_s together "
+        "(eq 7 summed); the rate check then reports a fitted curve, not a prediction",
+    )
+
+
+METRICS = {
+    "fe_force_end_uN": "FE force at the end of the travel times the effective thickness, uN",
+    "fe_vs_table2_rmse_uN": "RMSE of the unfitted FE force against Table II, uN",
+    "fe_vs_table2_r2": "R^2 of the unfitted FE force against Table II",
+    "fe_over_table2_end": "FE force / measured force at the last Table II point within travel",
+    "nmsd_fe_rmse_uN": "RMSE of the NMSD calibrated to the FE curve, uN",
+    "nmsd_fe_r2": "R^2 of the NMSD calibrated to the FE curve",
+    "nmsd_fe_similarity": "cosine similarity of NMSD and FE force curves",
+    "nmsd_departure_um": "advance of the largest NMSD - FE force difference, um",
+    "spindle_fe_end_um": "FE spindle displacement at the end of the travel, um",
+    "spindle_nmsd_end_um": "NMSD spindle displacement at the end of the travel, um",
+    "spindle_error_max_um": "largest spindle error |u_FE - u_NMSD| over the advances, um",
+    "spindle_goal_ratio_max": "largest spindle error / max(goal_abs, goal_rel |u_FE|)",
+    "near_best_fits": "calibration starts ending within 10 % of the best RMSE (eq 7 flat there)",
+    "near_best_spindle_goal_ratio_min": "spindle_goal_ratio_max, lowest over the near-best fits",
+    "near_best_spindle_goal_ratio_max": "spindle_goal_ratio_max, highest over the near-best fits",
+    "grid_error_max_um": "largest point error over the grid and advances, um",
+    "grid_error_mean_um": "mean point error over the grid and advances, um",
+    "drag_scaled_spindle_error_max_um": "spindle error max, NMSD drag scaled down (NaN: diverged)",
+    "penetration_max_um": "largest pipette penetration into the FE surface, um",
+    "fe_steps": "FE solver steps",
+    "fe_cutbacks": "FE step cutbacks",
+    "fe_seconds": "wall time of the FE press, s",
+    "calibration_seconds": "wall time of the NMSD calibration to the FE curve, s",
+    "rate_check_force_r2": "R^2 of the NMSD force against the FE at check_speed_um_s (NaN: off)",
+    "rate_check_spindle_goal_ratio_max": "spindle error / goal at check_speed_um_s (NaN: off)",
+}
