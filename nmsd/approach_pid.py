@@ -57,6 +57,19 @@ MAX_PERIODS = 1_000_000
 """Most controller periods one approach may simulate."""
 
 
+def _goal(target: Callable[[float], np.ndarray], progress_um: float) -> np.ndarray:
+    """``target(progress_um)`` checked: a finite (x, y) point in um (NaN would steer nowhere)."""
+    goal = checks.float_array("pid_approach", "target", target(progress_um))
+    if goal.shape != (2,) or not np.all(np.abs(goal) <= 1e9):
+        raise InputError(
+            "pid_approach",
+            "target",
+            "a callable returning a finite (x, y) point in um, |x|, |y| <= 1e9",
+            got=goal.tolist(),
+        )
+    return goal
+
+
 def pid_approach(
     target: Callable[[float], np.ndarray],
     gains: PidGains,
@@ -94,7 +107,7 @@ def pid_approach(
     ts, xs, rs, gs = [], [], [], []
     for k in range(steps + 1):
         t = k * gains.period_s
-        goal = np.asarray(target(float(np.linalg.norm(x - start))), dtype=float)
+        goal = _goal(target, float(np.linalg.norm(x - start)))
         line = goal - start
         length = float(np.linalg.norm(line))
         reach = min(speed_um_s * t, length)

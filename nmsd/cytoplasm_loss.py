@@ -15,18 +15,29 @@ from __future__ import annotations
 
 import numpy as np
 
+from oocyte_fe import checks
+
 
 def loss_fraction(
     length_um: float | np.ndarray, pipette_um: float, cell_um: float, plane: bool = False
-):
-    """Fraction of the cell volume (or focal-plane area if ``plane``) aspirated."""
+) -> np.ndarray:
+    """Fraction of the cell volume (or focal-plane area if ``plane``) aspirated.
+
+    Lengths within the physical bounds of ``checks.QUANTITIES["length_um"]`` (the aspirated
+    length may be 0); anything else is an :class:`InputError` naming the argument.
+    """
+    low, high, _ = checks.QUANTITIES["length_um"]
+    length = checks.numbers_array("loss_fraction", "length_um", length_um, ge=0, le=high)
+    pipette_um = checks.quantity("loss_fraction", "pipette_um", pipette_um, "length_um")
+    cell_um = checks.quantity("loss_fraction", "cell_um", cell_um, "length_um")
     if plane:
-        return pipette_um * np.asarray(length_um) / (np.pi * cell_um**2 / 4)
-    return (np.pi * pipette_um**2 / 4 * np.asarray(length_um)) / (np.pi * cell_um**3 / 6)
+        return pipette_um * length / (np.pi * cell_um**2 / 4)
+    return (np.pi * pipette_um**2 / 4 * length) / (np.pi * cell_um**3 / 6)
 
 
 def aspirated_length_for(
     fraction: float, pipette_um: float, cell_um: float, plane: bool = False
 ) -> float:
     """Aspirated length (um) that gives ``fraction`` (inverse of :func:`loss_fraction`)."""
+    fraction = checks.number("aspirated_length_for", "fraction", fraction, ge=0, le=1)
     return float(fraction / loss_fraction(1.0, pipette_um, cell_um, plane))

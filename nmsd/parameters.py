@@ -20,6 +20,11 @@ WATER_DENSITY = 1.0e-12
 """Cytoplasm density taken as water, 1000 kg/m^3, in nN s^2/um^4 (mass unit 1e-3 kg per um^3)."""
 
 
+MAGNITUDES = {name: (*checks.QUANTITIES["force_nN"][:2], " nN") for name in ("k1", "k2")}
+"""Physical bounds of the spring coefficients (forces, nN); the other constants are 0 or of a
+magnitude in [checks.TINY, checks.HUGE] (a denormal or 1e308 is a typing slip, not a value)."""
+
+
 @dataclass(frozen=True)
 class NmsdParameters:
     """Spring, damper and mass constants of the lattice.
@@ -55,11 +60,14 @@ class NmsdParameters:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            value = getattr(self, f.name)
             if f.name in ("source", "damping"):
                 continue
-            if not isinstance(value, int | float) or not math.isfinite(value):
-                raise InputError(self.source, f.name, "a finite number", got=value)
+            value = checks.number(self.source, f.name, getattr(self, f.name))  # not a bool
+            low, high, unit = MAGNITUDES.get(f.name, (checks.TINY, checks.HUGE, ""))
+            if value != 0 and not low <= abs(value) <= high:
+                raise InputError(
+                    self.source, f.name, f"0 or a magnitude in [{low:g}, {high:g}]{unit}", value
+                )
         for name in ("k1", "k2", "d0", "d1", "area_stiffness", "zona_inner_radius_um"):
             if getattr(self, name) < 0:
                 raise InputError(self.source, name, ">= 0", got=getattr(self, name))

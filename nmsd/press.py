@@ -154,6 +154,9 @@ def press_setup(
 
 def held_far_side(lattice: Lattice, pipette: Pipette, hold_half_width_um: float) -> np.ndarray:
     """Mask of the rim nodes opposite the pipette within ``hold_half_width_um`` of its axis."""
+    hold_half_width_um = checks.number(
+        "held_far_side", "hold_half_width_um", hold_half_width_um, gt=0, le=1e6
+    )
     a = np.asarray(pipette.direction)
     b = np.array([-a[1], a[0]])
     along = lattice.nodes @ a

@@ -1,7 +1,10 @@
 """Reading a force-displacement table (Table II of seed 000) with its units in the header.
 
-Columns: ``displacement_um`` (strictly increasing), ``force_experiment_uN`` and optionally
-``force_simulation_uN`` (the paper's model). Forces are converted to nN on reading.
+Columns: ``displacement_um`` (strictly increasing, at least :data:`MIN_ROWS` rows, within the
+physical length bounds), ``force_experiment_uN`` (not all equal: a constant force leaves
+nothing to calibrate and R^2 undefined) and optionally ``force_simulation_uN`` (the paper's
+model); forces within the physical force bounds (``oocyte_fe.checks.QUANTITIES``) and
+converted to nN on reading.
 """
 
 from __future__ import annotations
@@ -13,10 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from oocyte_fe.checks import read_text
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
 UN_TO_NN = 1.0e3
+MIN_ROWS = 3
+"""Fewest rows of a table a calibration is fitted to (a curve, not a point)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,7 +38,7 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     """Read the CSV; raise :class:`InputError` naming file and column on bad content."""
     path = Path(path)
     try:
-        rows = list(csv.DictReader(read_text(path).splitlines()))
+        rows = list(csv.DictReader(checks.read_text(path).splitlines()))
     except csv.Error as exc:
         raise InputError(str(path), "", f"a comma-separated table ({exc})") from None
     header = set(rows[0]) if rows else set()
@@ -53,15 +58,27 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
         if not np.all(np.isfinite(columns[name])):
             raise InputError(str(path), name, "finite numbers in every row (no nan, inf)")
     d = columns["displacement_um"]
-    if len(d) < 2 or np.any(np.diff(d) <= 0) or d[0] < 0:
-        raise InputError(str(path), "displacement_um", "non-negative, strictly increasing")
+    if len(d) < MIN_ROWS:
+        raise InputError(str(path), "displacement_um", f"at least {MIN_ROWS} rows", got=len(d))
+    if np.any(np.diff(d) <= 0) or d[0] < 0 or d[-1] > checks.QUANTITIES["length_um"][1]:
+        raise InputError(
+            str(path), "displacement_um", "non-negative, strictly increasing, at most 1e6 um"
+        )
+    high = checks.QUANTITIES["force_nN"][1]
     forces = {}
     for name in ("force_experiment_uN", "force_simulation_uN"):
         if name in columns:
-            with np.errstate(over="ignore"):
-                forces[name] = columns[name] * UN_TO_NN
-            if not np.all(np.isfinite(forces[name])):  # finite in uN, beyond float range in nN
-                raise InputError(str(path), name, "forces of a physical size (|F| < 1e300 uN)")
+            forces[name] = columns[name] * UN_TO_NN
+            if np.any(np.abs(forces[name]) > high):
+                raise InputError(
+                    str(path), name, f"forces of a physical size (|F| <= {high / UN_TO_NN:g} uN)"
+                )
+    if np.ptp(forces["force_experiment_uN"]) == 0:
+        raise InputError(
+            str(path),
+            "force_experiment_uN",
+            "forces that vary (a constant force calibrates nothing; R^2 is undefined)",
+        )
     return ForceDisplacement(
         d,
         forces["force_experiment_uN"],

@@ -126,6 +126,7 @@ QUANTITIES: dict[str, tuple[float, float, str]] = {
     "pressure_kPa": (1e-9, 1e6, "kPa"),
     "viscosity_kPa_s": (1e-12, 1e9, "kPa s"),
     "stiffness_nN_per_um": (1e-9, 1e12, "nN/um"),
+    "shear_rate_per_s": (1e-9, 1e12, "1/s"),
 }
 """Physical bounds of each quantity a user gives, in internal units: (smallest, largest, unit).
 
@@ -174,7 +175,8 @@ def numbers_array(
     array = array.astype(float)
     bad = ~(np.isfinite(array) & _vector_within(array, gt, ge, lt, le))
     if np.any(bad):
-        expected = "an array of " + _expected(False, gt, ge, lt, le).removeprefix("a ") + "s"
+        bounds = _expected(False, gt, ge, lt, le).removeprefix("a finite real number")
+        expected = f"an array of finite real numbers{bounds}"
         raise InputError(where, name, expected, got=float(array[bad].flat[0]))
     return array
 

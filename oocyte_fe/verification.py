@@ -55,6 +55,26 @@ def _radial(body: Body, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return r, (u[0] * p[0] + u[1] * p[1]) / r
 
 
+def lame_sphere_ur(r: np.ndarray, a: float, b: float, E: float, nu: float, p: float) -> np.ndarray:
+    """Radial displacement (um) of a thick sphere, inner radius ``a``, outer ``b`` (um), under
+    inner pressure ``p`` (kPa), Young's modulus ``E`` (kPa), Poisson ratio ``nu`` (Lame):
+
+    u_r(r) = p a^3 / (E (b^3 - a^3)) ((1 - 2 nu) r + (1 + nu) b^3 / (2 r^2))
+    """
+    r = np.asarray(r, dtype=float)
+    return p * a**3 / (E * (b**3 - a**3)) * ((1 - 2 * nu) * r + (1 + nu) * b**3 / (2 * r**2))
+
+
+def lame_cylinder_ur(
+    r: np.ndarray, a: float, b: float, E: float, nu: float, p: float
+) -> np.ndarray:
+    """Radial displacement (um) of a thick cylinder in plane strain (symbols as
+    :func:`lame_sphere_ur`): u_r(r) = (1 + nu) p a^2 / (E (b^2 - a^2)) ((1 - 2 nu) r + b^2 / r)
+    """
+    r = np.asarray(r, dtype=float)
+    return (1 + nu) * p * a**2 / (E * (b**2 - a**2)) * ((1 - 2 * nu) * r + b**2 / r)
+
+
 def lame_sphere(nu: float, size_um: float, a: float = 10.0, b: float = 20.0) -> Verification:
     """Inner radial displacement of a thick sphere (E = 1 kPa, p = 1e-5 kPa)."""
     E, p = 1.0, 1e-5
@@ -68,7 +88,7 @@ def lame_sphere(nu: float, size_um: float, a: float = 10.0, b: float = 20.0) -> 
     result = prob.solve([1.0])
     r, ur = _radial(body, result.frames[-1].x)
     inner = np.isclose(r, a, rtol=1e-6)
-    exact = p * a**3 / (E * (b**3 - a**3)) * ((1 - 2 * nu) * a + (1 + nu) * b**3 / (2 * a**2))
+    exact = float(lame_sphere_ur(a, a, b, E, nu, p))
     return Verification(
         f"lame_sphere_nu{nu}", float(ur[inner].mean()), exact, body.n_dofs, prob, result
     )

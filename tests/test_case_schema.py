@@ -225,11 +225,12 @@ def test_tolerance_given_as_text_is_refused(tmp_path: Path) -> None:
 
 
 def test_library_argument_errors_inside_a_run_name_the_case_file(tmp_path: Path) -> None:
-    """An input that passes validation but that a library refuses at run time (found by the
-    run-level fuzz: E0_kPa = 1e-300 makes the Prony conversion fail inside afm) is reported
-    against ``case.toml: inputs``, never under the library's ``<input>`` placeholder."""
+    """An input that passes validation but that a library refuses at run time (a spring
+    constant of 1e-300 N/m, a unit without physical bounds in the schema, refused by ``afm``)
+    is reported against ``case.toml: inputs``, never under the library's ``<input>``
+    placeholder."""
     case = _copy(tmp_path, "afm_creep_prony")
-    _edit(case, "E0_kPa = 7.01", "E0_kPa = 1e-300")
+    _edit(case, "spring_constant_N_per_m = 0.07", "spring_constant_N_per_m = 1e-300")
     loaded = load_case(case)
     ctx = CaseContext(
         loaded.name, loaded.directory, tmp_path / "out", loaded.inputs, False, logging.getLogger()

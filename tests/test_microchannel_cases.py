@@ -12,16 +12,47 @@ from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.run import plan, run_cases
 
 CASES = Path(__file__).parents[1] / "cases"
-NAMES = ["microchannel_carreau_fit", "microchannel_flow", "microchannel_deformation"]
 
 
-@pytest.mark.parametrize("name", NAMES)
-def test_case_passes_quick(name: str, tmp_path: Path) -> None:
+def _quick_metrics(name: str, tmp_path: Path) -> dict[str, float]:
     [result] = run_cases(plan([CASES / name], quick=True), tmp_path, quick=True)
     assert result.status == "PASS", result.reason
-    data = json.loads((tmp_path / name / "metrics.json").read_text())
-    assert all(c["passed"] for c in data["checks"])
-    assert list((tmp_path / name).glob("*.png"))
+    return json.loads((tmp_path / name / "metrics.json").read_text())["metrics"]
+
+
+def test_carreau_fit_quick(tmp_path: Path) -> None:
+    """Table 2 of seed 001 fitted by Carreau: R^2 (paper: a close fit) and the constants,
+    against this fit's values at the time of writing (1 %: a regression, not the case's
+    own tolerance, so loosening ``case.toml`` cannot hide a change)."""
+    m = _quick_metrics("microchannel_carreau_fit", tmp_path)
+    assert m["carreau_r2"] >= 0.999
+    assert m["carreau_eta0"] == pytest.approx(1.4508, rel=0.01)  # kPa s
+    assert m["carreau_time_constant"] == pytest.approx(679.8, rel=0.01)  # s
+    assert m["carreau_n"] == pytest.approx(0.0571, abs=0.002)
+
+
+def test_flow_quick(tmp_path: Path) -> None:
+    """The reference velocity is the Reynolds number's definition U = Re mu / (rho D) with the
+    case's channel (Re 106.5, mu 1.66 mPa s, rho 1008 kg/m^3, D 250 um); the Rabinowitsch
+    closed forms agree to round-off; the duct FE to 0.5 %."""
+    m = _quick_metrics("microchannel_flow", tmp_path)
+    velocity_um_s = 106.5 * 1.66e-3 / (1008.0 * 250e-6) * 1e6
+    assert m["mean_velocity_ref"] == pytest.approx(velocity_um_s, rel=1e-9)
+    assert m["rm_newtonian_error"] < 1e-10
+    assert m["rm_power_law_error"] < 1e-10
+    assert m["fe_rectangle_error"] < 5e-3
+    assert m["fe_carreau_pipe_error"] < 5e-3
+    assert m["reynolds_max"] == pytest.approx(106.5 * 900 / 300, rel=1e-9)  # Re ~ U ~ p
+
+
+def test_deformation_quick(tmp_path: Path) -> None:
+    """The junction model against the experiment's axis ratios (Table 4): within 4 % on
+    average, also at the pressures not fitted (the prediction the case is about)."""
+    m = _quick_metrics("microchannel_deformation", tmp_path)
+    assert m["mean_error_experiment_pct"] < 4.0
+    assert m["mean_error_experiment_predicted_pct"] < 4.0
+    assert m["max_error_experiment_pct"] < 5.0
+    assert m["load_factor"] == pytest.approx(0.367, rel=0.01)
 
 
 def test_pressure_beyond_laminar_range_is_a_clear_error(tmp_path: Path) -> None:

@@ -62,8 +62,16 @@ def test_case_passes_quick(tmp_path: Path) -> None:
     [result] = run_cases(plan([CASE], quick=True), tmp_path, quick=True)
     assert result.status == "PASS", result.reason
     out = tmp_path / CASE.name
-    data = json.loads((out / "metrics.json").read_text())
-    assert all(c["passed"] for c in data["checks"])
+    m = json.loads((out / "metrics.json").read_text())["metrics"]
+    # the numbers the case is about, with the test's own bounds (a looser case.toml keeps
+    # none of them green): seed 001's 8-18 um periphery deformation, nu = 0.5 volume, the
+    # suction carrying the passage, and the two quick meshes within 5 %
+    assert 8.0 <= m["deformation_max_um"] <= 18.0
+    assert m["deformation_min_um"] < m["deformation_max_um"]
+    assert m["volume_change_pct"] < 0.01
+    assert m["push_fraction_max"] < 1e-3
+    assert m["mesh_change_pct"] < 5.0
+    assert m["centroid_advance_um"] > m["stall_advance_um"] > 0
     assert (out / "fields" / "neck.pvd").is_file()
     assert (out / "material" / "material_zp.toml").is_file()
     assert len(list(out.glob("section_*.png"))) == 3

@@ -177,11 +177,16 @@ def test_pipette_starting_inside_is_refused():
         ("displacement_um,force_experiment_uN\n0,0\n2,1\n1,2\n", "displacement_um"),
         ("displacement_um,force_uN\n0,0\n1,1\n", "force_experiment_uN"),
         # finite in uN but not in nN: was an inf force (and a numpy overflow warning)
-        ("displacement_um,force_experiment_uN\n0,0\n1,1e307\n", "force_experiment_uN"),
+        ("displacement_um,force_experiment_uN\n0,0\n1,1\n2,1e307\n", "force_experiment_uN"),
         (
-            "displacement_um,force_experiment_uN,force_simulation_uN\n0,0,0\n1,1,-1e307\n",
+            "displacement_um,force_experiment_uN,force_simulation_uN\n0,0,0\n1,1,1\n2,2,-1e307\n",
             "force_simulation_uN",
         ),
+        # degenerate data a calibration cannot fit (issue 26, class 4)
+        ("displacement_um,force_experiment_uN\n0,0\n", "displacement_um: expected at least 3"),
+        ("displacement_um,force_experiment_uN\n0,2\n1,2\n2,2\n", "forces that vary"),
+        ("displacement_um,force_experiment_uN\n0,0\n1,1\n2,1e10\n", r"\|F\| <= 1e\+09 uN"),
+        ("displacement_um,force_experiment_uN\n0,0\n1,1\n1e7,2\n", "at most 1e6 um"),
     ],
 )
 def test_bad_csv(tmp_path, text, field):

@@ -110,18 +110,20 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_pa
     data = json.loads((tmp_path / "nmsd_vs_fe" / "metrics.json").read_text())
     checks = {c["name"]: c for c in data["checks"]}
     m = data["metrics"]
-    # held: the NMSD reproduces the FE force curve it is calibrated to; contact is resolved
-    assert checks["nmsd_fe_r2"]["passed"], m["nmsd_fe_r2"]
-    assert checks["nmsd_fe_similarity"]["passed"]
-    assert checks["penetration_max_um"]["passed"]
+    # held: the NMSD reproduces the FE force curve it is calibrated to (R^2 0.981, similarity
+    # 0.998 measured); contact is resolved (0.38 um largest penetration of the 62.5 um press)
+    assert m["nmsd_fe_r2"] >= 0.95
+    assert m["nmsd_fe_similarity"] >= 0.99
+    assert m["penetration_max_um"] <= 1.0
     # both spindles move towards the holder by more than half the advance; with link dampers
     # (the case's reading) the NMSD spindle travel is within 25 % of the FE's (8 % measured)
     assert 0.5 * 62.5 < m["spindle_fe_end_um"] < 62.5
     assert abs(m["spindle_nmsd_end_um"] - m["spindle_fe_end_um"]) < 0.25 * m["spindle_fe_end_um"]
-    # fitted at 30 and 3 um/s together: the 3 um/s curve is followed too (0.968 measured)
-    assert checks["rate_check_force_r2"]["passed"], m["rate_check_force_r2"]
-    # issue 9 goal (max(2 um, 10 %)) held as stated: missed (2.8 x), a documented known miss
+    # fitted at 30 and 3 um/s together: the 3 um/s curve is followed too (0.953 measured)
+    assert m["rate_check_force_r2"] >= 0.93
+    # issue 9 goal (max(2 um, 10 %)) held as stated: missed (2.74 x), a documented known miss
     # (MISS, within its regression bound), the only check not passed
+    assert 2.5 < m["spindle_goal_ratio_max"] < 3.0
     assert checks["spindle_goal_ratio_max"]["status"] == "MISS"
     assert result.status == "MISS" and result.ok
     # the fits eq 7 cannot tell apart (within 10 % of the best RMSE) predict nearly the same

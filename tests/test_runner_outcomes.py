@@ -5,6 +5,7 @@ the Python route and the HTML pages."""
 from __future__ import annotations
 
 import json
+import math
 import multiprocessing
 import os
 import subprocess
@@ -387,8 +388,11 @@ def test_new_then_run_quick_works_for_a_kind_of_each_package(tmp_path: Path, kin
     run = run_case(tmp_path / "mine", out=tmp_path / "out", quick=True)
     # no [tolerances] in a user's case: PASS with every metric computed and finite
     assert run.result.status == "PASS", run.result.reason
-    metrics = json.loads((tmp_path / "out" / "mine" / "metrics.json").read_text())
-    assert metrics and all(v is None or v == v for v in metrics.values()), metrics
+    record = json.loads((tmp_path / "out" / "mine" / "metrics.json").read_text())
+    assert "non_finite" not in record, record["non_finite"]  # a NaN metric is written as null
+    assert set(run.metrics) == set(kinds()[kind].metrics)
+    for name, value in run.metrics.items():
+        assert isinstance(value, int | float) and math.isfinite(value), (name, value)
 
 
 def test_cases_start_longest_first_by_their_last_run(tmp_path: Path) -> None:

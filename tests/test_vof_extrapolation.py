@@ -7,13 +7,12 @@ from __future__ import annotations
 import math
 import shutil
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
 import oocyte_fe.kinds.microchannel_vof as vof_kind
 from oocyte_fe.errors import InputError
-from oocyte_fe.microchannel.vof.extrapolation import richardson
+from oocyte_fe.microchannel.vof.extrapolation import richardson, time_step_study
 from oocyte_fe.microchannel.vof.runner import OpenFoam
 from oocyte_fe.runner.run import plan, run_cases
 
@@ -59,34 +58,35 @@ def test_richardson_refuses_bad_input(values: list[float], ratio: float, field: 
         richardson(values, ratio)
 
 
-def _run(ratio: float, end: float = 0.9) -> SimpleNamespace:
-    history = SimpleNamespace(ratio=[1.0, end])
-    return SimpleNamespace(ratio_at_junction=ratio, history=history, steps=800, wall_seconds=1.0)
-
-
-def test_time_step_study_reports_the_limit_next_to_the_case_dt() -> None:
+def test_time_step_study_gives_the_limit_next_to_the_case_dt() -> None:
     dt = 1e-6
     # 1 - b/a = 0.002 + 0.01 (dt / 1 us): first order, limit 0.002
-    runs = [_run(1.0 - (0.002 + 0.01 * (dt / 2**k) / 1e-6)) for k in range(3)]
-    text, m = vof_kind._dt_study(dt, runs)  # type: ignore[arg-type]
-    assert m["dt_change_pct"] == pytest.approx(100 * (1 - 0.007 / 0.012))  # 41.7 %
-    assert m["dt_order"] == pytest.approx(1.0)
-    assert m["deformation_dt_limit"] == pytest.approx(0.002)
-    assert m["ratio_dt_limit"] == pytest.approx(0.998)
-    assert m["ratio_dt_error_pct"] == pytest.approx(100 * (1 - 0.988 / 0.998))
-    assert "p = 1.00" in text and "1 - b/a = 0.00200" in text and "+500 % in 1 - b/a" in text
-    two, m2 = vof_kind._dt_study(dt, runs[:2])  # type: ignore[arg-type]
-    assert "no dt -> 0 estimate" in two and set(m2) == {"dt_change_pct"}
-    wobbly = [_run(0.990), _run(0.995), _run(0.994)]  # alternating, q = -0.2
-    text3, m3 = vof_kind._dt_study(dt, wobbly)  # type: ignore[arg-type]
-    assert "alternate" in text3 and math.isnan(m3["dt_order"])
-    assert m3["dt_factor"] == pytest.approx(-0.2) and 0.994 < m3["ratio_dt_limit"] < 0.995
-    away = [_run(0.990), _run(0.995), _run(0.985)]  # q = -2: no limit
-    text5, m5 = vof_kind._dt_study(dt, away)  # type: ignore[arg-type]
-    assert "do not shrink" in text5 and "ratio_dt_limit" not in m5
-    short = [_run(math.nan, 0.97), _run(math.nan, 0.98), _run(math.nan, 0.985)]  # x = 0 not reached
-    text4, m4 = vof_kind._dt_study(dt, short)  # type: ignore[arg-type]
-    assert "at the end of the run" in text4 and m4["ratio_dt_limit"] == pytest.approx(0.99)
+    ratios = [1.0 - (0.002 + 0.01 * (dt / 2**k) / 1e-6) for k in range(3)]
+    m = time_step_study(dt, ratios, [0.9] * 3).metrics()
+    assert m["dt_change_pct"] == pytest.approx(100 * (1 - 0.007 / 0.012), rel=1e-12)  # 41.7 %
+    assert m["dt_order"] == pytest.approx(1.0, rel=1e-9)
+    assert m["deformation_dt_limit"] == pytest.approx(0.002, rel=1e-9)
+    assert m["ratio_dt_limit"] == pytest.approx(0.998, rel=1e-12)
+    assert m["ratio_dt_error_pct"] == pytest.approx(100 * (1 - 0.988 / 0.998), rel=1e-9)
+    two = time_step_study(dt, ratios[:2], [0.9] * 2)
+    assert two.extrapolation is None and set(two.metrics()) == {"dt_change_pct"}
+    wobbly = time_step_study(dt, [0.990, 0.995, 0.994], [0.9] * 3).metrics()  # q = -0.2
+    assert math.isnan(wobbly["dt_order"])
+    assert wobbly["dt_factor"] == pytest.approx(-0.2, rel=1e-9)
+    assert 0.994 < wobbly["ratio_dt_limit"] < 0.995
+    away = time_step_study(dt, [0.990, 0.995, 0.985], [0.9] * 3)  # q = -2: no limit
+    assert away.metrics()["dt_factor"] == pytest.approx(-2.0) and "ratio_dt_limit" not in (
+        away.metrics()
+    )
+    # x = 0 not reached by a run (the short quick window): read at the end of the runs
+    short = time_step_study(dt, [0.99, math.nan, 0.99], [0.97, 0.98, 0.985])
+    assert short.where == "the end of the run"
+    assert short.metrics()["ratio_dt_limit"] == pytest.approx(0.99, rel=1e-12)
+
+
+def test_time_step_study_needs_two_runs() -> None:
+    with pytest.raises(InputError, match="time_step_study: at_junction"):
+        time_step_study(1e-6, [0.99], [0.99])
 
 
 def test_dt_refinements_add_runs_at_halved_steps(

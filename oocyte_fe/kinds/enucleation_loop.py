@@ -18,7 +18,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import TABLE_II
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Relation
 from oocyte_fe.tracking import enucleation as loop
 from oocyte_fe.tracking.plots import plot_loop_distances
 from oocyte_fe.tracking.synthetic import CELL_DIAMETER_UM, SequenceSpec
@@ -89,6 +89,12 @@ class LoopInputs(CaseInputs):
     )
     kp: float = Field(0.2, ge=0, description="PID gain (eq 10)", json_schema_extra=_unit("1"))
     ki: float = Field(0.3, ge=0, description="PID gain (eq 10)", json_schema_extra=_unit("1"))
+
+    rules = (
+        Relation("removal_pipette_um", "<", lambda m: CELL_DIAMETER_UM, "the cell diameter"),
+        Relation("spindle_length_um", "<", lambda m: CELL_DIAMETER_UM, "the cell diameter"),
+        Relation("start_spread_um", "<", lambda m: CELL_DIAMETER_UM / 2, "the cell radius"),
+    )
 
 
 METRICS = {

@@ -19,7 +19,7 @@ from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
 from oocyte_fe.io import FieldSeriesWriter, write_history_csv
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Refining
 from oocyte_fe.verification import (
     Verification,
     hertz,
@@ -44,6 +44,8 @@ class FeVerificationInputs(CaseInputs):
         description="contact element size / contact radius a, three meshes halving",
         json_schema_extra={"unit": "1"},
     )
+
+    rules = (Refining("hertz_fractions"),)
 
 
 METRICS = {

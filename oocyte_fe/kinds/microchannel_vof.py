@@ -25,7 +25,7 @@ from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
-from oocyte_fe.microchannel.vof.extrapolation import richardson
+from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.junction import JunctionRun, junction_setup, run_junction
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
@@ -39,7 +39,7 @@ from oocyte_fe.microchannel.vof.runner import (
 )
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Relation
 
 PA_S = units.VISCOSITY["Pa_s"]
 KG_M3 = units.DENSITY["kg_m3"]
@@ -75,6 +75,17 @@ class GeometryInputs(CaseInputs):
     cell_diameter_um: float = _f(140.0, "oocyte diameter (paper)", "um", gt=0)
     cytoplasm_diameter_um: float = _f(110.0, "cytoplasm diameter (paper)", "um", gt=0)
     cell_offset_um: float = _f(500.0, "start of the cell before the junction centre", "um", gt=0)
+
+    rules = (
+        Relation("cytoplasm_diameter_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("cell_diameter_um", "<", lambda m: m.channel_width_um, "channel_width_um"),
+        Relation(
+            "cell_offset_um",
+            "<",
+            lambda m: m.upstream_length_um - m.cell_diameter_um / 2,
+            "upstream_length_um - cell_diameter_um / 2 (the cell in the upstream arm)",
+        ),
+    )
 
     def to_geometry(self) -> JunctionGeometry:
         return JunctionGeometry(
@@ -424,8 +435,14 @@ def _report(
         )
     dt_text = "not run"
     if dt_runs:
-        dt_text, dt_metrics = _dt_study(inp.time_step_s, [runs[0], *dt_runs])
-        metrics.update(dt_metrics)
+        study_runs = [runs[0], *dt_runs]
+        study = time_step_study(
+            inp.time_step_s,
+            [r.ratio_at_junction for r in study_runs],
+            [float(r.history.ratio[-1]) for r in study_runs],
+        )
+        dt_text = _dt_section(study, study_runs)
+        metrics.update(study.metrics())
     folders = time_directories(runs[0].case)
     shot = snapshot(
         folders[-1][1],
@@ -467,15 +484,9 @@ def _report(
     return CaseOutcome(metrics=metrics, figures=figures, sections=sections, checks=checks)
 
 
-def _dt_study(dt: float, runs: list[JunctionRun]) -> tuple[str, dict[str, float]]:
-    """The first pressure at dt, dt/2, ...: b/a and 1 - b/a at x = 0 per dt (at the end of the
-    run when one does not reach x = 0, as the short ``[quick]`` window), the change of 1 - b/a
-    from dt to dt/2, and with three or more runs the Richardson limit dt -> 0 of the finest
-    three (:mod:`oocyte_fe.microchannel.vof.extrapolation`)."""
-    ratios = [r.ratio_at_junction for r in runs]
-    where = "x = 0"
-    if not all(math.isfinite(v) for v in ratios):
-        ratios, where = [float(r.history.ratio[-1]) for r in runs], "the end of the run"
+def _dt_section(study: TimeStepStudy, runs: list[JunctionRun]) -> str:
+    """The report's time-step table and the sentence on its dt -> 0 limit."""
+    ratios, where, dt = study.ratios, study.where, study.dt_s
     rows = [
         f"| dt (s) | b/a at {where} | 1 - b/a | 1 - b/a against the previous dt | steps "
         "| wall (s) |",
@@ -487,39 +498,31 @@ def _dt_study(dt: float, runs: list[JunctionRun]) -> tuple[str, dict[str, float]
             f"| {dt / 2**k:g} | {ratios[k]:.5f} | {1 - ratios[k]:.5f} | {change} "
             f"| {r.steps} | {r.wall_seconds:.0f} |"
         )
-    metrics = {"dt_change_pct": 100 * abs((1 - ratios[1]) / (1 - ratios[0]) - 1)}
     lines = ["\n".join(rows), ""]
-    if len(runs) < 3:
+    ex = study.extrapolation
+    if ex is None:
         lines.append("Two time steps: no observed order, no dt -> 0 estimate (set 2 refinements).")
+    elif not ex.converging:
+        lines.append(
+            f"The differences of b/a do not shrink over the finest three time steps (factor "
+            f"{ex.factor:.2f} per halving): no dt -> 0 estimate."
+        )
     else:
-        ex = richardson(ratios[-3:])
-        metrics.update(dt_order=ex.order, dt_factor=ex.factor)
-        if not ex.converging:
-            lines.append(
-                f"The differences of b/a do not shrink over the finest three time steps (factor "
-                f"{ex.factor:.2f} per halving): no dt -> 0 estimate."
-            )
-        else:
-            base = ratios[0]
-            metrics.update(
-                ratio_dt_limit=ex.limit,
-                deformation_dt_limit=1 - ex.limit,
-                ratio_dt_error_pct=_pct(base, ex.limit),
-            )
-            how = (
-                f"Richardson over the finest three, observed order p = {ex.order:.2f}"
-                if ex.monotone
-                else f"the differences alternate, factor q = {ex.factor:.2f} per halving: no "
-                "observed order; the geometric (Aitken) limit, which lies between the two "
-                "finest values, is an estimate only"
-            )
-            lines.append(
-                f"**dt -> 0 at {where} ({how}): b/a = {ex.limit:.5f}, 1 - b/a = "
-                f"{1 - ex.limit:.5f}**, against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the "
-                f"case's dt = {dt:g} s: its dt error is {100 * (base / ex.limit - 1):+.2f} % in "
-                f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
-            )
-    return "\n".join(lines), metrics
+        base = ratios[0]
+        how = (
+            f"Richardson over the finest three, observed order p = {ex.order:.2f}"
+            if ex.monotone
+            else f"the differences alternate, factor q = {ex.factor:.2f} per halving: no "
+            "observed order; the geometric (Aitken) limit, which lies between the two "
+            "finest values, is an estimate only"
+        )
+        lines.append(
+            f"**dt -> 0 at {where} ({how}): b/a = {ex.limit:.5f}, 1 - b/a = "
+            f"{1 - ex.limit:.5f}**, against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the "
+            f"case's dt = {dt:g} s: its dt error is {100 * (base / ex.limit - 1):+.2f} % in "
+            f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
+        )
+    return "\n".join(lines)
 
 
 def _layout(inp: VofInputs, run: JunctionRun):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import time
 from typing import Annotated, Literal
 
@@ -20,18 +21,65 @@ from nmsd.pipette import (
     TABLE_I_WIDTH_UM,
 )
 from nmsd.press import PressSetup, press_setup
-from nmsd.spindle import predict_spindle_offset
+from nmsd.spindle import approach_setup, predict_spindle_offset
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import TABLE_II
 from oocyte_fe.kinds.nmsd_report import calibration_report, spindle_report
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation, Setup
 
 UN = 1e-3  # nN -> uN
 
 
 PositiveUm = Annotated[float, Field(gt=0, le=1e4)]
+LIBRARY_ARGS = (
+    ("diameter_um", "cell_diameter_um"),
+    ("width_um", "pipette_width_um"),
+    ("contact_stiffness", "contact_stiffness_nN_per_um"),
+)
+"""Library argument -> case input, for the errors of the setups run at validation."""
+
+
+@functools.lru_cache(maxsize=16)
+def _press_geometry(*args: object) -> None:
+    """:func:`press_setup` on a fresh lattice, built once per geometry (a sweep's probes vary
+    other inputs); the mirror pairs are left to ``run`` (costly)."""
+    diameter, spacings, *rest = args
+    press_setup(circular_lattice(diameter, spacings), *rest, symmetric=False)  # type: ignore[arg-type]
+
+
+@functools.lru_cache(maxsize=16)
+def _approach_geometry(diameter: float, spacings: int, *rest: object) -> None:
+    """:func:`approach_setup` on a fresh lattice, built once per geometry."""
+    approach_setup(circular_lattice(diameter, spacings), *rest)  # type: ignore[arg-type]
+
+
+def _press_at_validation(m: PressInputs) -> None:
+    _press_geometry(
+        m.cell_diameter_um,
+        m.spacings_across,
+        m.pipette_width_um,
+        m.tip_angle_deg,
+        m.hold_half_width_um,
+        m.contact_stiffness_nN_per_um,
+        m.speed_um_s,
+        m.travel_um,
+        m.n_steps,
+        m.gap_um,
+    )
+
+
+def _approach_at_validation(m: SpindleInputs) -> None:
+    _approach_geometry(
+        m.cell_diameter_um,
+        m.spacings_across,
+        m.spindle_initial_um,
+        m.pipette_width_um,
+        m.tip_angle_deg,
+        m.hold_half_width_um,
+        m.contact_stiffness_nN_per_um,
+    )
 
 
 class PressInputs(CaseInputs):
@@ -121,6 +169,17 @@ class PressInputs(CaseInputs):
         json_schema_extra={"unit": "1"},
     )
 
+    rules = (
+        Relation("pipette_width_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation(
+            "hold_half_width_um", "<", lambda m: m.cell_diameter_um / 2, "cell_diameter_um / 2"
+        ),
+        Relation(
+            "travel_um", "<", lambda m: m.cell_diameter_um - m.gap_um, "cell_diameter_um - gap_um"
+        ),
+        Setup(_press_at_validation, LIBRARY_ARGS),
+    )
+
 
 class CalibrationInputs(PressInputs):
     models: list[Literal[MODELS]] = Field(  # type: ignore[valid-type]
@@ -137,6 +196,11 @@ class CalibrationInputs(PressInputs):
         default_factory=lambda: [15.0, 30.0, 45.0],
         description="pipette displacements of the lattice snapshots",
         json_schema_extra={"unit": "um"},
+    )
+
+    rules = (
+        *PressInputs.rules,
+        Relation("snapshot_um", "<=", lambda m: m.travel_um, "travel_um", measure="max"),
     )
 
 
@@ -182,6 +246,21 @@ class SpindleInputs(PressInputs):
         ge=0,
         description="spindle extent aspirated with it",
         json_schema_extra={"unit": "um"},
+    )
+
+    rules = (
+        *PressInputs.rules,
+        Relation(
+            "spindle_initial_um",
+            "<",
+            lambda m: m.cell_diameter_um,
+            "cell_diameter_um (from the puncture point)",
+            measure="norm",
+        ),
+        Relation("removal_pipette_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("spindle_length_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("approach_step_um", "<=", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Setup(_approach_at_validation, LIBRARY_ARGS),
     )
 
 

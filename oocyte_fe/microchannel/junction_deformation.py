@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from oocyte_fe.checks import HUGE, TINY, number, numbers_array, positive
+from oocyte_fe.checks import HUGE, QUANTITIES, TINY, number, numbers_array, positive
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
@@ -135,8 +135,13 @@ def fit_junction_model(
     Residuals are relative ratio errors; the two parameters are fitted as logarithms (both
     positive, orders of magnitude apart).
     """
-    pressure = np.asarray(pressure, dtype=float)
-    ratio = np.asarray(ratio, dtype=float)
+    low, high, _ = QUANTITIES["pressure_kPa"]
+    pressure = numbers_array(source, "pressure", pressure, ge=low, le=high)
+    ratio = numbers_array(source, "ratio", ratio, gt=0, le=1)
+    if pressure.ndim != 1 or pressure.size < 2 or ratio.shape != pressure.shape:
+        raise InputError(
+            source, "pressure, ratio", "two 1-D columns of equal length, at least 2 rows"
+        )
     picks = [int(np.argmin(np.abs(pressure - p))) for p in fit_pressures]
     if not 2 <= len(set(picks)) <= 3 or any(
         not np.isclose(pressure[i], p, rtol=1e-9) for i, p in zip(picks, fit_pressures, strict=True)

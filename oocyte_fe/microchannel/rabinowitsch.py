@@ -68,14 +68,12 @@ def fully_developed_flow(
     size = positive("fully_developed_flow", "size", size)
     pressure_gradient = positive("fully_developed_flow", "pressure_gradient", pressure_gradient)
     gamma = rheology.shear_rate
+    tau_w = (0.5 if geometry == "pipe" else 1.0) * pressure_gradient * size
+    wall_rate = gamma(tau_w)  # first: a wall stress beyond the rheology's range is refused here
     if geometry == "pipe":
-        tau_w = 0.5 * pressure_gradient * size
         integral = quad(lambda t: t * t * gamma(t), 0.0, tau_w, **_QUAD)[0]
         flow_rate = math.pi * size**3 / tau_w**3 * integral
     else:
-        tau_w = pressure_gradient * size
         integral = quad(lambda t: t * gamma(t), 0.0, tau_w, **_QUAD)[0]
         flow_rate = 2.0 * size**2 / tau_w**2 * integral
-    return GeneralizedFlow(
-        geometry, size, pressure_gradient, tau_w, gamma(tau_w), flow_rate, rheology
-    )
+    return GeneralizedFlow(geometry, size, pressure_gradient, tau_w, wall_rate, flow_rate, rheology)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.viscosity import Rheology, ViscosityModel, get_model
 
@@ -97,20 +98,31 @@ def fit_viscosity(
     fixed = dict(fixed or {})
     if gamma.shape != eta.shape or gamma.ndim != 1:
         raise InputError(source, "shear_rate, viscosity", "two 1-D columns of equal length")
-    for name, values in (("shear_rate", gamma), ("viscosity", eta)):
-        if not np.all(np.isfinite(values) & (values > 0)):
-            bad = values[~(np.isfinite(values) & (values > 0))][0]
-            raise InputError(source, name, "positive finite values", got=float(bad))
+    for name, values, kind in (
+        ("shear_rate", gamma, "shear_rate_per_s"),
+        ("viscosity", eta, "viscosity_kPa_s"),
+    ):
+        low, high, _ = checks.QUANTITIES[kind]
+        checks.numbers_array(source, name, values, ge=low, le=high)
     unknown = set(fixed) - set(model.keys)
     if unknown:
         raise InputError(source, f"fixed.{sorted(unknown)[0]}", f"one of {model.keys}")
     free = [p for p in model.parameters if p.key not in fixed]
-    if gamma.size < len(free):
+    distinct = np.unique(gamma).size
+    if distinct < len(free):
         raise InputError(
             source,
             "shear_rate",
-            f"at least {len(free)} points to fit the {len(free)} free parameters of {model.key}",
-            got=int(gamma.size),
+            f"at least {len(free)} distinct shear rates to fit the {len(free)} free parameters "
+            f"of {model.key}",
+            got=distinct,
+        )
+    if np.ptp(np.log(eta)) == 0:
+        raise InputError(
+            source,
+            "viscosity",
+            "viscosities that vary (equal ones determine no shear thinning; R^2 is undefined)",
+            got=float(eta[0]),
         )
 
     def to_params(x: np.ndarray) -> dict[str, float]:

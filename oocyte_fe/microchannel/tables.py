@@ -76,10 +76,14 @@ def quantity(columns: dict[str, np.ndarray], stem: str, kind: str, path: Path) -
     return columns[name] * table[unit]
 
 
-def _positive(values: np.ndarray, path: Path, column: str) -> np.ndarray:
-    bad = ~(np.isfinite(values) & (values > 0))
+def _physical(values: np.ndarray, path: Path, column: str, kind: str) -> np.ndarray:
+    """``values`` (internal units) within the physical bounds of ``checks.QUANTITIES[kind]``."""
+    low, high, unit = checks.QUANTITIES[kind]
+    bad = ~((values >= low) & (values <= high))
     if np.any(bad):
-        raise InputError(path, column, "positive values", got=float(values[bad][0]))
+        raise InputError(
+            path, column, f"values in [{low:g}, {high:g}] {unit}", got=float(values[bad][0])
+        )
     return values
 
 
@@ -96,8 +100,10 @@ def read_flow_curve(path: Path) -> FlowCurve:
     """Read ``strain_rate_1_s`` (or ``shear_rate_1_s``) and ``viscosity_<unit>`` columns."""
     columns = read_columns(path)
     stem = "strain_rate" if any(c.startswith("strain_rate_") for c in columns) else "shear_rate"
-    rate = _positive(quantity(columns, stem, "shear_rate", path), path, stem)
-    eta = _positive(quantity(columns, "viscosity", "viscosity", path), path, "viscosity")
+    rate = _physical(quantity(columns, stem, "shear_rate", path), path, stem, "shear_rate_per_s")
+    eta = _physical(
+        quantity(columns, "viscosity", "viscosity", path), path, "viscosity", "viscosity_kPa_s"
+    )
     return FlowCurve(rate, eta, str(path))
 
 
@@ -114,7 +120,9 @@ class DeformationTable:
 def read_deformation_table(path: Path) -> DeformationTable:
     """Read ``pressure_<unit>``, ``ratio_experiment`` and ``ratio_simulation`` columns."""
     columns = read_columns(path)
-    pressure = _positive(quantity(columns, "pressure", "pressure", path), path, "pressure")
+    pressure = _physical(
+        quantity(columns, "pressure", "pressure", path), path, "pressure", "pressure_kPa"
+    )
     ratios = []
     for name in ("ratio_experiment", "ratio_simulation"):
         if name not in columns:

@@ -253,8 +253,10 @@ class Rheology:
     def shear_rate(self, tau: float) -> float:
         """Shear rate (1/s) at shear stress ``tau`` (kPa): the root of ``eta(g) g = tau``.
 
-        Solved by Brent's method on ``ln g``; ``tau eta`` must be increasing in g, true for
-        every registered model with n > 0 or eta_inf > 0.
+        Solved by Brent's method on ``ln g`` over shear rates ``e^-100 .. e^100`` 1/s; ``tau
+        eta`` must be increasing in g, true for every registered model with n > 0 or
+        eta_inf > 0. Below that range the flow is linear (``g = tau / eta(e^-100)``); a stress
+        above it is an :class:`InputError` naming the largest stress solved.
         """
         if tau == 0.0:
             return 0.0
@@ -263,4 +265,14 @@ class Rheology:
         def gap(s: float) -> float:
             return math.log(float(self.stress(math.exp(s)))) - log_tau
 
+        if gap(-100.0) > 0:
+            return tau / (float(self.stress(math.exp(-100.0))) / math.exp(-100.0))
+        if gap(100.0) < 0:
+            raise InputError(
+                self.source,
+                "shear stress",
+                f"at most {float(self.stress(math.exp(100.0))):.3g} kPa (a shear rate of "
+                "e^100 1/s)",
+                got=tau,
+            )
         return math.exp(brentq(gap, -100.0, 100.0, xtol=1e-14, rtol=1e-14))

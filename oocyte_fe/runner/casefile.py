@@ -33,7 +33,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseKind, get_kind
-from oocyte_fe.runner.schema import DataFile, readers_of
+from oocyte_fe.runner.schema import DataFile, RuleBroken, readers_of
 from oocyte_fe.sweep.spec import SweepSpec, check_sweep, resolved_inputs, sweep_metric_names
 
 CASE_FILE = "case.toml"
@@ -258,6 +258,10 @@ def raise_validation_error(
     loc = tuple(first["loc"])
     field = prefix + _loc(loc) if loc or not prefix else prefix.rstrip(".")
     kind = first["type"]
+    broken = first.get("ctx", {}).get("error")
+    if isinstance(broken, RuleBroken):  # a cross-field rule names its own field
+        field = prefix + _loc((*loc, broken.field))
+        raise InputError(file, field, broken.expected, got=broken.got) from None
     if kind == "missing":
         raise InputError(file, field, "this key (it is required)") from None
     if kind == "extra_forbidden":
@@ -332,7 +336,10 @@ def _raw_numbers(file: Path, raw: dict[str, Any]) -> None:
     """Numbers of ``[reference]``/``[tolerances]`` as TOML numbers: ``true`` would read as 1 and
     ``"0.1"`` as 0.1 in the (lax) models the runner shares."""
     for table, keys in NUMBER_KEYS.items():
-        for key, entry in (raw.get(table) or {}).items():
+        entries = raw.get(table, {})
+        if not isinstance(entries, dict):
+            raise InputError(file, table, f"a table ([{table}.NAME] entries)", got=entries)
+        for key, entry in entries.items():
             for name in keys:
                 value = entry.get(name) if isinstance(entry, dict) else None
                 if value is not None and (

@@ -9,6 +9,13 @@ rule below holds for every kind, a new one included, without a line of its own:
 * every float, also inside lists, tuples and tables, is finite (``inf``, ``nan``, ``1e400``
   refused) and of magnitude at most :data:`MAX_ABS` unless the field sets its own bound with
   ``json_schema_extra={"max_abs": ...}`` (``1e308`` would overflow the first product);
+* a float whose field declares a unit of :data:`UNIT_BOUNDS` (kPa, um, s, nN, nN/um, Pa s,
+  Pa, hPa), list elements included, is 0 or of a magnitude within the physical bounds of its
+  quantity (:data:`oocyte_fe.checks.QUANTITIES`): a modulus of ``1e-320`` kPa is refused with
+  the bound named, not divided by later;
+* cross-field rules are declared on the model (``rules = (Relation(...), Refining(...),
+  Setup(...))``, see :class:`Relation`), checked after the fields and reported against the
+  field they name; the fuzz suite reads the declarations and breaks each rule;
 * a :data:`DataFile` lies inside the case folder and is a regular UTF-8 file; a field made with
   :func:`data_file` is also *read* at validation with the reader ``run`` uses, so
   ``validate`` finds an empty, binary or wrong-column file, not the run.
@@ -23,10 +30,13 @@ with ``unit = "1"`` for dimensionless numbers and no unit for strings, paths and
 
 from __future__ import annotations
 
+import math
+import operator
 import typing
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, ClassVar, Literal, Self
 
 from pydantic import (
     AfterValidator,
@@ -35,6 +45,7 @@ from pydantic import (
     Field,
     ValidationInfo,
     field_validator,
+    model_validator,
 )
 from pydantic.fields import FieldInfo
 
@@ -56,13 +67,31 @@ def unit_of(info: FieldInfo) -> str | None:
     return str(unit) if unit is not None else None
 
 
-def _first_too_large(value: Any, bound: float) -> float | None:
-    """The first float in ``value`` (nested lists, tuples, dicts) with ``|x| > bound``."""
+UNIT_BOUNDS: dict[str, tuple[float, float]] = {
+    unit: (checks.QUANTITIES[quantity][0] * per, checks.QUANTITIES[quantity][1] * per)
+    for unit, quantity, per in (
+        ("kPa", "modulus_kPa", 1.0),
+        ("um", "length_um", 1.0),
+        ("s", "time_s", 1.0),
+        ("nN", "force_nN", 1.0),
+        ("nN/um", "stiffness_nN_per_um", 1.0),
+        ("Pa s", "viscosity_kPa_s", 1e3),
+        ("Pa", "pressure_kPa", 1e3),
+        ("hPa", "pressure_kPa", 10.0),
+    )
+}
+"""Unit of a case input -> (smallest, largest) non-zero magnitude, from the physical bounds of
+:data:`oocyte_fe.checks.QUANTITIES` (converted: 1 kPa s = 1e3 Pa s, 1 kPa = 10 hPa)."""
+
+
+def _first_outside(value: Any, low: float, high: float) -> float | None:
+    """The first float in ``value`` (nested lists, tuples, dicts) that is neither 0 nor of a
+    magnitude in ``[low, high]``."""
     stack = [value]
     while stack:
         item = stack.pop()
         if isinstance(item, float):
-            if abs(item) > bound:
+            if item != 0 and not low <= abs(item) <= high:
                 return item
         elif isinstance(item, list | tuple):
             stack.extend(item)
@@ -71,10 +100,106 @@ def _first_too_large(value: Any, bound: float) -> float | None:
     return None
 
 
+class RuleBroken(ValueError):
+    """A cross-field rule that failed; ``field`` is the input it names (in its own block)."""
+
+    def __init__(self, field: str, expected: str, got: object = None) -> None:
+        super().__init__(f"{field}: {expected}")
+        self.field = field
+        self.expected = expected
+        self.got = got
+
+
+OPS: dict[str, Callable[[float, float], bool]] = {
+    "<": operator.lt,
+    "<=": operator.le,
+    ">": operator.gt,
+    ">=": operator.ge,
+}
+MEASURES: dict[str, Callable[[Any], float]] = {
+    "value": float,
+    "norm": lambda v: math.hypot(*v),
+    "max": max,
+}
+"""What of a field a :class:`Relation` compares: the number, the length of a point (from the
+origin of its frame), the largest element of a list."""
+
+
+@dataclass(frozen=True)
+class Relation:
+    """Cross-field rule ``measure(field) op bound(inputs)``, for example a pipette travel
+    below the cell's diameter less the gap: ``Relation("travel_um", "<", lambda m:
+    m.cell_diameter_um - m.gap_um, "cell_diameter_um - gap_um")``.
+
+    ``says`` is the bound as the error prints it, beside its value. The fuzz suite moves the
+    field to the bound and beyond (``measure`` tells it how: scale the number, the point or
+    the list), so a declared rule is tested with no code of its own.
+    """
+
+    field: str
+    op: Literal["<", "<=", ">", ">="]
+    bound: Callable[[Any], float]
+    says: str
+    measure: Literal["value", "norm", "max"] = "value"
+
+    def check(self, inputs: BaseModel) -> None:
+        value = getattr(inputs, self.field)
+        if value is None or (isinstance(value, list | tuple) and not value):
+            return  # not given, or a list with no element to break the rule
+        bound = float(self.bound(inputs))
+        if not OPS[self.op](MEASURES[self.measure](value), bound):
+            what = self.field if self.measure == "value" else f"{self.measure}({self.field})"
+            raise RuleBroken(self.field, f"{what} {self.op} {self.says} = {bound:g}", value)
+
+
+@dataclass(frozen=True)
+class Refining:
+    """Cross-field rule of a mesh study: the sizes (or size fractions) in ``field`` strictly
+    decrease, so each mesh refines the one before and an observed order exists."""
+
+    field: str
+
+    def check(self, inputs: BaseModel) -> None:
+        sizes = list(getattr(inputs, self.field))
+        if any(b >= a for a, b in zip(sizes, sizes[1:], strict=False)):
+            raise RuleBroken(self.field, "strictly decreasing sizes (each mesh finer)", sizes)
+
+
+@dataclass(frozen=True)
+class Setup:
+    """Cross-field rule decided by the library: ``build(inputs)`` makes the kind's cheap
+    setup (a lattice, a pipette and the nodes its holder holds), so ``validate`` finds what
+    ``run`` would. A library :class:`InputError` names its argument; ``fields`` maps that
+    argument to the input (an argument of the same name needs no entry)."""
+
+    build: Callable[[Any], object]
+    fields: tuple[tuple[str, str], ...] = ()
+
+    def check(self, inputs: BaseModel) -> None:
+        try:
+            self.build(inputs)
+        except InputError as exc:
+            field = dict(self.fields).get(exc.field, exc.field)
+            if field not in type(inputs).model_fields:
+                raise TypeError(f"Setup of {type(inputs).__name__}: map {exc.field!r}") from None
+            raise RuleBroken(field, exc.expected, exc.got) from None
+
+
+Rule = Relation | Refining | Setup
+
+
 class CaseInputs(BaseModel):
     """Base of the input models of case kinds (the rules are in the module docstring)."""
 
     model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
+    rules: ClassVar[tuple[Rule, ...]] = ()
+    """Cross-field rules of the kind, checked in order after every field is valid."""
+
+    @model_validator(mode="after")
+    def _cross_field(self) -> Self:
+        for rule in type(self).rules:
+            rule.check(self)
+        return self
 
     @field_validator("*", mode="before")
     @classmethod
@@ -94,9 +219,18 @@ class CaseInputs(BaseModel):
     def _bounded(cls, value: Any, info: ValidationInfo) -> Any:
         field = cls.model_fields.get(info.field_name or "")
         bound = float(_extra(field).get("max_abs", MAX_ABS)) if field else MAX_ABS
-        bad = _first_too_large(value, bound)
+        bad = _first_outside(value, 0.0, bound)
         if bad is not None:
             raise ValueError(f"numbers of magnitude at most {bound:g} (got {bad:g})")
+        unit = unit_of(field) if field else None
+        if unit in UNIT_BOUNDS:
+            low, high = UNIT_BOUNDS[unit]
+            bad = _first_outside(value, low, high)
+            if bad is not None:
+                raise ValueError(
+                    f"0 or a magnitude in [{low:g}, {high:g}] {unit} (the physical bounds of "
+                    f"the quantity; got {bad:g})"
+                )
         return value
 
 

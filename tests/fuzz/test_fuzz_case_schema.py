@@ -28,7 +28,16 @@ from pydantic.fields import FieldInfo
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import kinds
-from oocyte_fe.runner.schema import MAX_ABS
+from oocyte_fe.runner.schema import (
+    MAX_ABS,
+    MEASURES,
+    OPS,
+    UNIT_BOUNDS,
+    Refining,
+    Relation,
+    Rule,
+    unit_of,
+)
 from tests.fuzz.harness import ANYTHING_SCALARS, check_outcome, fuzz_settings
 
 CASES = Path(__file__).resolve().parents[2] / "cases"
@@ -184,6 +193,23 @@ def _assert_in_range(value: Any, where: str) -> None:
             stack.extend(item.values())
 
 
+def _assert_physical(inputs: BaseModel, where: str) -> None:
+    """Every accepted float of a field with a unit of UNIT_BOUNDS is 0 or within its bounds."""
+    for name, info in type(inputs).model_fields.items():
+        value = getattr(inputs, name)
+        if isinstance(value, BaseModel):
+            _assert_physical(value, f"{where}.{name}")
+            continue
+        unit = unit_of(info)
+        if unit not in UNIT_BOUNDS:
+            continue
+        low, high = UNIT_BOUNDS[unit]
+        items = value if isinstance(value, list | tuple) else [value]
+        for x in items:
+            if isinstance(x, float):
+                assert x == 0 or low <= abs(x) <= high, f"{where}.{name} accepted {x!r} {unit}"
+
+
 @fuzz_settings(ci_examples=250, full_examples=3000)
 @given(data=st.data())
 def test_case_inputs(bases: dict, data: st.DataObject) -> None:
@@ -215,6 +241,7 @@ def test_case_inputs(bases: dict, data: st.DataObject) -> None:
     if case is None:
         return
     _assert_in_range(case.inputs, f"{kind} inputs.{'.'.join(path)}")
+    _assert_physical(case.inputs, kind)
     if action == "set" and not isinstance(value, dict | list):
         got = _get(case.inputs, path)
         if isinstance(value, bool):
@@ -228,6 +255,12 @@ def test_case_inputs(bases: dict, data: st.DataObject) -> None:
 
 TOP = st.sampled_from(
     [
+        ("inputs",),
+        ("quick",),
+        ("full",),
+        ("reference",),
+        ("tolerances",),
+        ("sweep",),
         ("timeout_s",),
         ("kind",),
         ("description",),
@@ -289,3 +322,91 @@ def test_misspelt_key_gets_a_suggestion(bases: dict) -> None:
     (folder / "case.toml").write_text(tomli_w.dumps(raw))
     with pytest.raises(InputError, match=r"inputs\.E0_kpa: .*did you mean 'E0_kPa'"):
         load_case(folder)
+
+
+def declared_rules(
+    model: type[BaseModel], prefix: tuple[str, ...] = ()
+) -> list[tuple[tuple[str, ...], Rule]]:
+    """(path of the input block, rule) for every cross-field rule of ``model`` and its blocks."""
+    found = [(prefix, rule) for rule in getattr(model, "rules", ())]
+    for name, info in model.model_fields.items():
+        annotation = info.annotation
+        if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+            found += declared_rules(annotation, (*prefix, name))
+    return found
+
+
+RULES = [
+    (kind, block, rule)
+    for kind, entry in sorted(builtin_kinds().items())
+    for block, rule in declared_rules(entry.inputs)
+]
+
+
+def test_kinds_declare_cross_field_rules() -> None:
+    """The geometry kinds declare theirs (a rule removed by mistake fails here)."""
+    with_rules = {kind for kind, _, _ in RULES}
+    assert with_rules >= {
+        "enucleation_loop",
+        "fe_verification",
+        "microchannel_vof",
+        "nmsd_calibration",
+        "nmsd_spindle_offset",
+        "nmsd_spindle_offset_resampled",
+    }
+    assert len(RULES) >= 20
+
+
+BEYOND = (1.0, 1.0 + 1e-9, 1.001, 1.5, 10.0, 1e3)
+"""Factors that move a measure to its bound and beyond (inverted for ``>`` and ``>=``)."""
+
+
+def _broken(rule: Relation, value: Any, bound: float, factor: float) -> Any:
+    """``value`` moved so that its measure is ``bound * factor`` (or its inverse)."""
+    target = bound * factor if rule.op in ("<", "<=") else bound / factor
+    if rule.measure == "value":
+        return target
+    if rule.measure == "norm":
+        norm = math.hypot(*value)
+        return [target, 0.0] if norm == 0 else [v * target / norm for v in value]
+    top = max(value)
+    return [v * target / top for v in value] if top > 0 else [target] * len(value)
+
+
+@fuzz_settings(ci_examples=120, full_examples=1500)
+@given(data=st.data())
+def test_cross_field_rules(bases: dict, data: st.DataObject) -> None:
+    """Each declared rule, broken: refused naming its field; kept: loads or is refused."""
+    kind, block, rule = data.draw(st.sampled_from(RULES), label="rule")
+    folder, raw = bases[kind]
+    raw = copy.deepcopy(raw)
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    inputs = _get(load_case(folder).inputs, block)
+    path = (*block, getattr(rule, "field", ""))
+    if isinstance(rule, Relation):
+        factor = data.draw(st.sampled_from(BEYOND), label="factor")
+        bound = float(rule.bound(inputs))
+        value = _broken(rule, getattr(inputs, rule.field), bound, factor)
+        broken = not OPS[rule.op](MEASURES[rule.measure](value), bound)
+    elif isinstance(rule, Refining):
+        sizes = list(getattr(inputs, rule.field))
+        order = data.draw(st.sampled_from(["reversed", "repeated", "kept"]), label="order")
+        value = {"reversed": sizes[::-1], "repeated": [sizes[0], *sizes[:-1]], "kept": sizes}[order]
+        broken = order != "kept"
+    else:  # a library setup: any number it reads, scaled; refused naming an input, or built
+        numeric = [
+            name
+            for name, info in type(inputs).model_fields.items()
+            if info.annotation in (float, int) and name != "seed"
+        ]
+        name = data.draw(st.sampled_from(numeric), label="field")
+        factor = data.draw(st.sampled_from([0.0, 1e-3, 0.1, 0.5, 2.0, 10.0, -1.0]), label="x")
+        value = getattr(inputs, name) * factor
+        value = int(value) if isinstance(getattr(inputs, name), int) else value
+        path, broken = (*block, name), False
+    _set(raw.setdefault("inputs", {}), path, value)
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    label = f"cross-field rules ({kind})"
+    names = f"inputs.{'.'.join(path)}" if broken else None
+    case = check_outcome(label, lambda: load_case(folder), names=names)
+    assert case is None or not broken, f"silent acceptance: {'.'.join(path)} = {value!r}"

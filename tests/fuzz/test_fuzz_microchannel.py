@@ -4,6 +4,8 @@ a slit read for an unknown geometry, another exception or a hang)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
@@ -13,6 +15,7 @@ from oocyte_fe.microchannel.duct_fe import radial_mesh, rectangle_mesh, solve_du
 from oocyte_fe.microchannel.junction_deformation import (
     JunctionCell,
     JunctionParameters,
+    fit_junction_model,
     junction_deformation,
 )
 from oocyte_fe.microchannel.poiseuille import (
@@ -22,6 +25,8 @@ from oocyte_fe.microchannel.poiseuille import (
     rectangular_duct_flow_rate,
 )
 from oocyte_fe.microchannel.rabinowitsch import fully_developed_flow
+from oocyte_fe.microchannel.rheology_fit import fit_viscosity
+from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.microchannel.viscosity import Rheology
 from tests.fuzz.harness import NUMBERS, capped, check_outcome, fuzz_settings
 
@@ -31,6 +36,7 @@ GEOMETRY = st.one_of(
 CARREAU = Rheology.of("carreau", eta0=1e-3, eta_inf=1e-6, time_constant=0.1, n=0.5)
 NEWTONIAN = Rheology.of("newtonian", mu=1e-6)
 CHANNEL = Channel(250.0, 1e-15, 1e-6, 100.0, 1.0)
+CASES = Path(__file__).resolve().parents[2] / "cases"
 
 
 @fuzz_settings(ci_examples=60, full_examples=800)
@@ -105,3 +111,63 @@ def test_junction(d: object, modulus: object, load: object, length: object, p: o
         return junction_deformation(CHANNEL, cell, params, np.array([p, 1.0]))
 
     check_outcome("microchannel.junction_deformation", call)
+
+
+FLOW_CURVE = read_flow_curve(CASES / "microchannel_carreau_fit" / "table2_viscosity.csv")
+DEFORMATION = read_deformation_table(CASES / "microchannel_deformation" / "table4_deformation.csv")
+
+
+def _degenerate(values: np.ndarray, how: str, k: int) -> np.ndarray:
+    """``values`` cut to ``k`` rows, made all equal, or with a huge, tiny or NaN last value."""
+    if how == "rows":
+        return values[:k]
+    if how == "equal":
+        return np.full_like(values, values[0])
+    last = {"huge": 1e300, "tiny": 1e-300, "nan": np.nan, "zero": 0.0}[how]
+    return np.r_[values[:-1], last]
+
+
+HOW = st.sampled_from(["rows", "equal", "huge", "tiny", "nan", "zero"])
+
+
+@fuzz_settings(ci_examples=60, full_examples=1000)
+@given(
+    model=st.sampled_from(["carreau", "cross", "power_law", "carreau_yasuda"]),
+    column=st.sampled_from(["shear_rate", "viscosity"]),
+    how=HOW,
+    k=st.integers(0, 6),
+)
+def test_viscosity_fit_on_degenerate_data(model: str, column: str, how: str, k: int) -> None:
+    """Issue 26, class 4: no scipy error escapes, no NaN R^2 is reported as a success."""
+    gamma, eta = FLOW_CURVE.shear_rate, FLOW_CURVE.viscosity
+    if column == "shear_rate":
+        gamma = _degenerate(gamma, how, k)
+        eta = eta[: gamma.size]
+    else:
+        eta = _degenerate(eta, how, k)
+        gamma = gamma[: eta.size]
+
+    def call() -> object:
+        fit = fit_viscosity(model, gamma, eta)
+        return fit.r2, fit.r2_log, fit.rmse, fit.rheology.params
+
+    check_outcome("microchannel.fit_viscosity (degenerate)", call)
+
+
+@fuzz_settings(ci_examples=40, full_examples=600)
+@given(column=st.sampled_from(["pressure", "ratio"]), how=HOW, k=st.integers(0, 4))
+def test_junction_fit_on_degenerate_data(column: str, how: str, k: int) -> None:
+    pressure, ratio = DEFORMATION.pressure, DEFORMATION.ratio_experiment
+    if column == "pressure":
+        pressure = _degenerate(pressure, how, k)
+        ratio = ratio[: pressure.size]
+    else:
+        ratio = _degenerate(ratio, how, k)
+        pressure = pressure[: ratio.size]
+    cell = JunctionCell(140.0, 1.0, CARREAU)
+
+    def call() -> object:
+        fit = fit_junction_model(CHANNEL, cell, pressure, ratio, list(DEFORMATION.pressure[:2]))
+        return fit.params, fit.ratio
+
+    check_outcome("microchannel.fit_junction_model (degenerate)", call)

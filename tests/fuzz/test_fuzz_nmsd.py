@@ -12,10 +12,12 @@ from hypothesis import strategies as st
 
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.calibration import calibrate
+from nmsd.cytoplasm_loss import aspirated_length_for, loss_fraction
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.pipette import Pipette
 from nmsd.press import press_setup, simulate_press
+from nmsd.spindle import approach_setup, predict_spindle_offset
 from nmsd.tableII import ForceDisplacement
 from oocyte_fe.errors import InputError
 from tests.fuzz.harness import NUMBERS, capped, check_outcome, fuzz_settings
@@ -99,3 +101,63 @@ def test_calibrate_arguments(evals: object, starts: object, seed: object, tol: o
             ).force_nN
         ),
     )
+
+
+TARGETS = st.one_of(
+    st.tuples(NUMBERS, NUMBERS).map(np.array),
+    st.sampled_from([np.array([1.0]), np.zeros(3), "here", None, np.array([np.nan, 1.0])]),
+)
+
+
+@fuzz_settings(ci_examples=40, full_examples=500)
+@given(goal=TARGETS)
+def test_pid_approach_target(goal: object) -> None:
+    """A target callable returning NaN, a wrong shape or text: refused, never a NaN trace."""
+
+    def call() -> object:
+        trace = pid_approach(lambda _p: goal, PidGains(), duration_s=0.5)  # type: ignore[arg-type]
+        return trace.position_um, trace.final_error_um
+
+    check_outcome("nmsd.pid_approach (target)", call)
+
+
+@fuzz_settings(ci_examples=60, full_examples=800)
+@given(
+    length=NUMBERS,
+    pipette=st.one_of(NUMBERS, st.floats(1, 50)),
+    cell=st.one_of(NUMBERS, st.floats(50, 200)),
+    plane=st.booleans(),
+    fraction=st.one_of(NUMBERS, st.floats(0, 1)),
+)
+def test_loss_fraction(length: object, pipette: object, cell: object, plane, fraction) -> None:
+    def call() -> object:
+        loss = loss_fraction(length, pipette, cell, plane)  # type: ignore[arg-type]
+        return loss, aspirated_length_for(fraction, pipette, cell, plane)  # type: ignore[arg-type]
+
+    check_outcome("nmsd.loss_fraction", call)
+
+
+@fuzz_settings(ci_examples=60, full_examples=800)
+@given(
+    x=st.one_of(NUMBERS, st.floats(0, 40)),
+    y=st.one_of(NUMBERS, st.floats(-20, 20)),
+    hold=st.one_of(NUMBERS, st.floats(0, 30)),
+    step=NUMBERS,
+)
+def test_spindle_approach(x: object, y: object, hold: object, step: object) -> None:
+    """Spindle outside the cell, at the puncture point, a hold holding no node, a step of 0 or
+    NaN: refused naming the argument (the press itself is run only for small lattices)."""
+
+    def call() -> object:
+        approach = approach_setup(SMALL, (x, y), hold_half_width_um=hold)  # type: ignore[arg-type]
+        if isinstance(step, float) and step > 2.0:  # a few steps: the press itself runs
+            return predict_spindle_offset(SMALL, NmsdParameters(), (x, y), step_um=step).final_um
+        return approach.travel_um, approach.held.sum()
+
+    check_outcome("nmsd.approach_setup", call)
+
+
+def test_spindle_step_refused_before_a_press() -> None:
+    for step in (0.0, -1.0, float("nan"), 1e-300, True):
+        with pytest.raises(InputError, match="predict_spindle_offset: step_um"):
+            predict_spindle_offset(SMALL, NmsdParameters(), (15.0, 2.0), step_um=step)

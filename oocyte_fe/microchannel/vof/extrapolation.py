@@ -67,3 +67,48 @@ def richardson(values: Sequence[float], ratio: float = 2.0) -> Extrapolation:
     order = -math.log(q) / math.log(ratio) if 0 < q < 1 else (math.inf if q == 0 else math.nan)
     limit = f3 - d23 * q / (1 - q) if abs(q) < 1 else math.nan
     return Extrapolation(q, order, limit, f3, ratio)
+
+
+@dataclass(frozen=True)
+class TimeStepStudy:
+    """The axis ratio b/a at dt, dt/2, dt/4, ...: where it was read (``"x = 0"``, or ``"the
+    end of the run"`` when a run does not reach the junction), the change of 1 - b/a from dt
+    to dt/2 (%), and with three or more runs the limit dt -> 0 of the finest three."""
+
+    dt_s: float
+    ratios: tuple[float, ...]
+    where: str
+    change_pct: float
+    extrapolation: Extrapolation | None
+
+    def metrics(self) -> dict[str, float]:
+        """The case's metrics: ``dt_change_pct``; ``dt_order``, ``dt_factor`` (three runs);
+        ``ratio_dt_limit``, ``deformation_dt_limit``, ``ratio_dt_error_pct`` (a limit)."""
+        out = {"dt_change_pct": self.change_pct}
+        ex = self.extrapolation
+        if ex is not None:
+            out.update(dt_order=ex.order, dt_factor=ex.factor)
+            if ex.converging:
+                out.update(
+                    ratio_dt_limit=ex.limit,
+                    deformation_dt_limit=1 - ex.limit,
+                    ratio_dt_error_pct=100 * abs(self.ratios[0] / ex.limit - 1),
+                )
+        return out
+
+
+def time_step_study(
+    dt_s: float, at_junction: Sequence[float], at_end: Sequence[float]
+) -> TimeStepStudy:
+    """b/a per time step dt, dt/2, ... read at the junction (x = 0), or at the end of the runs
+    when one of them did not reach it (nan in ``at_junction``); at least two runs."""
+    if len(at_junction) < 2 or len(at_end) != len(at_junction):
+        raise InputError(
+            "time_step_study", "at_junction", "ratios of two or more runs (dt, dt/2, ...)"
+        )
+    ratios, where = tuple(at_junction), "x = 0"
+    if not all(math.isfinite(v) for v in ratios):
+        ratios, where = tuple(at_end), "the end of the run"
+    change = 100 * abs((1 - ratios[1]) / (1 - ratios[0]) - 1)
+    ex = richardson(ratios[-3:]) if len(ratios) >= 3 else None
+    return TimeStepStudy(dt_s, ratios, where, change, ex)

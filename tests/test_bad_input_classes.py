@@ -1,0 +1,215 @@
+"""The classes of bad input of issue 26, one test per class (the fuzz suite, ``tests/fuzz``,
+generates many inputs of each; these are the fixed, fast examples).
+
+1. cross-field geometry, found by ``validate`` and named against the field the rule names;
+2. magnitudes outside the physical bounds of their quantity, booleans as numbers, nonsense
+   steps and targets of the ``nmsd`` functions;
+3. special paths and tables of the wrong type;
+4. degenerate data handed to fits (one row, all equal, a huge value).
+
+Class 5 (AFM curve and creep files) belongs to the ``afm`` package's tests.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import tomli_w
+
+from nmsd.approach_pid import PidGains, pid_approach
+from nmsd.cytoplasm_loss import loss_fraction
+from nmsd.lattice import circular_lattice
+from nmsd.parameters import NmsdParameters
+from nmsd.spindle import predict_spindle_offset
+from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel.rheology_fit import fit_viscosity
+from oocyte_fe.runner.casefile import load_case
+from oocyte_fe.runner.registry import kinds
+from oocyte_fe.runner.schema import UNIT_BOUNDS, Refining, Relation, unit_of
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+def _case(tmp_path: Path, name: str, **inputs: Any) -> Path:
+    """A copy of ``cases/<name>`` with ``inputs`` set (dotted keys reach nested blocks)."""
+    folder = tmp_path / name
+    shutil.copytree(CASES / name, folder)
+    raw = tomllib.loads((folder / "case.toml").read_text())
+    for key, value in inputs.items():
+        table = raw["inputs"]
+        *parents, last = key.split(".")
+        for part in parents:
+            table = table.setdefault(part, {})
+        table[last] = value
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    return folder
+
+
+# --- 1. cross-field geometry -----------------------------------------------------------------
+
+SHIPPED = {
+    "nmsd_calibration": "nmsd_calibration_tableII",
+    "nmsd_spindle_offset": "nmsd_spindle_offset",
+    "microchannel_vof": "microchannel_vof_quick",
+    "fe_verification": "fe_verification",
+    "enucleation_loop": "enucleation_loop",
+}
+RELATIONS = [
+    (kind, block, rule)
+    for kind, case in SHIPPED.items()
+    for block, model in [((), kinds()[kind].inputs)]
+    + [
+        ((name,), info.annotation)
+        for name, info in kinds()[kind].inputs.model_fields.items()
+        if isinstance(info.annotation, type) and hasattr(info.annotation, "rules")
+    ]
+    for rule in model.rules
+    if isinstance(rule, Relation | Refining)
+]
+
+
+@pytest.mark.parametrize(
+    ("kind", "block", "rule"), RELATIONS, ids=[f"{k}:{r.field}" for k, _, r in RELATIONS]
+)
+def test_each_declared_rule_is_refused_against_its_field(
+    tmp_path: Path, kind: str, block: tuple[str, ...], rule: Relation | Refining
+) -> None:
+    inputs = load_case(CASES / SHIPPED[kind]).inputs
+    for name in block:
+        inputs = getattr(inputs, name)
+    value = getattr(inputs, rule.field)
+    if isinstance(rule, Refining):
+        broken: Any = list(value)[::-1]
+    else:
+        bound = rule.bound(inputs)
+        target = bound * 1.5 if rule.op in ("<", "<=") else bound / 1.5
+        broken = target if rule.measure == "value" else [v * target / max(value) for v in value]
+        if rule.measure == "norm":
+            broken = [v * target / math.hypot(*value) for v in value]
+    field = ".".join((*block, rule.field))
+    folder = _case(tmp_path, SHIPPED[kind], **{field: broken})
+    with pytest.raises(InputError, match=rf"case\.toml: inputs\.{field}: expected") as err:
+        load_case(folder)
+    if isinstance(rule, Relation):
+        assert rule.says in str(err.value)  # the bound is named, with its value
+
+
+@pytest.mark.parametrize(
+    ("inputs", "field", "expected"),
+    [
+        ({"hold_half_width_um": 0.01}, "hold_half_width_um", "holds at least one rim node"),
+        ({"spindle_initial_um": [5.0, 50.0]}, "spindle_initial_um", "inside the cell"),
+        ({"spindle_initial_um": [0.0, 0.0]}, "spindle_initial_um", "away from the puncture"),
+        ({"travel_um": 120.0}, "travel_um", "cell_diameter_um - gap_um = 115.625"),
+    ],
+)
+def test_spindle_geometry_is_found_at_validate(
+    tmp_path: Path, inputs: dict, field: str, expected: str
+) -> None:
+    """What ``run`` would refuse after a calibration (the library's own setup, run at
+    validation), named against the case's field."""
+    folder = _case(tmp_path, "nmsd_spindle_offset", **inputs)
+    with pytest.raises(InputError, match=rf"inputs\.{field}: expected .*{expected}"):
+        load_case(folder)
+
+
+# --- 2. magnitudes ---------------------------------------------------------------------------
+
+UNIT_FIELDS = [
+    (kind, name, unit_of(info))
+    for kind in SHIPPED
+    for name, info in kinds()[kind].inputs.model_fields.items()
+    if info.annotation is float and unit_of(info) in UNIT_BOUNDS
+]
+
+
+@pytest.mark.parametrize(("kind", "name", "unit"), UNIT_FIELDS)
+@pytest.mark.parametrize("value", [1e-320, 1e-7, 5e11])
+def test_physical_bounds_per_unit(
+    tmp_path: Path, kind: str, name: str, unit: str, value: float
+) -> None:
+    low, high = UNIT_BOUNDS[unit]
+    folder = _case(tmp_path, SHIPPED[kind], **{name: value})
+    if low <= value <= high:
+        return  # within the bounds of this unit (5e11 is a fine time in s, not in um)
+    with pytest.raises(InputError, match=rf"inputs\.{name}: expected") as err:
+        load_case(folder)
+    message = str(err.value)
+    assert f"[{low:g}, {high:g}] {unit}" in message or "expected a value" in message, message
+
+
+def test_booleans_are_not_numbers() -> None:
+    with pytest.raises(InputError, match="NmsdParameters: k1: expected a finite real number"):
+        NmsdParameters(k1=True)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"k2: expected 0 or a magnitude in \[1e-09, 1e\+12\] nN"):
+        NmsdParameters(k2=1e-320)
+
+
+def test_nmsd_steps_lengths_and_targets() -> None:
+    lattice = circular_lattice(40.0, 4)
+    for step in (0.0, math.nan):
+        with pytest.raises(InputError, match="predict_spindle_offset: step_um"):
+            predict_spindle_offset(lattice, NmsdParameters(), (15.0, 2.0), step_um=step)
+    with pytest.raises(InputError, match="pid_approach: target: expected .* finite"):
+        pid_approach(lambda _s: np.array([math.nan, 1.0]), PidGains())
+    for args, name in (((-1.0, 20.0, 115.0), "length_um"), ((10.0, 0.0, 115.0), "pipette_um")):
+        with pytest.raises(InputError, match=f"loss_fraction: {name}"):
+            loss_fraction(*args)
+    assert float(loss_fraction(30.0, 20.0, 115.625)) == pytest.approx(
+        (math.pi * 20.0**2 / 4 * 30.0) / (math.pi * 115.625**3 / 6), rel=1e-12
+    )
+
+
+# --- 3. special paths and tables of the wrong type -------------------------------------------
+
+
+@pytest.mark.parametrize("table", ["reference", "tolerances", "quick", "inputs", "sweep"])
+def test_a_table_of_the_wrong_type_is_one_line(tmp_path: Path, table: str) -> None:
+    folder = tmp_path / "c"
+    shutil.copytree(CASES / "nmsd_calibration_tableII", folder)
+    raw = tomllib.loads((folder / "case.toml").read_text())
+    raw[table] = 5
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    with pytest.raises(InputError, match=rf"case\.toml: {table}: expected .*, got 5$"):
+        load_case(folder)
+
+
+# --- 4. degenerate data handed to fits -------------------------------------------------------
+
+RATE = np.array([0.01, 0.1, 1.0, 10.0, 100.0, 1000.0])
+ETA = np.array([1.0, 0.9, 0.5, 0.1, 0.02, 0.01])
+
+
+@pytest.mark.parametrize(
+    ("rate", "eta", "expected"),
+    [
+        (RATE[:1], ETA[:1], "shear_rate: expected at least 4 distinct"),
+        (np.full(6, 1.0), ETA, "shear_rate: expected at least 4 distinct"),
+        (RATE, np.full(6, 0.5), "viscosity: expected viscosities that vary"),
+        (RATE, np.r_[ETA[:-1], 1e300], r"viscosity: expected .*<= 1e\+09"),
+        (RATE, np.r_[ETA[:-1], math.nan], "viscosity: expected"),
+    ],
+)
+def test_degenerate_flow_curves_are_refused_before_the_fit(
+    rate: np.ndarray, eta: np.ndarray, expected: str
+) -> None:
+    with pytest.raises(InputError, match=expected):
+        fit_viscosity("carreau", rate, eta)
+
+
+def test_a_fit_on_good_data_reports_a_finite_r2() -> None:
+    fit = fit_viscosity("carreau", RATE, ETA)
+    assert fit.success and 0.9 < fit.r2 <= 1.0 and math.isfinite(fit.r2_log)
+
+
+def test_rules_are_declared_where_a_new_kind_inherits_them() -> None:
+    """A subclass of a kind's inputs keeps the cross-field rules (the resampled spindle kind)."""
+    base = kinds()["nmsd_spindle_offset"].inputs.rules
+    resampled = kinds()["nmsd_spindle_offset_resampled"].inputs.rules
+    assert resampled == base and len(base) >= 7
