@@ -17,9 +17,9 @@ path on such a surface amplifies any change of the data, round-off included. The
 therefore run only at free variables on a log10 grid (``resolution``, default 1e-3 decades):
 a step proposal is rounded to the nearest grid point, so a change of the data that moves the
 proposal by less than the grid spacing presses the same constants and ends at the same fit.
-The press at given constants is itself that sensitive to its step ends (the snap-through
-moves with round-off of the time step), so the table displacements it steps to are rounded
-to ``RECORD_GRID_UM`` (1e-6 um; forces are compared at the rounded displacements).
+The press at given constants is itself that sensitive to its step ends and speed (the
+snap-through moves with round-off of the time step); :func:`nmsd.press.simulate_press`
+rounds them (1e-6 um, 6 significant digits).
 
 Three model families (Section II.B.3):
 
@@ -53,7 +53,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -68,7 +68,6 @@ from oocyte_fe.errors import InputError
 
 MODELS = ("linear_msd", "msd_d0", "nmsd")
 K2_OVER_K1_MIN = 50.0
-RECORD_GRID_UM = 1e-6  # the table displacements the press steps end on are rounded to this
 S_START_MAX = 1.0e4  # largest k1/k2 of the starts when eq 8's k2 >= 50 k1 is lifted
 
 # search box of each free variable (log10 bounds of the starts, hard lower/upper bounds)
@@ -194,12 +193,6 @@ def model_forces_and_jacobian(
     return press.force_at(d), np.stack(columns, axis=1)
 
 
-def _on_record_grid(curve: ForceDisplacement) -> ForceDisplacement:
-    """The curve with its displacements rounded to ``RECORD_GRID_UM`` (the press's step ends)."""
-    rounded = np.round(curve.displacement_um / RECORD_GRID_UM) * RECORD_GRID_UM
-    return replace(curve, displacement_um=rounded)
-
-
 def calibrate(
     setup: PressSetup,
     data: ForceDisplacement,
@@ -264,7 +257,7 @@ def calibrate(
     base = NmsdParameters() if base is None else base
     names = _FREE[model] + extra
 
-    curves = [(press, _on_record_grid(curve)) for press, curve in [(setup, data), *also]]
+    curves = [(setup, data), *also]
 
     def press_for(values: np.ndarray, press: PressSetup) -> tuple[PressSetup, NmsdParameters]:
         params = params_for(model, values[: len(names) - ("gap_um" in extra)], base, extra_p)
