@@ -195,7 +195,7 @@ def fps_at_window(
     config: TrackerConfig, window_px: int = 128, n_frames: int = 100, seed: int = 0
 ) -> tuple[float, float]:
     """Frames per second of a tracker whose search window is ``window_px`` square: per
-    second of process CPU time (one core: scipy.fft with one worker, numba features) and per
+    second of process CPU time (one core: scipy.fft with one worker, numpy features) and per
     wall-clock second (lower on a loaded machine).
 
     The target box is ``window_px / (1 + padding)`` square so that the window comes out at
@@ -210,7 +210,7 @@ def fps_at_window(
     frames = np.array([np.roll(base, k // 2, axis=1) for k in range(n_frames)])
     side = window_px / (1.0 + config.padding)
     box = (size / 2 - side / 2, size / 2 - side / 2, side, side)
-    track(frames[:3], box, config)  # compile the numba kernels outside the timing
+    track(frames[:3], box, config)  # first calls (FFT plans, caches) outside the timing
     result = track(frames, box, config)
     return result.cpu_fps, result.fps
 

@@ -9,7 +9,10 @@ the OTB numbers in the returned summary.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
+
+import numpy as np
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.tracking import metrics
@@ -25,14 +28,32 @@ from oocyte_fe.tracking.video import (
 
 
 def parse_box(text: str) -> tuple[float, float, float, float]:
-    """``"X,Y,W,H"`` (px, top-left corner and size) to a tuple; InputError otherwise."""
+    """``"X,Y,W,H"`` (px, top-left corner and size, finite) to a tuple; InputError otherwise."""
     try:
         values = tuple(float(v) for v in text.split(","))
     except ValueError:
         values = ()
-    if len(values) != 4 or values[2] <= 0 or values[3] <= 0:
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise InputError("--box", "box", "X,Y,W,H: four finite numbers, px", text)
+    if values[2] <= 0 or values[3] <= 0:
         raise InputError("--box", "box", "X,Y,W,H in px with W, H > 0", text)
     return values  # type: ignore[return-value]
+
+
+def check_box(box: tuple[float, float, float, float], frame_shape: tuple[int, int]) -> None:
+    """InputError unless the box (x, y, w, h) px lies wholly inside a (H, W) frame: the
+    tracker would learn the repeated edge pixels as the target (a box partly outside is
+    refused too, rather than clipped to something the user did not draw)."""
+    x, y, w, h = box
+    rows, cols = frame_shape
+    text = ",".join(f"{v:g}" for v in box)
+    if w > cols or h > rows:
+        raise InputError("--box", "box", f"W <= {cols} and H <= {rows} px (the frame)", text)
+    if x < 0 or y < 0 or x + w > cols or y + h > rows:
+        raise InputError(
+            "--box", "box", f"inside the {cols} x {rows} px frame (0 <= X <= X + W <= {cols}, "
+            f"0 <= Y <= Y + H <= {rows})", text
+        )  # fmt: skip
 
 
 def track_video(
@@ -49,23 +70,28 @@ def track_video(
     Returns frames, tracking speed (frames/s) and, with ``truth``, precision at 20 px and at
     2 um, success rate and success AUC.
     """
-    if pixel_um <= 0 or fps <= 0:
-        raise InputError("--pixel-um/--fps", "pixel_um, fps", "values > 0", (pixel_um, fps))
+    if not (math.isfinite(pixel_um) and math.isfinite(fps) and pixel_um > 0 and fps > 0):
+        raise InputError("--pixel-um/--fps", "pixel_um, fps", "finite values > 0", (pixel_um, fps))
     calibration = Calibration(pixel_um, fps)
-    first = parse_box(box) if isinstance(box, str) else tuple(float(v) for v in box)
+    first = parse_box(box if isinstance(box, str) else ",".join(repr(float(v)) for v in box))
     frames = read_frames(video)
+    check_box(first, frames.shape[1:])
+    truth_boxes = None
+    if truth is not None:
+        truth_boxes = read_boxes_csv(truth)
+        if len(truth_boxes) != len(frames):
+            raise InputError(truth, "rows", f"{len(frames)} boxes, one per frame", len(truth_boxes))
+        if not np.all(np.isfinite(truth_boxes)) or np.any(truth_boxes[:, 2:] <= 0):
+            raise InputError(truth, "x_px, y_px, w_px, h_px", "finite boxes with w, h > 0 px")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     result = track(frames, first, config)
-    write_track_csv(out / "track.csv", result.boxes, result.reliability, calibration)
+    write_track_csv(out / "track.csv", result.boxes, result.confidence, calibration)
     write_overlay_gif(out / "overlay.gif", frames, result.boxes, max(1, len(frames) // 150), fps)
     centres_um = calibration.to_um(result.centres)
     summary: dict[str, float] = {"frames": float(len(frames)), "tracking_fps": result.fps}
     truth_um = None
-    if truth is not None:
-        truth_boxes = read_boxes_csv(truth)
-        if truth_boxes.shape != result.boxes.shape:
-            raise InputError(truth, "rows", f"{len(frames)} boxes, one per frame", len(truth_boxes))
+    if truth_boxes is not None:
         truth_um = calibration.to_um(metrics.centres(truth_boxes))
         errors = metrics.centre_error(result.boxes, truth_boxes)
         overlaps = metrics.iou(result.boxes, truth_boxes)

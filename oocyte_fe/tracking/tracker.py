@@ -32,7 +32,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy import ndimage
 
-from oocyte_fe.tracking import kcf
+from oocyte_fe.tracking import evidence, kcf
 from oocyte_fe.tracking.anchor import Anchor
 from oocyte_fe.tracking.context import CONTEXT_OFFSETS, ContextKcfModel
 from oocyte_fe.tracking.features import FEATURES
@@ -135,7 +135,11 @@ SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 
 @dataclass(frozen=True)
 class FrameEstimate:
-    """What the tracker says about one frame (px; reliability r of :mod:`.update`)."""
+    """What the tracker says about one frame (px; reliability r of :mod:`.update`).
+
+    confidence: ``r e``, with ``e`` the box's contrast-to-noise factor of :mod:`.evidence`
+    (low on a blank frame or a featureless box, where ``r`` alone stays high).
+    """
 
     centre: tuple[float, float]
     box: tuple[float, float, float, float]
@@ -143,6 +147,7 @@ class FrameEstimate:
     learning_rate: float
     weights: tuple[float, ...]
     lost: bool
+    confidence: float
 
 
 def window_shape(box_wh: tuple[float, float], padding: float, cell: int) -> tuple[int, int]:
@@ -354,18 +359,42 @@ class Tracker:
                 self.anchor.learn(feats, self.yf)
         w, h = self.size
         box = (self.centre[0] - w / 2, self.centre[1] - h / 2, w, h)
-        return FrameEstimate(self.centre, box, r, eta, tuple(weights), self.lost)
+        conf = r * self.contrast_factor(frame)
+        return FrameEstimate(self.centre, box, r, eta, tuple(weights), self.lost, conf)
+
+    def contrast_factor(self, frame: np.ndarray) -> float:
+        """``e`` of :mod:`.evidence` for the part of the box at the current centre that lies
+        in the frame (noise from the same part of the search window); 0 if under half the box
+        is in the frame (the target has left the field)."""
+        rows, cols = frame.shape
+
+        def part(size: tuple[float, float]) -> np.ndarray:
+            """The frame's pixels inside a (w, h) rectangle at the centre."""
+            (x0, x1), (y0, y1) = (
+                (int(np.clip(round(c - n / 2), 0, m)), int(np.clip(round(c + n / 2), 0, m)))
+                for c, n, m in zip(self.centre, size, (cols, rows), strict=True)
+            )
+            return frame[y0:y1, x0:x1]
+
+        patch = part(self.size)
+        if min(patch.shape) < 2 or patch.size < 0.5 * self.size[0] * self.size[1]:
+            return 0.0
+        window = part((self.shape[1], self.shape[0]))
+        s = evidence.contrast_to_noise(patch, evidence.noise_sigma(window))
+        return evidence.confidence_factor(s)
 
 
 @dataclass(frozen=True)
 class TrackResult:
-    """A tracked sequence: boxes (T, 4) px as (x, y, w, h), per-frame reliability, rate."""
+    """A tracked sequence: boxes (T, 4) px as (x, y, w, h), per-frame reliability, rate,
+    confidence (:class:`FrameEstimate`)."""
 
     boxes: np.ndarray
     reliability: np.ndarray
     learning_rate: np.ndarray
     weights: np.ndarray
     lost: np.ndarray
+    confidence: np.ndarray
     seconds: float
     cpu_seconds: float = 0.0
 
@@ -394,7 +423,10 @@ def track(
     """Track a (T, H, W) sequence from the box (x, y, w, h) px on frame 0."""
     tracker = Tracker(frames[0], box, config)
     n_feat = len(config.features)
-    out = [FrameEstimate(tracker.centre, tuple(box), 1.0, 0.0, (1.0 / n_feat,) * n_feat, False)]
+    first = tracker.contrast_factor(np.asarray(frames[0], dtype=np.float64))
+    out = [
+        FrameEstimate(tracker.centre, tuple(box), 1.0, 0.0, (1.0 / n_feat,) * n_feat, False, first)
+    ]
     t0 = time.perf_counter()
     c0 = time.process_time()
     for frame in frames[1:]:
@@ -407,6 +439,7 @@ def track(
         learning_rate=np.array([e.learning_rate for e in out]),
         weights=np.array([e.weights for e in out]),
         lost=np.array([e.lost for e in out]),
+        confidence=np.array([e.confidence for e in out]),
         seconds=seconds,
         cpu_seconds=cpu_seconds,
     )

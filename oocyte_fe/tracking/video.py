@@ -53,11 +53,29 @@ def read_frames(path: str | Path) -> np.ndarray:
             frames = iio.imread(path, index=None)
     except Exception as exc:  # the readers raise many types for unreadable files
         raise InputError(path, "", "a readable TIFF stack, video or GIF", str(exc)) from None
-    frames = np.asarray(frames, dtype=np.float64)
-    if frames.ndim == 4:
+    return as_gray_stack(np.asarray(frames, dtype=np.float64), path)
+
+
+COLOUR_CHANNELS = (3, 4)
+"""RGB and RGBA."""
+
+
+def as_gray_stack(frames: np.ndarray, path: str | Path) -> np.ndarray:
+    """A (T, H, W) grayscale stack, or (T, H, W, 3 or 4) colour frames averaged over their
+    first 3 channels; InputError for anything else (a single frame, a single colour image
+    (H, W, 3), a planar colour stack (T, 3, H, W), which would otherwise be read as frames 3
+    or 4 px wide or 3 rows high)."""
+    shape = frames.shape
+    if frames.ndim == 4 and shape[-1] in COLOUR_CHANNELS:
         frames = frames[..., :3].mean(axis=-1)
+    elif frames.ndim == 4 and shape[1] in COLOUR_CHANNELS:
+        raise InputError(path, "", "frames (T, H, W) or (T, H, W, 3), not planar colour", shape)
+    elif frames.ndim == 3 and shape[-1] in COLOUR_CHANNELS:
+        raise InputError(path, "", "a stack of frames, not a single colour image (H, W, 3)", shape)
     if frames.ndim != 3 or frames.shape[0] < 2:
-        raise InputError(path, "", "at least 2 grayscale or colour frames", frames.shape)
+        raise InputError(path, "", "at least 2 grayscale or colour frames", shape)
+    if not np.all(np.isfinite(frames)):
+        raise InputError(path, "", "finite pixel values", "NaN or infinite pixels")
     return frames
 
 
