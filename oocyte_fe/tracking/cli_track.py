@@ -2,14 +2,16 @@
 CLI wiring calls :func:`track_video`).
 
 Writes into ``out_dir``: ``track.csv`` (per frame: time, box px, centre px and um,
-reliability), ``overlay.gif`` (the frames with the box), ``trajectory.png`` (centre path, um)
-and, with a ground-truth CSV (columns x_px, y_px, w_px, h_px), ``precision_success.png`` and
-the OTB numbers in the returned summary.
+confidence, lost, and on a re-detection where the target had been lost), ``overlay.gif``
+(the frames with the box), ``trajectory.png`` (centre path, um) and, with a ground-truth CSV
+(columns x_px, y_px, w_px, h_px), ``precision_success.png`` and the OTB numbers in the
+returned summary.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +19,7 @@ import numpy as np
 from oocyte_fe.errors import InputError
 from oocyte_fe.tracking import metrics
 from oocyte_fe.tracking.plots import plot_precision_success, plot_trajectory
-from oocyte_fe.tracking.tracker import MFAKCF, TrackerConfig, track
+from oocyte_fe.tracking.tracker import MFAKCF, TrackerConfig, max_step_px, track
 from oocyte_fe.tracking.video import (
     Calibration,
     read_boxes_csv,
@@ -25,6 +27,10 @@ from oocyte_fe.tracking.video import (
     write_overlay_gif,
     write_track_csv,
 )
+
+MAX_SPEED_UM_S = 20.0
+"""Default largest spindle speed, um/s: above the fastest push of the benchmark's sequences
+(35 um in 60 frames at 10 frames/s along the NMSD path, 16.5 um/s at its fastest)."""
 
 
 def parse_box(text: str) -> tuple[float, float, float, float]:
@@ -64,14 +70,22 @@ def track_video(
     fps: float = 10.0,
     truth: str | Path | None = None,
     config: TrackerConfig = MFAKCF,
+    max_speed_um_s: float = MAX_SPEED_UM_S,
 ) -> dict[str, float]:
     """Track ``video`` (TIFF stack, video or GIF) from ``box`` on frame 0; write the outputs.
 
+    ``max_speed_um_s``: the largest speed the spindle can have (the pipette's fastest push),
+    um/s; with ``fps`` and ``pixel_um`` it bounds how far from where it was lost a target is
+    taken back (:func:`.tracker.max_step_px`). Every input is checked before tracking.
     Returns frames, tracking speed (frames/s) and, with ``truth``, precision at 20 px and at
     2 um, success rate and success AUC.
     """
-    if not (math.isfinite(pixel_um) and math.isfinite(fps) and pixel_um > 0 and fps > 0):
-        raise InputError("--pixel-um/--fps", "pixel_um, fps", "finite values > 0", (pixel_um, fps))
+    values = (pixel_um, fps, max_speed_um_s)
+    if not all(math.isfinite(v) and v > 0 for v in values):
+        raise InputError(
+            "--pixel-um/--fps", "pixel_um, fps, max_speed_um_s", "finite values > 0", values
+        )
+    config = replace(config, max_step_px=max_step_px(max_speed_um_s, fps, pixel_um))
     calibration = Calibration(pixel_um, fps)
     first = parse_box(box if isinstance(box, str) else ",".join(repr(float(v)) for v in box))
     frames = read_frames(video)
@@ -86,7 +100,10 @@ def track_video(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     result = track(frames, first, config)
-    write_track_csv(out / "track.csv", result.boxes, result.confidence, calibration)
+    write_track_csv(
+        out / "track.csv", result.boxes, result.confidence, calibration, result.lost,
+        result.redetected_from,
+    )  # fmt: skip
     write_overlay_gif(out / "overlay.gif", frames, result.boxes, max(1, len(frames) // 150), fps)
     centres_um = calibration.to_um(result.centres)
     summary: dict[str, float] = {"frames": float(len(frames)), "tracking_fps": result.fps}

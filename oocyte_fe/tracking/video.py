@@ -92,23 +92,31 @@ def write_track_csv(
     boxes_px: np.ndarray,
     confidence: np.ndarray,
     calibration: Calibration,
+    lost: np.ndarray | None = None,
+    redetected_from: np.ndarray | None = None,
 ) -> None:
-    """One row per frame: time (s), box x, y, w, h (px), centre (px and um), confidence."""
+    """One row per frame: time (s), box x, y, w, h (px), centre (px and um), confidence,
+    whether the target was lost (1: the box coasts on the motion prediction), and on a
+    frame where a lost target was taken back, where it had been lost (px; blank otherwise)."""
+    n = len(boxes_px)
+    lost = np.zeros(n, dtype=bool) if lost is None else np.asarray(lost, dtype=bool)
+    found = np.full((n, 2), np.nan) if redetected_from is None else np.asarray(redetected_from)
     centres = boxes_px[:, :2] + 0.5 * boxes_px[:, 2:]
     centres_um = calibration.to_um(centres)
-    times = calibration.times_s(len(boxes_px))
+    times = calibration.times_s(n)
     with open(path, "w", newline="") as fh:
         out = csv.writer(fh)
         out.writerow(
             ["frame", "time_s", "x_px", "y_px", "w_px", "h_px", "cx_px", "cy_px", "cx_um",
-             "cy_um", "confidence"]
+             "cy_um", "confidence", "lost", "redetected_from_x_px", "redetected_from_y_px"]
         )  # fmt: skip
-        for k, (box, c, c_um, conf) in enumerate(
-            zip(boxes_px, centres, centres_um, confidence, strict=True)
-        ):
+        for k in range(n):
+            c, c_um = centres[k], centres_um[k]
+            src = ["", ""] if np.isnan(found[k, 0]) else [f"{v:.3f}" for v in found[k]]
             out.writerow(
-                [k, f"{times[k]:.6g}", *(f"{v:.3f}" for v in box), f"{c[0]:.3f}",
-                 f"{c[1]:.3f}", f"{c_um[0]:.4f}", f"{c_um[1]:.4f}", f"{conf:.4f}"]
+                [k, f"{times[k]:.6g}", *(f"{v:.3f}" for v in boxes_px[k]), f"{c[0]:.3f}",
+                 f"{c[1]:.3f}", f"{c_um[0]:.4f}", f"{c_um[1]:.4f}", f"{confidence[k]:.4f}",
+                 int(lost[k]), *src]
             )  # fmt: skip
 
 
