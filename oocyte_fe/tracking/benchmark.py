@@ -29,6 +29,7 @@ from oocyte_fe.tracking.tracker import (
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
+    MFAKCF_SIGNATURE,
     SINGLE_KCF,
     TrackerConfig,
     track,
@@ -46,6 +47,7 @@ ABLATION = {
     "MFAKCF (rate 0.02)": MFAKCF_RATE_002,
     "MFAKCF (no anchor)": MFAKCF_NO_ANCHOR,
     "MFAKCF (no motion)": MFAKCF_HOLD,
+    "MFAKCF (signature)": MFAKCF_SIGNATURE,
 }
 
 TUNING_SUBSET = (

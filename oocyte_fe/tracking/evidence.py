@@ -134,13 +134,13 @@ class SignatureCheck:
     gives).
     """
 
-    band: float = 2.5
-    min_coherence: float = 0.3
+    band: float = 1.6
+    min_coherence: float = 0.2
     inner: float = 0.5
     rate: float = 0.05
     warmup: int = 5
     every: int = 2
-    learn: float = 0.5
+    learn: float = 2.0
 
     def __post_init__(self) -> None:
         if self.band <= 1 or not 0 <= self.min_coherence <= 1 or not 0 < self.inner <= 1:

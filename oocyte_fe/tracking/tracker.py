@@ -155,6 +155,17 @@ MFAKCF_HOLD = TrackerConfig(smooth_px=1.0)
 """MFAKCF without the motion model (the lost target's position is held), as first built;
 the benchmark reports it as ``MFAKCF (no motion)``."""
 
+MFAKCF_SIGNATURE = replace(
+    MFAKCF, signature=SignatureCheck(), max_step_px=max_step_px(20.0, fps=10.0, pixel_um=0.227)
+)
+"""MFAKCF with the rotation-free signature check of :mod:`.evidence` (a doubtful peak in the
+gate that passes it is taken and learnt at 2 x ``eta0``; a re-detected candidate must pass
+it) and the reach gate for a largest speed of 20 um/s at the benchmark's 10 frames/s and
+0.227 um/px; the benchmark reports it as ``MFAKCF (signature)``. ``band`` = 1.6 and
+``min_coherence`` = 0.2 were set from the brightness and coherence measured at the true
+spindle and 15-45 px from it on the 6 tuning cells (docs/tracking.md); ``learn`` = 2 chosen
+among 0.5, 1, 2, 3 on two draws of turning sequences (seeds 101, 102)."""
+
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
 
