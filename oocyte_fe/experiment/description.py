@@ -24,6 +24,7 @@ from pydantic import AfterValidator, Field, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.material import Material, Prony, read_material_file
+from oocyte_fe.kinds.data_templates import ZONA_MATERIAL
 from oocyte_fe.runner.schema import CaseInputs, DataFile
 
 Side = Literal["top", "bottom", "left", "right"]
@@ -82,7 +83,9 @@ def to_material(spec: LayerMaterial, name: str) -> Material:
 
 
 class Layers(CaseInputs):
-    zona: LayerMaterial | None = Field(None, description="the ZP (needed if thicker than 0)")
+    zona: LayerMaterial | None = Field(
+        None, description="the ZP (needed if thicker than 0)", json_schema_extra=ZONA_MATERIAL
+    )
     cytoplasm: LayerMaterial = Field(description="the cytoplasm (the whole cell without a ZP)")
 
 
