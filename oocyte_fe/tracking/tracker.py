@@ -385,8 +385,8 @@ class Tracker:
             in_gate = self._in_gate(new)
             held = (
                 not self.lost
+                and r < 1.0
                 and self.signature is not None
-                and self.signature.check.hold_from <= r < 1.0
                 and in_gate
                 and self.signature.passes(frame, new)
             )
