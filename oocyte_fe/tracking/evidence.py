@@ -131,8 +131,7 @@ class SignatureCheck:
     their mean).  every: the references are updated on every ``every``-th reliable frame.
     learn: the filter's learning rate on a peak with ``r < 1`` the check holds
     (:mod:`.tracker`), as a multiple of the full rate ``eta0`` (at least the rate ``r``
-    gives).  hold_velocity: a held peak corrects the motion model's velocity too (False:
-    its position only, the velocity is kept).
+    gives).
     """
 
     band: float = 1.6
@@ -142,7 +141,6 @@ class SignatureCheck:
     warmup: int = 5
     every: int = 2
     learn: float = 2.0
-    hold_velocity: bool = True
 
     def __post_init__(self) -> None:
         if self.band <= 1 or not 0 <= self.min_coherence <= 1 or not 0 < self.inner <= 1:

@@ -399,11 +399,7 @@ class Tracker:
                 and self.signature.passes(frame, new)
             )
             if held:  # a turning spindle: take the peak, let the template catch up
-                if cfg.signature.hold_velocity:
-                    self.centre = self.motion.correct(new)
-                else:  # the position only: a dragged peak must not steer the coasting
-                    self.motion.reset(new)
-                    self.centre = new
+                self.centre = self.motion.correct(new)
                 eta = max(self.history.learning_rate(r), cfg.signature.learn * p.eta0)
                 if self.extent is not None:
                     self.extent.update(frame, self.centre)
