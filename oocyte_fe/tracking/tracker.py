@@ -19,6 +19,12 @@ settings were chosen on the benchmark's 6-sequence tuning subset (:mod:`.motion`
 docs/tracking.md); ``r_lost`` / ``r_found`` on 5 sequences by the first version
 (:mod:`.update`).
 
+Options of issue 29 (docs/tracking.md): a reach gate from the largest push speed
+(``max_step_px``: a lost target is searched for and taken back only where it could have got
+to), a rotation-free signature check (:mod:`.evidence`, ``MFAKCF_SIGNATURE``) and a box size
+from the spindle's moments (:mod:`.extent`); each frame's confidence is ``r`` times the box's
+contrast-to-noise factor.
+
 With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
 seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
 size is fixed (no scale search), as in KCF.
@@ -65,11 +71,12 @@ class TrackerConfig:
         window is cut at the predicted centre and a lost target coasts on the prediction;
         None holds the last position.
     signature: rotation-free appearance check of :mod:`.evidence` (None: off). A peak with
-        ``r < r_stop`` that lies in the motion model's gate and passes the check is taken
-        (the filter learns at ``signature.learn`` x ``eta0``) instead of coasting or being
-        declared lost: a turning spindle lowers ``r`` while the template catches up. A
-        re-detected candidate must pass it, and then is taken back if the anchor accepts
-        it or it lies in the motion gate (the anchor fails a turned spindle).
+        ``r < 1`` that lies in the motion model's gate and passes the check is taken (the
+        filter learns at ``signature.learn`` x ``eta0``, at least the rate ``r`` gives)
+        instead of coasting or being declared lost: a turning spindle lowers ``r`` while the
+        template catches up. A re-detected candidate must pass it, and then is taken back if
+        the anchor accepts it or it lies in the motion gate (the anchor fails a turned
+        spindle).
     extent: the box's size from the spindle's excess-brightness moments (:mod:`.extent`;
         None: the first box's size throughout, as KCF). Only the reported box changes; the
         filter's window keeps the first size.
@@ -312,6 +319,7 @@ class Tracker:
         return self.config.max_step_px * self.n_lost + 0.5 * np.hypot(w, h)
 
     def _in_gate(self, point: tuple[float, float]) -> bool:
+        """True if the point lies inside the motion model's validation gate (:mod:`.motion`)."""
         return self.motion is not None and self.motion.gate_distance(point) < self.motion.model.gate
 
     def _verified(self, frame: np.ndarray, cands: list):
