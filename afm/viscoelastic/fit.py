@@ -16,7 +16,7 @@ with E(t) = sum_k A_k b_k(t; theta) one of the registered relaxation models
    separable).
 
 Relaxation times are bounded to [h/2, 20 T] (h the sampling step, T the longest time in
-contact); a time on a bound, shorter than h or longer than T, or a term of zero modulus, is
+contact); a time on a bound, shorter than 3 h or longer than T, or a term of zero modulus, is
 listed in :attr:`RampFit.undetermined` (the ramp does not resolve it) and makes the fit poor.
 """
 
@@ -44,6 +44,8 @@ TAU_UPPER_CONTACT = 20.0
 GOOD_RELATIVE_RMS = 0.02
 """Largest RMS residual, as a fraction of the peak force, rated good."""
 MIN_CONTACT_POINTS = 10
+MIN_STEPS_PER_TAU = 3.0
+"""A relaxation time resolved needs at least this many samples (shorter: flagged)."""
 RETRACT_TOLERANCE = 1e-6
 """Relative change of cost and parameters that ends the approach-and-retract stage."""
 
@@ -371,8 +373,11 @@ def _undetermined(
             flags.append(f"term {i} ({name}) has zero modulus: not resolved")
         elif abs(math.log(tau / lo_tau)) < 1e-3 or abs(math.log(tau / hi_tau)) < 1e-3:
             flags.append(f"{name} at a bound of the fit: not determined by the ramp")
-        elif tau < step:
-            flags.append(f"{name} shorter than the sampling step {step:.3g} s: not determined")
+        elif tau < MIN_STEPS_PER_TAU * step:
+            flags.append(
+                f"{name} shorter than {MIN_STEPS_PER_TAU:g} sampling steps ({step:.3g} s): "
+                "not determined"
+            )
         elif tau > contact_time:
             flags.append(
                 f"{name} longer than the time in contact {contact_time:.3g} s: not separated "
