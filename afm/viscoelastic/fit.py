@@ -46,7 +46,7 @@ GOOD_RELATIVE_RMS = 0.02
 MIN_CONTACT_POINTS = 10
 MIN_STEPS_PER_TAU = 3.0
 """A relaxation time resolved needs at least this many samples (shorter: flagged)."""
-RETRACT_TOLERANCE = 1e-6
+RETRACT_TOLERANCE = 1e-5
 """Relative change of cost and parameters that ends the approach-and-retract stage."""
 
 
@@ -305,7 +305,7 @@ def fit_ramp(
                 residual,
                 z0,
                 bounds=(z_lo, z_hi),
-                x_scale=np.concatenate([x_scale, amp_scale]),
+                x_scale="jac",
                 method="trf",
                 ftol=RETRACT_TOLERANCE,
                 xtol=RETRACT_TOLERANCE,
