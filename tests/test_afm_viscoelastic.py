@@ -231,3 +231,23 @@ def test_uneven_sampling_is_resampled():
     assert uneven.resampled
     fit = fit_ramp(uneven, geometry={"radius_um": 5.0}, relaxation="standard_linear_solid")
     assert fit.parameters["E0_kPa"] == pytest.approx(1.5, rel=0.02)
+
+
+def test_viscoelastic_imports_only_the_ground_floor_of_oocyte_fe():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, afm.viscoelastic; "
+        "print(sorted(m for m in sys.modules if m.startswith('oocyte_fe')))"
+    )
+    root = Path(__file__).parents[1]
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=root,
+        env={"PYTHONPATH": str(root), "PATH": ""},
+    ).stdout
+    assert out.strip() == "['oocyte_fe', 'oocyte_fe.checks', 'oocyte_fe.errors']"
