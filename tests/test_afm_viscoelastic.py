@@ -251,3 +251,20 @@ def test_viscoelastic_imports_only_the_ground_floor_of_oocyte_fe():
         env={"PYTHONPATH": str(root), "PATH": ""},
     ).stdout
     assert out.strip() == "['oocyte_fe', 'oocyte_fe.checks', 'oocyte_fe.errors']"
+
+
+@pytest.mark.parametrize("key", sorted(RELAXATION_MODELS))
+def test_every_relaxation_model_is_documented_and_its_integral_is_consistent(key):
+    # the convolution uses Phi = int E; the fit's modulus uses the basis: Phi' must equal it
+    import sys
+
+    model = RELAXATION_MODELS[key]
+    doc = sys.modules[model.integrals.__module__].__doc__
+    assert "kPa" in doc and "[s]" in doc and "Reference" in doc
+    theta = {"power_law": [0.3, 0.7], "standard_linear_solid": [0.2], "prony": [0.05, 0.5]}[key]
+    t = np.linspace(0.01, 2.0, 50)
+    eps = 1e-6
+    slope = model.integrals(t + eps, np.array(theta)) - model.integrals(t - eps, np.array(theta))
+    basis = model.basis(t, np.array(theta))
+    np.testing.assert_allclose(slope / (2 * eps), basis, rtol=1e-6, atol=1e-8)
+    assert model.integrals(np.array([0.0]), np.array(theta)) == pytest.approx(0.0, abs=1e-15)
