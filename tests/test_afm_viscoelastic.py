@@ -268,3 +268,12 @@ def test_every_relaxation_model_is_documented_and_its_integral_is_consistent(key
     basis = model.basis(t, np.array(theta))
     np.testing.assert_allclose(slope / (2 * eps), basis, rtol=1e-6, atol=1e-8)
     assert model.integrals(np.array([0.0]), np.array(theta)) == pytest.approx(0.0, abs=1e-15)
+
+
+def test_ting_force_refuses_bad_input():
+    with pytest.raises(InputError, match="integrals"):
+        ting_force(np.zeros(5), np.zeros(5), np.zeros(5), 0.1)
+    with pytest.raises(InputError, match="step_s"):
+        ting_force(np.zeros(5), np.zeros(5), np.zeros(6), 0.0)
+    with pytest.raises(InputError, match="delta"):
+        ting_force(np.zeros(5), np.array([0, 1, np.nan, 0, 0]), np.zeros(6), 0.1)

@@ -35,6 +35,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
 
+from oocyte_fe.checks import numbers_array, quantity
+from oocyte_fe.errors import InputError
+
 MAX_RETRACT_ROWS = 128
 """Retract points solved for t1 exactly; the force in between is interpolated linearly."""
 
@@ -120,9 +123,16 @@ def ting_force(
     before contact it is 0), ``integrals`` Phi(n h) for n = 0..N [kPa s] of the model's E(t).
     Approach up to the deepest point, retract after it (module docstring).
     """
-    delta = np.clip(np.asarray(delta, dtype=float), 0.0, None)
-    s = np.asarray(shape_values, dtype=float)
-    w = weights(np.asarray(integrals, dtype=float), step_s)
+    where = "ting_force"
+    s = numbers_array(where, "shape_values", shape_values, ge=0.0)
+    delta = np.clip(numbers_array(where, "delta", delta), 0.0, None)
+    phi = numbers_array(where, "integrals", integrals)
+    step_s = quantity(where, "step_s", step_s, "time_s")
+    if s.ndim != 1 or delta.shape != s.shape or phi.shape != (s.size + 1,):
+        raise InputError(
+            where, "integrals", "1-D shape values and indentations of one length N, N + 1 integrals"
+        )
+    w = weights(phi, step_s)
     d_shape = np.diff(s, prepend=0.0)
     d_delta = np.diff(delta, prepend=0.0)
     force = causal_convolution(d_shape, w)
