@@ -277,3 +277,28 @@ def test_ting_force_refuses_bad_input():
         ting_force(np.zeros(5), np.zeros(5), np.zeros(6), 0.0)
     with pytest.raises(InputError, match="delta"):
         ting_force(np.zeros(5), np.array([0, 1, np.nan, 0, 0]), np.zeros(6), 0.1)
+
+
+def test_retract_amplitude_derivative_matches_finite_differences():
+    # dF/dA_k = basis force + change through t1 (ting.retract_force docstring)
+    from afm.viscoelastic.ting import retract_force
+
+    geometry, _ = TIPS["hertz_paraboloid"]
+    t, x, h = triangle(201, pre=20)
+    delta = np.clip(x, 0.0, None)
+    d_shape = np.diff(get_model("hertz_paraboloid").shape(delta, geometry, 0.5), prepend=0.0)
+    d_delta = np.diff(delta, prepend=0.0)
+    rel = get_relaxation_model("prony")
+    w_basis = np.diff(rel.integrals(h * np.arange(t.size + 1), np.array([0.05, 0.5])), axis=0) / h
+    turn, rows = int(np.argmax(delta)), np.arange(int(np.argmax(delta)) + 1, t.size)
+    amps = np.array([0.4, 0.3, 0.3])
+
+    def force(a):
+        return retract_force(d_shape, d_delta, w_basis @ a, turn, rows, w_basis) @ a
+
+    values, sens = retract_force(d_shape, d_delta, w_basis @ amps, turn, rows, w_basis, True)
+    assert np.abs(sens).max() > 0.05 * np.abs(values).max()  # t1 matters
+    for k in range(3):
+        step = 1e-6 * np.eye(3)[k]
+        numeric = (force(amps + step) - force(amps - step)) / 2e-6
+        np.testing.assert_allclose(values[:, k] + sens[:, k], numeric, atol=1e-6 * values.max())

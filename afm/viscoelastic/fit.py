@@ -47,6 +47,8 @@ MIN_CONTACT_POINTS = 10
 MIN_STEPS_PER_TAU = 3.0
 """A relaxation time resolved needs at least this many samples (shorter: flagged)."""
 RETRACT_TOLERANCE = 1e-5
+FD_STEP = 1.5e-8
+"""Relative forward-difference step of the contact points and times in the retract stage."""
 """Relative change of cost and parameters that ends the approach-and-retract stage."""
 
 
@@ -153,9 +155,12 @@ def _basis_force(
     x0: float,
     theta: np.ndarray,
     amplitudes: np.ndarray | None,
-) -> np.ndarray:
+    sensitivity: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Force per unit amplitude of each basis function on ``ramp`` (N, n_basis); the retract
-    (t1 from ``amplitudes``) only when ``amplitudes`` is given."""
+    (t1 from ``amplitudes``) only when ``amplitudes`` is given. With ``sensitivity`` also the
+    change through t1 per amplitude (:func:`afm.viscoelastic.ting.retract_force`), so that
+    dF/dA = force + sensitivity."""
     x = ramp.tip_position_um
     n, h = x.size, ramp.step_s
     delta = np.clip(x - x0, 0.0, None)
@@ -164,13 +169,18 @@ def _basis_force(
     d_shape = np.diff(shape, prepend=0.0)
     force = causal_convolution(d_shape, w)
     turn = int(np.argmax(delta))
+    sens = np.zeros_like(force)
     if amplitudes is not None and 0 < turn < n - 1:
         rows = retract_rows(turn, n)
-        values = retract_force(d_shape, np.diff(delta, prepend=0.0), w @ amplitudes, turn, rows, w)
+        d_delta = np.diff(delta, prepend=0.0)
+        out = retract_force(d_shape, d_delta, w @ amplitudes, turn, rows, w, sensitivity)
+        values, by_t1 = out if sensitivity else (out, None)
         grid = np.arange(turn + 1, n)
         for k in range(w.shape[1]):
             force[turn + 1 :, k] = np.interp(grid, rows, values[:, k])
-    return force
+            if by_t1 is not None:
+                sens[turn + 1 :, k] = np.interp(grid, rows, by_t1[:, k])
+    return (force, sens) if sensitivity else force
 
 
 def _contact_guess(ramp: RampCurve, exponent: float) -> float:
@@ -290,11 +300,37 @@ def fit_ramp(
     with_retract = use_retract and any(r.turn < r.time_s.size - 1 for r in items)
     if with_retract:
         f_all = np.concatenate([r.force_nN for r in items])
-        n_a = amps.size
+        n_a, n_p = amps.size, p.size
+        cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
 
         def residual(z: np.ndarray) -> np.ndarray:
             return design(z[:-n_a], items, z[-n_a:]) @ z[-n_a:] - f_all
 
+        def evaluate(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            key = z.tobytes()
+            if key not in cache:
+                cache.clear()
+                theta = _theta(setup, z[n_ramps:n_p])
+                parts = [
+                    _basis_force(setup, c, z[i], theta, z[n_p:], sensitivity=True)
+                    for i, c in enumerate(items)
+                ]
+                m = np.concatenate([f for f, _ in parts])
+                cache[key] = (m @ z[n_p:] - f_all, m + np.concatenate([s for _, s in parts]))
+            return cache[key]
+
+        def jacobian(z: np.ndarray) -> np.ndarray:
+            base, d_amps = evaluate(z)
+            cols = []
+            for i in range(n_p):  # x0 and theta by forward differences (t1 moves with them)
+                step = FD_STEP * max(abs(z[i]), typical[i])
+                step = -step if z[i] + step > z_hi[i] else step
+                shifted = z.copy()
+                shifted[i] += step
+                cols.append((residual(shifted) - base) / step)
+            return np.column_stack([*cols, d_amps])
+
+        typical = np.concatenate([np.full(n_ramps, max(spans)), np.ones(n_p - n_ramps)])
         amp_scale = np.maximum(amps, 1e-3 * max(float(amps.max()), 1e-12))
         z0 = np.concatenate([p, amp_scale if np.any(amps <= 0) else amps])
         z_lo = np.concatenate([lower, np.zeros(n_a)])
@@ -302,8 +338,9 @@ def fit_ramp(
         z0 = np.clip(z0, z_lo, z_hi)
         with np.errstate(all="ignore"):
             second = least_squares(
-                residual,
+                lambda z: evaluate(z)[0],
                 z0,
+                jac=jacobian,
                 bounds=(z_lo, z_hi),
                 x_scale="jac",
                 method="trf",

@@ -65,7 +65,8 @@ def retract_force(
     turn: int,
     rows: np.ndarray,
     w_basis: np.ndarray | None = None,
-) -> np.ndarray:
+    sensitivity: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Ting's retract force at the grid points ``rows`` (all > ``turn``).
 
     ``d_shape`` and ``d_delta`` are the increments S_j - S_{j-1} and delta_j - delta_{j-1}
@@ -75,6 +76,11 @@ def retract_force(
     R_{c*+1} < 0 <= R_{c*}, a fraction theta = -R_{c*+1} / (d_delta_c* w_{n-c*}) of it after
     t1. Returns F (nN), or with ``w_basis`` (weights per basis function, columns) the force
     per unit amplitude of each basis function with the same t1, ``(rows.size, n_basis)``.
+
+    With ``sensitivity`` (and ``w_basis``) also the change of F through t1 when the amplitude
+    A_k of ``w = sum_k A_k w_basis_k`` changes: differentiating theta gives
+    ``(d_shape_c* / d_delta_c*) (R_{c*+1,k} + theta d_delta_c* w_k,n-c*)``, R_k the t1 sum of
+    basis k alone; dF/dA_k is the basis force plus this.
     """
     contact = np.flatnonzero(d_delta[: turn + 1] != 0.0)
     first = int(contact[0]) if contact.size else turn  # no terms before contact
@@ -98,7 +104,20 @@ def retract_force(
     factor = factor * found[:, None] * d_shape[first : turn + 1][None, :]
     if w_basis is None:
         return np.sum(factor * w_lag, axis=1)
-    return np.einsum("rj,rjk->rk", factor, w_basis[lag])
+    wb_lag = w_basis[lag]
+    values = np.einsum("rj,rjk->rk", factor, wb_lag)
+    if not sensitivity:
+        return values
+    load_k = d_delta[first : turn + 1][None, :, None] * wb_lag
+    tail_k = np.cumsum(load_k[:, ::-1], axis=1)[:, ::-1]
+    unload_k = causal_convolution(d_delta, w_basis)[rows] - tail_k[:, 0]
+    ext_k = np.concatenate([tail_k, np.zeros((rows.size, 1, w_basis.shape[1]))], axis=1)
+    r_hi_k = unload_k + ext_k[idx, c + 1]
+    dd = d_delta[first + c]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(found & (dd != 0), d_shape[first + c] / dd, 0.0)
+    sens = ratio[:, None] * (r_hi_k + theta[:, None] * load_k[idx, c])
+    return values, sens
 
 
 def retract_rows(turn: int, n: int) -> np.ndarray:
