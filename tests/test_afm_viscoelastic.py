@@ -302,3 +302,18 @@ def test_retract_amplitude_derivative_matches_finite_differences():
         step = 1e-6 * np.eye(3)[k]
         numeric = (force(amps + step) - force(amps - step)) / 2e-6
         np.testing.assert_allclose(values[:, k] + sens[:, k], numeric, atol=1e-6 * values.max())
+
+
+def test_two_speeds_with_noise_recover_the_prony_series():
+    # the docs example: 0.5 um paraboloid ramps of 0.1 s and 1 s, 0.2 % noise of the peak force
+    truth = ([0.4, 0.3, 0.3], [0.05, 0.5])
+    ramps = []
+    for i, ramp_s in enumerate((0.1, 1.0)):
+        clean = synthetic_ramp("hertz_paraboloid", "prony", *truth, ramp_s=ramp_s, n=201, pre=50)
+        noise = 0.002 * clean.force_nN.max()
+        noisy = clean.force_nN + noise * np.random.default_rng(i).standard_normal(clean.time_s.size)
+        ramps.append(RampCurve(clean.time_s, clean.tip_position_um, noisy, clean.source))
+    fit = fit_ramp(ramps, "hertz_paraboloid", TIPS["hertz_paraboloid"][0], terms=2)
+    assert fit.amplitudes_kPa == pytest.approx(truth[0], rel=0.02)
+    assert fit.theta == pytest.approx(truth[1], rel=0.05)
+    assert fit.quality == "good"
