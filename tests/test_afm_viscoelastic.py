@@ -318,3 +318,25 @@ def test_two_speeds_with_noise_recover_the_prony_series():
     assert fit.amplitudes_kPa == pytest.approx(truth[0], rel=0.02)
     assert fit.theta == pytest.approx(truth[1], rel=0.05)
     assert fit.quality == "good"
+
+
+@pytest.mark.slow
+def test_fe_script_reproduces_the_stored_curves_on_a_coarser_mesh():
+    # benchmarks/afm_ramp_fe_curves.py with 0.5 um contact elements (about 10 s): the FE
+    # driver still runs the script and its force stays within 1.5 % of the stored 0.25 um
+    # curve (measured 0.75 %)
+    import importlib.util
+
+    from oocyte_fe.experiment import run_experiment
+    from oocyte_fe.experiment.analysis import push_force_nN
+
+    path = Path(__file__).parents[1] / "benchmarks" / "afm_ramp_fe_curves.py"
+    spec = importlib.util.spec_from_file_location("afm_ramp_fe_curves", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    result = run_experiment(script.experiment(1.0, mesh_scale=2.0))
+    stored = np.loadtxt(FE_DATA / "ramp_T1s.csv", delimiter=",")
+    assert result.success
+    np.testing.assert_allclose(result.times_s, stored[:, 0], rtol=1e-9)
+    force = push_force_nN(result, "probe")
+    assert np.max(np.abs(force - stored[:, 2])) < 0.015 * stored[:, 2].max()
