@@ -274,14 +274,8 @@ def fit_ramp(
     x_hi = np.array([float(r.tip_position_um.max()) for r in items])
     f_app = np.concatenate([a.force_nN for a in approaches])
 
-    def design(p: np.ndarray, curves: Sequence[RampCurve], amps: np.ndarray | None) -> np.ndarray:
-        theta = _theta(setup, p[n_ramps:])
-        return np.concatenate(
-            [_basis_force(setup, c, p[i], theta, amps) for i, c in enumerate(curves)]
-        )
-
     def projected(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        m = design(p, approaches, None)
+        m = _design(setup, approaches, p, None)
         scale = np.maximum(np.linalg.norm(m, axis=0), 1e-300)
         amps, _ = nnls(m / scale, f_app)
         amps = amps / scale
@@ -299,56 +293,7 @@ def fit_ramp(
     success, message = bool(first.success), str(first.message)
     with_retract = use_retract and any(r.turn < r.time_s.size - 1 for r in items)
     if with_retract:
-        f_all = np.concatenate([r.force_nN for r in items])
-        n_a, n_p = amps.size, p.size
-        cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
-
-        def residual(z: np.ndarray) -> np.ndarray:
-            return design(z[:-n_a], items, z[-n_a:]) @ z[-n_a:] - f_all
-
-        def evaluate(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            key = z.tobytes()
-            if key not in cache:
-                cache.clear()
-                theta = _theta(setup, z[n_ramps:n_p])
-                parts = [
-                    _basis_force(setup, c, z[i], theta, z[n_p:], sensitivity=True)
-                    for i, c in enumerate(items)
-                ]
-                m = np.concatenate([f for f, _ in parts])
-                cache[key] = (m @ z[n_p:] - f_all, m + np.concatenate([s for _, s in parts]))
-            return cache[key]
-
-        def jacobian(z: np.ndarray) -> np.ndarray:
-            base, d_amps = evaluate(z)
-            cols = []
-            for i in range(n_p):  # x0 and theta by forward differences (t1 moves with them)
-                step = FD_STEP * max(abs(z[i]), typical[i])
-                step = -step if z[i] + step > z_hi[i] else step
-                shifted = z.copy()
-                shifted[i] += step
-                cols.append((residual(shifted) - base) / step)
-            return np.column_stack([*cols, d_amps])
-
-        typical = np.concatenate([np.full(n_ramps, max(spans)), np.ones(n_p - n_ramps)])
-        amp_scale = np.maximum(amps, 1e-3 * max(float(amps.max()), 1e-12))
-        z0 = np.concatenate([p, amp_scale if np.any(amps <= 0) else amps])
-        z_lo = np.concatenate([lower, np.zeros(n_a)])
-        z_hi = np.concatenate([upper, np.full(n_a, np.inf)])
-        z0 = np.clip(z0, z_lo, z_hi)
-        with np.errstate(all="ignore"):
-            second = least_squares(
-                lambda z: evaluate(z)[0],
-                z0,
-                jac=jacobian,
-                bounds=(z_lo, z_hi),
-                x_scale="jac",
-                method="trf",
-                ftol=RETRACT_TOLERANCE,
-                xtol=RETRACT_TOLERANCE,
-            )
-        p, amps = second.x[:-n_a], second.x[-n_a:]
-        success, message = bool(second.success), str(second.message)
+        p, amps, success, message = _fit_with_retract(setup, items, p, amps, (lower, upper))
         curves: Sequence[RampCurve] = items
     else:
         curves = approaches
@@ -421,3 +366,75 @@ def _undetermined(
                 "from E_inf"
             )
     return tuple(flags)
+
+
+def _design(
+    setup: _Setup, curves: Sequence[RampCurve], p: np.ndarray, amps: np.ndarray | None
+) -> np.ndarray:
+    """Stacked basis forces of ``curves`` for p = (x0 per curve, free non-linear parameters)."""
+    n = len(curves)
+    theta = _theta(setup, p[n:])
+    return np.concatenate([_basis_force(setup, c, p[i], theta, amps) for i, c in enumerate(curves)])
+
+
+def _fit_with_retract(
+    setup: _Setup,
+    items: Sequence[RampCurve],
+    p: np.ndarray,
+    amps: np.ndarray,
+    bounds: tuple[np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, np.ndarray, bool, str]:
+    """Stage 2: every parameter over approach and retract, from stage 1's (p, amps).
+
+    Jacobian: the amplitude columns analytic (force per amplitude plus its change through
+    t1), the contact points and times by forward differences.
+    """
+    f_all = np.concatenate([r.force_nN for r in items])
+    n_ramps, n_a, n_p = len(items), amps.size, p.size
+    spans = [float(np.ptp(r.tip_position_um)) for r in items]
+    typical = np.concatenate([np.full(n_ramps, max(spans)), np.ones(n_p - n_ramps)])
+    cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        return _design(setup, items, z[:n_p], z[n_p:]) @ z[n_p:] - f_all
+
+    def evaluate(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        key = z.tobytes()
+        if key not in cache:
+            cache.clear()
+            theta = _theta(setup, z[n_ramps:n_p])
+            parts = [
+                _basis_force(setup, c, z[i], theta, z[n_p:], sensitivity=True)
+                for i, c in enumerate(items)
+            ]
+            m = np.concatenate([f for f, _ in parts])
+            cache[key] = (m @ z[n_p:] - f_all, m + np.concatenate([s for _, s in parts]))
+        return cache[key]
+
+    def jacobian(z: np.ndarray) -> np.ndarray:
+        base, d_amps = evaluate(z)
+        cols = []
+        for i in range(n_p):  # x0 and theta by forward differences (t1 moves with them)
+            step = FD_STEP * max(abs(z[i]), typical[i])
+            step = -step if z[i] + step > z_hi[i] else step
+            shifted = z.copy()
+            shifted[i] += step
+            cols.append((residual(shifted) - base) / step)
+        return np.column_stack([*cols, d_amps])
+
+    amp_scale = np.maximum(amps, 1e-3 * max(float(amps.max()), 1e-12))
+    z0 = np.concatenate([p, amp_scale if np.any(amps <= 0) else amps])
+    z_lo = np.concatenate([bounds[0], np.zeros(n_a)])
+    z_hi = np.concatenate([bounds[1], np.full(n_a, np.inf)])
+    with np.errstate(all="ignore"):
+        result = least_squares(
+            lambda z: evaluate(z)[0],
+            np.clip(z0, z_lo, z_hi),
+            jac=jacobian,
+            bounds=(z_lo, z_hi),
+            x_scale="jac",
+            method="trf",
+            ftol=RETRACT_TOLERANCE,
+            xtol=RETRACT_TOLERANCE,
+        )
+    return result.x[:n_p], result.x[n_p:], bool(result.success), str(result.message)
