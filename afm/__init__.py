@@ -1,5 +1,6 @@
 """AFM indentation analysis for oocyte-fe: tip models, curve fitting, pierce-through curves,
-creep to a Prony series, and the material file the FE models read.
+creep to a Prony series, viscoelastic fits of the ramp (Ting), and the material file the FE
+models read.
 
 Internal units: um, nN, kPa, s. ``afm`` never imports ``oocyte_fe``.
 """
@@ -16,6 +17,7 @@ from afm.prony_series import (
     creep_from_relaxation,
     relaxation_from_creep,
 )
+from afm.viscoelastic import RampCurve, RampFit, fit_ramp, ramp_from_piezo
 from oocyte_fe.errors import InputError, MissingExtraError
 
 __all__ = [
@@ -30,14 +32,18 @@ __all__ = [
     "MaterialFile",
     "MissingExtraError",
     "PierceFit",
+    "RampCurve",
+    "RampFit",
     "RelaxationProny",
     "creep_from_relaxation",
     "fit_creep",
     "fit_creep_tip",
     "fit_indentation",
     "fit_pierce",
+    "fit_ramp",
     "get_model",
     "material_from_creep_csv",
+    "ramp_from_piezo",
     "read_material",
     "relaxation_from_creep",
     "write_material",

@@ -11,6 +11,7 @@ the SD of a single value is not defined (NaN, "n/a" in tables).
 from __future__ import annotations
 
 import csv
+import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -69,6 +70,12 @@ class GroupStats:
     n_poor: int
     mean_kPa: float
     sd_kPa: float
+
+    @property
+    def mean_sd_text(self) -> str:
+        """``mean +- SD`` for a table (kPa, 4 and 3 significant digits; SD ``n/a`` for n = 1)."""
+        sd = f"{self.sd_kPa:.3g}" if math.isfinite(self.sd_kPa) else "n/a"
+        return f"{self.mean_kPa:.4g} +- {sd}"
 
 
 @dataclass

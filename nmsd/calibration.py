@@ -11,6 +11,16 @@ zero Jacobian): it is replaced by a draw of a further Latin hypercube, so that `
 starts run (up to ``n_starts`` replacements; ``CalibrationResult.diverged_starts`` counts
 them).
 
+Reproducibility: the press's force jumps with the constants (snap-through events of the
+lattice: a change of 0.1 % in d0 can change eq 7 several times over), and the trust region's
+path on such a surface amplifies any change of the data, round-off included. The press is
+therefore run only at free variables on a log10 grid (``resolution``, default 1e-3 decades):
+a step proposal is rounded to the nearest grid point, so a change of the data that moves the
+proposal by less than the grid spacing presses the same constants and ends at the same fit.
+The press at given constants is itself that sensitive to its step ends and speed (the
+snap-through moves with round-off of the time step); :func:`nmsd.press.simulate_press`
+rounds them (1e-6 um, 6 significant digits).
+
 Three model families (Section II.B.3):
 
 - ``linear_msd``: linear links ``k1 dl`` (k2 = 0) and velocity damping d0 (d1 = 0);
@@ -29,9 +39,9 @@ and the gap exactly; the chain rule to the free variables is
     df/dk2|_s = s df/dk1 + df/dk2,   df/ds = k2 df/dk1   (k1 = s k2),
 
 and ``least_squares`` gets it as ``jac=`` (no extra press per Jacobian).
-``jacobian="2-point"`` is the former forward-difference Jacobian (relative step 1e-3,
-1 + n_free presses per Jacobian). A press that diverges returns the penalty residual and a
-zero Jacobian row block.
+``jacobian="2-point"`` is the former forward-difference Jacobian (relative step 1e-3 or
+two grid spacings, 1 + n_free presses per Jacobian). A press that diverges returns the
+penalty residual and a zero Jacobian row block.
 
 Fit measures over the n table points: ``RMSE = sqrt(mean((f_model - f_exp)^2))``,
 ``R^2 = 1 - SS_res / SS_tot`` and the similarity ``S = f_model . f_exp /
@@ -195,6 +205,7 @@ def calibrate(
     jacobian: str = "exact",
     tolerance: float = 1e-3,
     k2_over_k1_min: float = K2_OVER_K1_MIN,
+    resolution: float = 1e-3,
     also: Sequence[tuple[PressSetup, ForceDisplacement]] = (),
     on_press: Callable[[int, int], None] | None = None,
 ) -> CalibrationResult:
@@ -203,12 +214,19 @@ def calibrate(
     ``base`` supplies the constants not fitted (dl_c, node mass, damping reading); ``extra``
     frees ``dl_c`` and/or ``gap_um`` (the latter moves the pipette start of ``setup``).
     ``jacobian``: ``"exact"`` (forward sensitivities, one press per evaluation) or
-    ``"2-point"`` (forward differences). ``evaluations`` counts presses either way.
+    ``"2-point"`` (forward differences, relative step 1e-3 or two grid spacings of
+    ``resolution``, the larger). ``evaluations`` counts presses either way.
     ``tolerance``: ``ftol`` and ``xtol`` of ``least_squares`` (a start ends when a step
     changes the cost or the scaled variables by less than this fraction; 1e-3 reaches the
     RMSE of 1e-8 within 0.05 uN at half the presses; docs/nmsd.md, "Exact Jacobian").
     ``k2_over_k1_min``: the last constraint of eq 8, ``k2 >= k2_over_k1_min k1`` (50 in the
     paper; 0 lifts it: ``s = k1/k2`` is then bounded below only, its starts span 1e-5-1e4).
+    ``resolution``: the press runs only at free variables on a log10 grid of this spacing
+    (decades; 1e-3 = 0.23 %; 0: anywhere). Eq 7 jumps with the constants (snap-through
+    events of the lattice, docs/nmsd.md "Reproducibility"), and on such a surface the trust
+    region's path amplifies any change of the data; on the grid, a change of the data that
+    moves the proposed step by less than the grid spacing presses the same constants, so the
+    answer does not move with round-off of the data.
     ``also``: further presses and their curves (e.g. the same press at another speed) fitted
     together with the main one: eq 7 summed over all curves, one press per curve and
     evaluation (``evaluations`` counts presses).
@@ -231,6 +249,7 @@ def calibrate(
     seed = int(checks.number("calibrate", "seed", seed, ge=0, integer=True))
     checks.number("calibrate", "tolerance", tolerance, gt=0, lt=1)
     checks.number("calibrate", "k2_over_k1_min", k2_over_k1_min, ge=0)
+    checks.number("calibrate", "resolution", resolution, ge=0, le=0.1)
     if not 0 < tolerance < 1:
         raise InputError("calibrate", "tolerance", "in (0, 1)", got=tolerance)
     if not k2_over_k1_min >= 0:
@@ -263,14 +282,23 @@ def calibrate(
     measured = np.concatenate([curve.force_nN for _, curve in curves])
     penalty = 10.0 * (np.abs(measured) + np.abs(measured).max())
     count = 0
-    last: dict[bytes, tuple[np.ndarray, np.ndarray | None, bool]] = {}  # the last point pressed
+    pressed: dict[bytes, tuple[np.ndarray, np.ndarray | None, bool]] = {}  # grid point -> press
+
+    def on_grid(values: np.ndarray) -> np.ndarray:
+        """The nearest point of the log10 grid (zero stays zero), within the bounds."""
+        if resolution == 0:
+            return values
+        logs = np.log10(np.where(values > 0, values, 1.0))
+        snapped = np.where(values > 0, 10.0 ** (np.round(logs / resolution) * resolution), 0.0)
+        return np.clip(snapped, lower, upper)
 
     def press(values: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, bool]:
         """Residual, Jacobian (exact, or None for 2-point) and whether the press diverged."""
         nonlocal count
+        values = on_grid(values)
         key = values.tobytes()
-        if key in last:  # least_squares asks again for the point it was given or just had
-            return last[key]
+        if key in pressed:  # asked again, or a step that rounds to a grid point pressed before
+            return pressed[key]
         count += len(curves)
         if on_press is not None:
             on_press(count, len(curves) * max_evaluations * n_starts)
@@ -289,9 +317,8 @@ def calibrate(
         except NmsdDivergence:
             forces, jac = measured + penalty, np.zeros((len(measured), len(names)))
             failed = True
-        last.clear()
-        last[key] = (forces - measured, jac, failed)
-        return last[key]
+        pressed[key] = (forces - measured, jac, failed)
+        return pressed[key]
 
     tic = time.perf_counter()
     best = None
@@ -309,12 +336,13 @@ def calibrate(
             jac="2-point" if jacobian == "2-point" else (lambda v: press(v)[1].copy()),
             bounds=(lower, upper),
             x_scale=x0,
-            diff_step=1e-3,
+            diff_step=max(1e-3, 10.0 ** (2.0 * resolution) - 1.0),  # two grid spacings
             ftol=tolerance,
             xtol=tolerance,
             max_nfev=max_evaluations,
         )
         rmse = float(np.sqrt(2.0 * fit.cost / len(measured)))
+        fit.x = on_grid(fit.x)
         gap = float(fit.x[-1]) if "gap_um" in extra else None
         ends.append(StartEnd(rmse, press_for(fit.x, setup)[1], gap))
         if best is None or fit.cost < best.cost:

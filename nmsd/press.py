@@ -183,6 +183,8 @@ def touching_start(lattice: Lattice, pipette: Pipette) -> Pipette:
 
 MAX_STEPS = 1_000_000
 """Most backward-Euler steps one press may ask for."""
+STEP_END_DECIMALS = 6  # step ends (um) are rounded to 1e-6 um
+SPEED_DIGITS = 6  # the speed is read to 6 significant digits
 
 
 def simulate_press(
@@ -202,6 +204,11 @@ def simulate_press(
 
     The step ends include every advance in ``record_um``; a step whose Newton iterations
     fail is halved up to 6 times before :class:`NmsdDivergence` is raised.
+    Step ends are rounded to 1e-6 um and the speed to 6 significant digits: late in a press
+    the lattice snaps through at the mouth's corners, and when it does moves with any change
+    of the arithmetic (docs/nmsd.md, "Reproducibility"), so inputs that differ by less than
+    that (a travel or a record point times 1 + 1e-9) press the same steps. A snapshot is kept
+    under the advance asked for.
     With ``mirror`` the press follows the symmetric branch, solved on the half lattice
     (:mod:`nmsd.symmetry`). ``sensitivities``: also carry the forward sensitivities through
     every (sub)step and return df/dp (:class:`nmsd.sensitivity.PressSensitivity`; starts
@@ -219,14 +226,21 @@ def simulate_press(
         raise InputError(
             pipette.source, "start", "a pipette that starts outside the cell (no node inside it)"
         )
-    record = sorted({float(r) for r in record_um if 0 < r <= travel_um})
-    grid = np.union1d(np.linspace(0.0, travel_um, n_steps + 1), record)
+    speed_um_s = float(f"{speed_um_s:.{SPEED_DIGITS}g}")
+    wanted: dict[float, list[float]] = {}  # step end -> the advances asked for there
+    for r in record_um:
+        if 0 < r <= travel_um:
+            wanted.setdefault(float(np.round(r, STEP_END_DECIMALS)), []).append(float(r))
+    uniform = np.round(np.linspace(0.0, travel_um, n_steps + 1), STEP_END_DECIMALS)
+    grid = np.union1d(uniform, list(wanted))
     stepper = BackwardEulerStepper(lattice, params, pipette, held, mirror=mirror)
     tracker = PressSensitivity(stepper) if sensitivities else None
     dforce = np.zeros((len(grid), len(NAMES))) if sensitivities else None
     v = np.zeros_like(x)
     force = np.zeros(len(grid))
-    snapshots = {0.0: x.copy()} if 0.0 in record_um else {}
+    snapshots = {r: x.copy() for r in wanted.get(0.0, ())}  # asked for < 5e-7 um
+    if 0.0 in record_um:
+        snapshots[0.0] = x.copy()
     iterations = 0
     for k in range(1, len(grid)):
         x, v, f_contact, its, df = _advance(
@@ -236,8 +250,8 @@ def simulate_press(
         force[k] = float(f_contact.sum(axis=0) @ np.asarray(pipette.direction))
         if dforce is not None:
             dforce[k] = df
-        if grid[k] in record:
-            snapshots[float(grid[k])] = x.copy()
+        for r in wanted.get(float(grid[k]), ()):
+            snapshots[r] = x.copy()
     names = NAMES if sensitivities else ()
     return PressResult(grid, grid / speed_um_s, force, x, snapshots, iterations, dforce, names)
 

@@ -3,7 +3,8 @@ per command (``run``, ``validate``, ``kinds``, ``new``, ``track``).
 
 Bad input is one line on stderr naming the file, the field and the expectation, exit code 2
 (``--debug`` shows the traceback). ``run`` exits 0 when every case passes or misses only
-documented goals (``known_miss``), 1 when a check fails or a case errors.
+documented goals (``known_miss``), 1 when a check fails or a case errors. Each command imports
+what it uses when it runs (``track`` does not load the case runner).
 """
 
 from __future__ import annotations
@@ -17,13 +18,6 @@ from rich.markup import escape
 
 from oocyte_fe import __version__
 from oocyte_fe.errors import InputError
-from oocyte_fe.runner.casefile import discover, load_case
-from oocyte_fe.runner.display import LiveDisplay, PlainDisplay, summary_table
-from oocyte_fe.runner.progress import ignore
-from oocyte_fe.runner.registry import get_kind
-from oocyte_fe.runner.registry import kinds as registered_kinds
-from oocyte_fe.runner.run import default_jobs, plan, run_cases
-from oocyte_fe.runner.scaffold import describe_kind, new_case
 
 app = typer.Typer(
     add_completion=False,
@@ -91,6 +85,10 @@ def run(
 
     Cases with a [sweep] table run their samples on Dask (docs/sweeps.md).
     """
+    from oocyte_fe.runner.display import LiveDisplay, PlainDisplay, summary_table
+    from oocyte_fe.runner.progress import ignore
+    from oocyte_fe.runner.run import default_jobs, plan, run_cases
+
     if not out.strip():
         raise _fail(InputError("--out", "", "a folder name ('.' for the current folder)"), debug)
     out_root = Path(out)
@@ -153,6 +151,8 @@ def validate(
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
     """Check case files without running them."""
+    from oocyte_fe.runner.casefile import discover, load_case
+
     try:
         folders = discover(paths)
     except InputError as exc:
@@ -177,6 +177,10 @@ def list_kinds(
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
     """List the registered case kinds (or one kind: inputs with unit, default, description)."""
+    from oocyte_fe.runner.registry import get_kind
+    from oocyte_fe.runner.registry import kinds as registered_kinds
+    from oocyte_fe.runner.scaffold import describe_kind
+
     if kind is None:
         for k in registered_kinds().values():
             console.print(f"[bold]{k.name}[/]: {escape(k.description)}", highlight=False)
@@ -200,6 +204,9 @@ def new(
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
     """Write a case folder for KIND: case.toml with every input and data-file templates."""
+    from oocyte_fe.runner.registry import get_kind
+    from oocyte_fe.runner.scaffold import new_case
+
     try:
         written = new_case(get_kind(kind, "oocyte-fe new"), folder, template)
     except InputError as exc:

@@ -10,7 +10,10 @@ from pathlib import Path
 
 import pytest
 
+from afm.batch import curve_files
+from afm.fit_files import CreepRecord, fit_files, read_known_moduli
 from afm.material_file import read_material
+from oocyte_fe.errors import InputError
 from oocyte_fe.runner.run import plan, run_cases
 
 CASE = Path(__file__).parents[1] / "cases" / "afm_fit_files"
@@ -191,3 +194,26 @@ def test_nanite_analysis_is_a_choice_of_the_user_route(tmp_path):
         )
         [result] = run_cases(plan([case], quick=True), tmp_path / "out2", quick=True)
         assert result.status == "ERROR" and "inputs.analysis" in result.reason
+
+
+def test_fit_files_groups_and_materials_without_the_runner():
+    # the library function behind the kind: shipped files, groups by subfolder, the ZP's
+    # material from its creep record, the cytoplasm's elastic with its mean E
+    files = curve_files(CASE / "curves")
+    known = read_known_moduli(CASE / "known_moduli.csv")
+    cone = {"half_angle_deg": 10.0}
+    creep = {"zp": CreepRecord(CASE / "creep" / "zp_creep.csv", "sneddon_cone", cone)}
+    result = fit_files(files, "sneddon_cone", cone, 0.5, CASE, creep=creep, known_moduli=known)
+    assert result.summary == "done: 12 fitted, 0 poor, 1 refused"
+    assert list(result.stats) == ["cytoplasm", "zp"] and result.stats["zp"].n == 6
+    cyto, zp = result.materials
+    assert cyto.creep is None and cyto.material.E_kPa == result.stats["cytoplasm"].mean_kPa
+    assert zp.creep is not None and zp.material.g and zp.material.E_kPa == zp.creep.E0_kPa
+    assert result.n_known == 12 and result.max_known_error_pct < 5
+    assert result.known_within(5.0) and not result.known_within(1e-6)
+    # a creep record of a group no curve belongs to names where it was given
+    record = CreepRecord(CASE / "creep" / "zp_creep.csv", file="case.toml", field="creep.ZP")
+    with pytest.raises(InputError, match="creep.ZP: .*one of cytoplasm, zp"):
+        fit_files(files, "sneddon_cone", cone, 0.5, CASE, creep={"ZP": record})
+    soft = fit_files(files, "sneddon_cone", cone, 0.5, CASE, groups={"soft": "curves/cyto*/*"})
+    assert list(soft.stats) == ["soft", "zp"] and soft.known_errors is None

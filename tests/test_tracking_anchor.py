@@ -10,7 +10,7 @@ from oocyte_fe.tracking import kcf, metrics
 from oocyte_fe.tracking.anchor import Anchor
 from oocyte_fe.tracking.benchmark import reseeded
 from oocyte_fe.tracking.synthetic import benchmark_grid, generate
-from oocyte_fe.tracking.tracker import MFAKCF, MFAKCF_NO_ANCHOR, Tracker, track
+from oocyte_fe.tracking.tracker import MFAKCF, MFAKCF_NO_ANCHOR, track
 
 SIGMA, LAM = 0.5, 1e-4
 
@@ -52,17 +52,6 @@ def test_anchor_score_is_the_label_on_its_own_frame_and_low_elsewhere() -> None:
     assert anchor.reference == pytest.approx(0.7, abs=1e-12)
     with pytest.raises(ValueError, match="n_frames"):
         Anchor([kcf.KcfModel.fit(xf, yf, SIGMA, LAM)], n_frames=0)
-
-
-def test_redetection_grid_widens_while_lost() -> None:
-    """MFAKCF searches (2k+1)^2 windows plus the one where the target was lost, with
-    k = min(1 + n_lost // 10, 3): 10, 26 and 50 candidates after 0, 10 and 35 lost frames."""
-    rng = np.random.default_rng(3)
-    frame = 1000.0 + 30.0 * ndimage.gaussian_filter(rng.normal(size=(200, 200)), 2.0)
-    tracker = Tracker(frame, (80.0, 80.0, 24.0, 32.0), MFAKCF)
-    for n_lost, expected in ((0, 10), (10, 26), (35, 50)):
-        tracker.n_lost = n_lost
-        assert len(tracker._redetect(frame, (100.0, 96.0))) == expected
 
 
 @pytest.mark.slow

@@ -10,6 +10,7 @@ import pytest
 from oocyte_fe.errors import InputError
 from oocyte_fe.tracking.cli_track import parse_box, track_video
 from oocyte_fe.tracking.synthetic import SequenceSpec, generate
+from oocyte_fe.tracking.tracker import track
 from oocyte_fe.tracking.video import (
     Calibration,
     read_boxes_csv,
@@ -93,3 +94,91 @@ def test_track_command_writes_the_outputs_and_refuses_a_bad_box(tmp_path: Path) 
     bad = CliRunner().invoke(app, ["track", str(tmp_path / "v.tif"), "--box", "1,2"])
     assert bad.exit_code == 2
     assert "X,Y,W,H" in bad.output
+
+
+def _clip(tmp_path: Path) -> tuple[Path, str, np.ndarray]:
+    seq = generate(CLEAR)
+    write_tiff(tmp_path / "v.tif", seq.frames)
+    return tmp_path / "v.tif", ",".join(f"{v:.2f}" for v in seq.boxes[0]), seq.boxes
+
+
+@pytest.mark.parametrize(
+    ("box", "says"),
+    [
+        ("nan,10,20,20", "four finite numbers"),
+        ("10,10,inf,20", "four finite numbers"),
+        ("200,200,20,20", "inside the 160 x 160 px frame"),
+        ("150,10,20,20", "inside the 160 x 160 px frame"),
+        ("-5,10,20,20", "inside the 160 x 160 px frame"),
+        ("0,0,170,20", "W <= 160 and H <= 160"),
+    ],
+)
+def test_track_command_refuses_a_bad_box_before_tracking(
+    tmp_path: Path, box: str, says: str
+) -> None:
+    """NaN, infinite, wholly or partly outside the frame, larger than the frame: one line on
+    the console, exit 2, no output folder (refused before tracking)."""
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+
+    video, _, _ = _clip(tmp_path)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["track", str(video), "--box", box, "--out", str(out)])
+    assert result.exit_code == 2
+    assert says in result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("shape", "says"),
+    [
+        ((4, 3, 40, 50), "not planar colour"),
+        ((40, 50, 3), "not a single colour image"),
+        ((40, 50), "at least 2"),
+    ],
+)
+def test_colour_layouts_read_as_narrow_frames_are_refused(
+    tmp_path: Path, shape: tuple[int, ...], says: str
+) -> None:
+    """A planar RGB stack (T, 3, H, W) and a single RGB image (H, W, 3) were read as frames 3
+    px high or wide; now each is one InputError. An interleaved colour stack (T, H, W, 3) is
+    averaged over its channels: (2, 3, 4, 3) channels 0, 1, 2 give their mean."""
+    import tifffile
+
+    tifffile.imwrite(tmp_path / "c.tif", np.ones(shape, dtype=np.uint16), photometric="minisblack")
+    with pytest.raises(InputError, match=says):
+        read_frames(tmp_path / "c.tif")
+    rgb = np.zeros((2, 30, 40, 3), dtype=np.uint16) + np.array([3, 6, 9], dtype=np.uint16)
+    tifffile.imwrite(tmp_path / "rgb.tif", rgb, photometric="rgb")
+    np.testing.assert_allclose(read_frames(tmp_path / "rgb.tif"), 6.0)
+
+
+def test_truth_with_wrong_rows_is_refused_before_tracking(tmp_path: Path) -> None:
+    """``--truth`` with 39 rows for 40 frames: InputError naming the rows, nothing written."""
+    video, box, truth = _clip(tmp_path)
+    cal = Calibration(CLEAR.pixel_um, CLEAR.fps)
+    write_track_csv(tmp_path / "truth.csv", truth[:-1], np.ones(len(truth) - 1), cal)
+    out = tmp_path / "out"
+    with pytest.raises(InputError, match="40 boxes, one per frame, got 39"):
+        track_video(video, box, out, truth=tmp_path / "truth.csv")
+    assert not out.exists()
+    with pytest.raises(InputError, match="finite values > 0"):
+        track_video(video, box, out, pixel_um=float("nan"))
+
+
+def test_blank_frames_and_a_featureless_box_give_low_confidence(tmp_path: Path) -> None:
+    """Confidence ``r e`` (tracker.FrameEstimate): on a constant clip and on a box over pure
+    shot noise it is at most 0.05 on every frame (r alone was 1.43, like a good track); on the
+    clear spindle the contrast factor is 1 on every frame (confidence = r)."""
+    rng = np.random.default_rng(3)
+    blank = np.full((30, 120, 120), 2000.0)
+    noise = 2000.0 + rng.normal(size=(30, 120, 120)) * np.sqrt(2000.0)
+    box = (40.0, 50.0, 40.0, 20.0)
+    assert track(blank, box).reliability[-1] == pytest.approx(1 / 0.7, rel=1e-9)  # r alone
+    for frames in (blank, noise):
+        assert track(frames, box).confidence.max() <= 0.05
+    seq = generate(CLEAR)
+    clear = track(seq.frames, tuple(seq.boxes[0]))
+    np.testing.assert_allclose(clear.confidence, clear.reliability, rtol=1e-12)

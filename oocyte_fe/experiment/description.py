@@ -24,6 +24,7 @@ from pydantic import AfterValidator, Field, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.material import Material, Prony, read_material_file
+from oocyte_fe.kinds.data_templates import ZONA_MATERIAL
 from oocyte_fe.runner.schema import CaseInputs, DataFile
 
 Side = Literal["top", "bottom", "left", "right"]
@@ -82,24 +83,46 @@ def to_material(spec: LayerMaterial, name: str) -> Material:
 
 
 class Layers(CaseInputs):
-    zona: LayerMaterial | None = Field(None, description="the ZP (needed if thicker than 0)")
-    cytoplasm: LayerMaterial
+    zona: LayerMaterial | None = Field(
+        None, description="the ZP (needed if thicker than 0)", json_schema_extra=ZONA_MATERIAL
+    )
+    cytoplasm: LayerMaterial = Field(description="the cytoplasm (the whole cell without a ZP)")
 
 
 class Cell(CaseInputs):
     """The cell: a cytoplasm inside a ZP shell (``zona_thickness_um = 0``: homogeneous)."""
 
-    outer_diameter_um: float = Field(ge=1, le=1e4, json_schema_extra={"unit": "um"})
-    zona_thickness_um: float = Field(0.0, ge=0, le=1e4, json_schema_extra={"unit": "um"})
-    symmetry: Literal["axisymmetric", "plane_strain"] = "axisymmetric"
+    outer_diameter_um: float = Field(
+        ge=1, le=1e4, description="the cell's outer diameter", json_schema_extra={"unit": "um"}
+    )
+    zona_thickness_um: float = Field(
+        0.0,
+        ge=0,
+        le=1e4,
+        description="ZP thickness (0: homogeneous)",
+        json_schema_extra={"unit": "um"},
+    )
+    symmetry: Literal["axisymmetric", "plane_strain"] = Field(
+        "axisymmetric", description="axisymmetric (about y) or plane strain"
+    )
     dimension: Literal[2] = Field(2, description="2: a section (axisymmetric or plane strain)")
-    materials: Layers
-    mesh_size_um: float = Field(ge=0.01, le=1e3, json_schema_extra={"unit": "um"})
+    materials: Layers = Field(description="a material per layer: a file or inline")
+    mesh_size_um: float = Field(
+        ge=0.01, le=1e3, description="element size", json_schema_extra={"unit": "um"}
+    )
     refine_size_um: float | None = Field(
-        None, ge=0.005, le=1e3, description="element size near each tool (default: mesh_size)"
+        None,
+        ge=0.005,
+        le=1e3,
+        description="element size near each tool (default: mesh_size)",
+        json_schema_extra={"unit": "um"},
     )
     refine_depth_um: float | None = Field(
-        None, gt=0, le=1e4, description="depth of the refined zone below the surface"
+        None,
+        gt=0,
+        le=1e4,
+        description="depth of the refined zone below the surface",
+        json_schema_extra={"unit": "um"},
     )
     curved_edges: bool = Field(
         True,
@@ -112,13 +135,20 @@ class Cell(CaseInputs):
             None,
             description="polar windows (deg from +y) to refine instead of one at each tool, "
             "e.g. [[20, 160]] along the side of a cell that passes through a pipette",
+            json_schema_extra={"unit": "deg"},
         )
     )
     refine_half_angle_deg: float = Field(
-        20.0, gt=0, le=90, description="polar half-width of the refined window at each tool"
+        20.0,
+        gt=0,
+        le=90,
+        description="polar half-width of the refined window at each tool",
+        json_schema_extra={"unit": "deg"},
     )
     points: dict[str, Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(
-        default_factory=dict, description="material points to follow (x, y) um, by name"
+        default_factory=dict,
+        description="material points to follow (x, y), by name",
+        json_schema_extra={"unit": "um"},
     )
 
     @property
@@ -283,26 +313,46 @@ Tool = Plate | Sphere | Cone | StraightPipette | NeckedPipette | WedgePipette | 
 
 
 class TimePath(CaseInputs):
-    duration_s: float = Field(gt=0, le=1e9, json_schema_extra={"unit": "s"})
-    frames: int = Field(gt=0, le=10_000, description="output frames (one solver step each)")
-    max_step_s: float | None = Field(None, gt=0, le=1e9, description="largest solver step")
-    rtol: float = Field(
-        1e-6, gt=0, lt=1e-2, description="Newton tolerance on the relative residual"
+    duration_s: float = Field(
+        gt=0, le=1e9, description="duration of the experiment", json_schema_extra={"unit": "s"}
     )
-    max_iterations: int = Field(25, ge=2, le=200, description="Newton iterations per step")
-    max_cutbacks: int = Field(8, ge=0, le=30, description="halvings of a failing step")
+    frames: int = Field(
+        gt=0,
+        le=10_000,
+        description="output frames (one solver step each)",
+        json_schema_extra={"unit": "1"},
+    )
+    max_step_s: float | None = Field(
+        None, gt=0, le=1e9, description="largest solver step", json_schema_extra={"unit": "s"}
+    )
+    rtol: float = Field(
+        1e-6,
+        gt=0,
+        lt=1e-2,
+        description="Newton tolerance on the relative residual",
+        json_schema_extra={"unit": "1"},
+    )
+    max_iterations: int = Field(
+        25, ge=2, le=200, description="Newton iterations per step", json_schema_extra={"unit": "1"}
+    )
+    max_cutbacks: int = Field(
+        8, ge=0, le=30, description="halvings of a failing step", json_schema_extra={"unit": "1"}
+    )
 
 
 class Record(CaseInputs):
     fields: bool = Field(False, description="VTU/PVD field series and its viewer script")
     sections_at_s: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
-        default_factory=list, description="times of the section figures"
+        default_factory=list,
+        description="times of the section figures",
+        json_schema_extra={"unit": "s"},
     )
     section_window_um: list[float] | None = Field(
         None,
         min_length=4,
         max_length=4,
         description="[x_min, x_max, y_min, y_max] of the section figures (default: the cell)",
+        json_schema_extra={"unit": "um"},
     )
 
     @model_validator(mode="after")
@@ -316,13 +366,17 @@ class Record(CaseInputs):
 class Experiment(CaseInputs):
     """A whole experiment: cell, tools (by name), time path, recorders."""
 
-    description: str = Field("", max_length=2000)
-    cell: Cell
-    tools: dict[str, Tool] = Field(min_length=1)
-    time: TimePath
-    record: Record = Record()
+    description: str = Field("", max_length=2000, description="what the experiment is")
+    cell: Cell = Field(description="the cell: size, layers, materials, mesh, points")
+    tools: dict[str, Tool] = Field(min_length=1, description="the rigid tools, by name")
+    time: TimePath = Field(description="the time path")
+    record: Record = Field(Record(), description="what to record beyond the histories")
     mesh_scale: float = Field(
-        1.0, ge=0.25, le=8, description="multiplies every element size (quick runs: 2)"
+        1.0,
+        ge=0.25,
+        le=8,
+        description="multiplies every element size (quick runs: 2)",
+        json_schema_extra={"unit": "1"},
     )
 
     @model_validator(mode="after")

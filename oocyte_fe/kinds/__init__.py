@@ -7,8 +7,9 @@ list: a run of one case does not pay for importing the physics of all the others
 
 A kind module only validates inputs and calls the plain library functions of ``afm``,
 ``nmsd`` or ``oocyte_fe``; physics lives there, report writing in a report module
-(``nmsd_report`` here for the NMSD kinds). ``data_templates`` holds what the data files look
-like, for ``oocyte-fe new``.
+(``nmsd_report`` here for the NMSD kinds, ``afm_fit_files_report`` for ``afm_fit_files``), a
+large inputs schema in its own ``*_inputs`` module. ``data_templates`` holds what the data
+files look like, for ``oocyte-fe new``.
 """
 
 import importlib

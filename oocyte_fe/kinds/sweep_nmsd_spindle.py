@@ -14,7 +14,8 @@ import dataclasses
 from pydantic import Field
 
 from nmsd.tableII import UN_TO_NN, read_force_displacement
-from oocyte_fe.kinds.nmsd_cases import SpindleInputs, run_spindle
+from oocyte_fe.kinds.nmsd_cases import run_spindle
+from oocyte_fe.kinds.nmsd_inputs import SpindleInputs
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind, get_kind
 from oocyte_fe.sweep.resample import relative_scatter, resample_relative, write_force_csv
 

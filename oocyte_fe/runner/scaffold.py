@@ -185,7 +185,7 @@ def new_case(kind: CaseKind, folder: Path, template: str | None = None) -> list[
     """
     if (folder / CASE_FILE).exists():
         raise InputError(folder / CASE_FILE, "", "a new folder (this case exists; not overwritten)")
-    if template is not None or kind.templates:
+    if template is not None:
         return _new_from_template(kind, folder, template)
     files: dict[str, InputDoc] = {}
     lines = [
@@ -194,6 +194,14 @@ def new_case(kind: CaseKind, folder: Path, template: str | None = None) -> list[
         "# Add [reference.METRIC] and [tolerances.METRIC] tables to judge metrics",
         "# (docs/cases.md); the metrics of this kind:",
         *[f"#   {name}: {desc}" for name, desc in kind.metrics.items()],
+        *(
+            [
+                f"# Ready cases: oocyte-fe new {kind.name} DIR --template NAME, NAME one of "
+                f"{', '.join(sorted(kind.templates))}"
+            ]
+            if kind.templates
+            else []
+        ),
         "",
         f'kind = "{kind.name}"',
         f'description = "My {kind.name} case"',

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from oocyte_fe.tracking import metrics
+from oocyte_fe.tracking.heldout import HeldOutSequence, HeldOutSpec
 from oocyte_fe.tracking.opencv_trackers import opencv_api, track_opencv
 from oocyte_fe.tracking.synthetic import Sequence, SequenceSpec, generate
 from oocyte_fe.tracking.tracker import (
@@ -28,6 +29,7 @@ from oocyte_fe.tracking.tracker import (
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
+    MFAKCF_SIGNATURE,
     SINGLE_KCF,
     TrackerConfig,
     track,
@@ -45,6 +47,7 @@ ABLATION = {
     "MFAKCF (rate 0.02)": MFAKCF_RATE_002,
     "MFAKCF (no anchor)": MFAKCF_NO_ANCHOR,
     "MFAKCF (no motion)": MFAKCF_HOLD,
+    "MFAKCF (signature)": MFAKCF_SIGNATURE,
 }
 
 TUNING_SUBSET = (
@@ -143,7 +146,9 @@ def gain_pct(ours: float, baseline: float) -> float:
     return 100.0 * (ours - baseline) / baseline if baseline > 0 else float("inf")
 
 
-def _score(name: str, seq: Sequence, boxes: np.ndarray, fps: float) -> SequenceScore:
+def _score(
+    name: str, seq: Sequence | HeldOutSequence, boxes: np.ndarray, fps: float
+) -> SequenceScore:
     errors = metrics.centre_error(boxes, seq.boxes)
     threshold = 2.0 / seq.spec.pixel_um
     return SequenceScore(
@@ -157,19 +162,22 @@ def _score(name: str, seq: Sequence, boxes: np.ndarray, fps: float) -> SequenceS
 
 
 def run_benchmark(
-    specs: Iterable[SequenceSpec],
+    specs: Iterable[SequenceSpec] | Iterable[HeldOutSpec],
     use_opencv: bool = True,
     ours: dict[str, TrackerConfig] = OURS,
     notify: Callable[[str], None] = lambda _m: None,
+    render: Callable = generate,
 ) -> BenchmarkResult:
-    """Generate each sequence once and run every tracker on it from the true first box."""
+    """Generate each sequence once (``render``: :func:`.synthetic.generate`, or
+    :func:`.heldout.generate_heldout` for the second model) and run every tracker on it from
+    the true first box."""
     api = opencv_api() if use_opencv else None
     names = list(ours) + (["OpenCV KCF", "OpenCV CSRT"] if api else [])
     scores = []
     kept = {}
     for spec in specs:
         notify(f"sequence {spec.name}")
-        seq = generate(spec)
+        seq = render(spec)
         kept[spec.name] = spec
         box = tuple(seq.boxes[0])
         for name, config in ours.items():
@@ -195,7 +203,7 @@ def fps_at_window(
     config: TrackerConfig, window_px: int = 128, n_frames: int = 100, seed: int = 0
 ) -> tuple[float, float]:
     """Frames per second of a tracker whose search window is ``window_px`` square: per
-    second of process CPU time (one core: scipy.fft with one worker, numba features) and per
+    second of process CPU time (one core: scipy.fft with one worker, numpy features) and per
     wall-clock second (lower on a loaded machine).
 
     The target box is ``window_px / (1 + padding)`` square so that the window comes out at
@@ -210,7 +218,7 @@ def fps_at_window(
     frames = np.array([np.roll(base, k // 2, axis=1) for k in range(n_frames)])
     side = window_px / (1.0 + config.padding)
     box = (size / 2 - side / 2, size / 2 - side / 2, side, side)
-    track(frames[:3], box, config)  # compile the numba kernels outside the timing
+    track(frames[:3], box, config)  # first calls (FFT plans, caches) outside the timing
     result = track(frames, box, config)
     return result.cpu_fps, result.fps
 
@@ -264,3 +272,68 @@ def gains(result: BenchmarkResult) -> dict[str, float]:
     if a and b:
         out["precision_gain_light_pct"] = gain_pct(a["precision_20px"], b["precision_20px"])
     return out
+
+
+def draw_of(spec: SequenceSpec | HeldOutSpec) -> str:
+    """Which draw a sequence belongs to: its name's ``_s<N>`` suffix (:func:`reseeded`,
+    :func:`.heldout.heldout_grid`), ``s0`` for the benchmark's own seeds."""
+    found = re.search(r"_s(\d+)$", spec.name)
+    return f"s{found.group(1)}" if found else "s0"
+
+
+def condition_of(spec: SequenceSpec | HeldOutSpec) -> str:
+    """The condition group of a sequence: occluders for the own grid (``occ0``, ``occ1``,
+    ``occ2``), the extra of the held-out model (``plain``, ``turn``, ``cross``)."""
+    parts = _cell(spec).split("_")
+    return parts[3] if parts[0] == "ho" else parts[0]
+
+
+def draw_table(result: BenchmarkResult, trackers: list[str]) -> str:
+    """Pooled precision @20 px and success AUC per draw, with the mean over draws and the
+    spread (largest minus smallest): a difference between trackers smaller than the
+    spread is luck of the draw (markdown)."""
+    draws = sorted({draw_of(spec) for spec in result.specs.values()}, key=lambda d: int(d[1:]))
+    lines = [
+        "| tracker | " + " | ".join(f"{d} P20 / AUC" for d in draws)
+        + " | mean P20 / AUC | spread P20 / AUC |",
+        "|---|" + "---|" * (len(draws) + 2),
+    ]  # fmt: skip
+    for name in trackers:
+        cells = [result.summary(name, lambda s, d=d: draw_of(s) == d) for d in draws]
+        if any(c is None for c in cells):
+            continue
+        p = np.array([c["precision_20px"] for c in cells])
+        a = np.array([c["success_auc"] for c in cells])
+        row = " | ".join(f"{x:.3f} / {y:.3f}" for x, y in zip(p, a, strict=True))
+        lines.append(
+            f"| {name} | {row} | {p.mean():.3f} / {a.mean():.3f} "
+            f"| {np.ptp(p):.3f} / {np.ptp(a):.3f} |"
+        )
+    return "\n".join(lines)
+
+
+def group_table(result: BenchmarkResult, trackers: list[str], baseline: str | None) -> str:
+    """Pooled precision @20 px and success AUC per condition group (:func:`condition_of`)
+    and overall; with a baseline (``OpenCV CSRT``), each tracker's difference from it."""
+    groups = sorted({condition_of(spec) for spec in result.specs.values()}) + ["all"]
+    lines = [
+        "| tracker | group | precision @20 px | success AUC | vs baseline P20 / AUC |",
+        "|---|---|---|---|---|",
+    ]
+    for name in trackers:
+        for g in groups:
+            keep = (lambda s: True) if g == "all" else (lambda s, g=g: condition_of(s) == g)
+            s = result.summary(name, keep)
+            b = result.summary(baseline, keep) if baseline else None
+            if s is None:
+                continue
+            diff = (
+                f"{s['precision_20px'] - b['precision_20px']:+.3f} / "
+                f"{s['success_auc'] - b['success_auc']:+.3f}"
+                if b
+                else "-"
+            )
+            lines.append(
+                f"| {name} | {g} | {s['precision_20px']:.3f} | {s['success_auc']:.3f} | {diff} |"
+            )
+    return "\n".join(lines)

@@ -2,19 +2,24 @@
 CLI wiring calls :func:`track_video`).
 
 Writes into ``out_dir``: ``track.csv`` (per frame: time, box px, centre px and um,
-reliability), ``overlay.gif`` (the frames with the box), ``trajectory.png`` (centre path, um)
-and, with a ground-truth CSV (columns x_px, y_px, w_px, h_px), ``precision_success.png`` and
-the OTB numbers in the returned summary.
+confidence, lost, and on a re-detection where the target had been lost), ``overlay.gif``
+(the frames with the box), ``trajectory.png`` (centre path, um) and, with a ground-truth CSV
+(columns x_px, y_px, w_px, h_px), ``precision_success.png`` and the OTB numbers in the
+returned summary.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.tracking import metrics
 from oocyte_fe.tracking.plots import plot_precision_success, plot_trajectory
-from oocyte_fe.tracking.tracker import MFAKCF, TrackerConfig, track
+from oocyte_fe.tracking.tracker import MFAKCF, TrackerConfig, max_step_px, track
 from oocyte_fe.tracking.video import (
     Calibration,
     read_boxes_csv,
@@ -23,16 +28,38 @@ from oocyte_fe.tracking.video import (
     write_track_csv,
 )
 
+MAX_SPEED_UM_S = 20.0
+"""Default largest spindle speed, um/s: above the fastest push of the benchmark's sequences
+(35 um in 60 frames at 10 frames/s along the NMSD path, 16.5 um/s at its fastest)."""
+
 
 def parse_box(text: str) -> tuple[float, float, float, float]:
-    """``"X,Y,W,H"`` (px, top-left corner and size) to a tuple; InputError otherwise."""
+    """``"X,Y,W,H"`` (px, top-left corner and size, finite) to a tuple; InputError otherwise."""
     try:
         values = tuple(float(v) for v in text.split(","))
     except ValueError:
         values = ()
-    if len(values) != 4 or values[2] <= 0 or values[3] <= 0:
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise InputError("--box", "box", "X,Y,W,H: four finite numbers, px", text)
+    if values[2] <= 0 or values[3] <= 0:
         raise InputError("--box", "box", "X,Y,W,H in px with W, H > 0", text)
     return values  # type: ignore[return-value]
+
+
+def check_box(box: tuple[float, float, float, float], frame_shape: tuple[int, int]) -> None:
+    """InputError unless the box (x, y, w, h) px lies wholly inside a (H, W) frame: the
+    tracker would learn the repeated edge pixels as the target (a box partly outside is
+    refused too, rather than clipped to something the user did not draw)."""
+    x, y, w, h = box
+    rows, cols = frame_shape
+    text = ",".join(f"{v:g}" for v in box)
+    if w > cols or h > rows:
+        raise InputError("--box", "box", f"W <= {cols} and H <= {rows} px (the frame)", text)
+    if x < 0 or y < 0 or x + w > cols or y + h > rows:
+        raise InputError(
+            "--box", "box", f"inside the {cols} x {rows} px frame (0 <= X <= X + W <= {cols}, "
+            f"0 <= Y <= Y + H <= {rows})", text
+        )  # fmt: skip
 
 
 def track_video(
@@ -43,29 +70,45 @@ def track_video(
     fps: float = 10.0,
     truth: str | Path | None = None,
     config: TrackerConfig = MFAKCF,
+    max_speed_um_s: float = MAX_SPEED_UM_S,
 ) -> dict[str, float]:
     """Track ``video`` (TIFF stack, video or GIF) from ``box`` on frame 0; write the outputs.
 
+    ``max_speed_um_s``: the largest speed the spindle can have (the pipette's fastest push),
+    um/s; with ``fps`` and ``pixel_um`` it bounds how far from where it was lost a target is
+    taken back (:func:`.tracker.max_step_px`). Every input is checked before tracking.
     Returns frames, tracking speed (frames/s) and, with ``truth``, precision at 20 px and at
     2 um, success rate and success AUC.
     """
-    if pixel_um <= 0 or fps <= 0:
-        raise InputError("--pixel-um/--fps", "pixel_um, fps", "values > 0", (pixel_um, fps))
+    values = (pixel_um, fps, max_speed_um_s)
+    if not all(math.isfinite(v) and v > 0 for v in values):
+        raise InputError(
+            "--pixel-um/--fps", "pixel_um, fps, max_speed_um_s", "finite values > 0", values
+        )
+    config = replace(config, max_step_px=max_step_px(max_speed_um_s, fps, pixel_um))
     calibration = Calibration(pixel_um, fps)
-    first = parse_box(box) if isinstance(box, str) else tuple(float(v) for v in box)
+    first = parse_box(box if isinstance(box, str) else ",".join(repr(float(v)) for v in box))
     frames = read_frames(video)
+    check_box(first, frames.shape[1:])
+    truth_boxes = None
+    if truth is not None:
+        truth_boxes = read_boxes_csv(truth)
+        if len(truth_boxes) != len(frames):
+            raise InputError(truth, "rows", f"{len(frames)} boxes, one per frame", len(truth_boxes))
+        if not np.all(np.isfinite(truth_boxes)) or np.any(truth_boxes[:, 2:] <= 0):
+            raise InputError(truth, "x_px, y_px, w_px, h_px", "finite boxes with w, h > 0 px")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     result = track(frames, first, config)
-    write_track_csv(out / "track.csv", result.boxes, result.reliability, calibration)
+    write_track_csv(
+        out / "track.csv", result.boxes, result.confidence, calibration, result.lost,
+        result.redetected_from,
+    )  # fmt: skip
     write_overlay_gif(out / "overlay.gif", frames, result.boxes, max(1, len(frames) // 150), fps)
     centres_um = calibration.to_um(result.centres)
     summary: dict[str, float] = {"frames": float(len(frames)), "tracking_fps": result.fps}
     truth_um = None
-    if truth is not None:
-        truth_boxes = read_boxes_csv(truth)
-        if truth_boxes.shape != result.boxes.shape:
-            raise InputError(truth, "rows", f"{len(frames)} boxes, one per frame", len(truth_boxes))
+    if truth_boxes is not None:
         truth_um = calibration.to_um(metrics.centres(truth_boxes))
         errors = metrics.centre_error(result.boxes, truth_boxes)
         overlaps = metrics.iou(result.boxes, truth_boxes)

@@ -27,7 +27,8 @@ spindle, and an occluder empties the spindle's cells (the response falls).
 
 from __future__ import annotations
 
-import numba
+import functools
+
 import numpy as np
 
 HOG_CLIP = 0.2
@@ -41,36 +42,43 @@ def _crop(patch: np.ndarray, cell: int) -> np.ndarray:
     return patch[: h - h % cell, : w - w % cell]
 
 
-@numba.njit(cache=True)
-def _hog_votes(img: np.ndarray, cell: int, n_orient: int) -> np.ndarray:  # pragma: no cover
-    """Orientation votes summed per cell (central differences, linear bin interpolation)."""
+@functools.lru_cache(maxsize=64)
+def _cell_index(shape: tuple[int, int], cell: int, n_bins: int) -> np.ndarray:
+    """Per pixel, the flat index of its cell's first bin in a ``(H // cell, W // cell,
+    n_bins)`` histogram (the image is cropped to whole cells); cached and read-only."""
+    h, w = shape
+    rows = np.arange(h)[:, None] // cell
+    cols = np.arange(w)[None, :] // cell
+    index = (rows * (w // cell) + cols) * n_bins
+    index.flags.writeable = False
+    return index
+
+
+def _hog_votes(img: np.ndarray, cell: int, n_orient: int) -> np.ndarray:
+    """Orientation votes summed per cell (central differences, zero on the border; linear
+    interpolation between the two nearest bins)."""
     h, w = img.shape
-    hist = np.zeros((h // cell, w // cell, n_orient))
-    scale = n_orient / np.pi
-    for i in range(h):
-        for j in range(w):
-            gx = 0.5 * (img[i, j + 1] - img[i, j - 1]) if 0 < j < w - 1 else 0.0
-            gy = 0.5 * (img[i + 1, j] - img[i - 1, j]) if 0 < i < h - 1 else 0.0
-            mag = np.sqrt(gx * gx + gy * gy)
-            if mag == 0.0:
-                continue
-            theta = np.arctan2(gy, gx)
-            if theta < 0.0:
-                theta += np.pi
-            pos = theta * scale - 0.5
-            lo = int(np.floor(pos))
-            frac = pos - lo
-            lo_bin = lo % n_orient
-            hi_bin = (lo + 1) % n_orient
-            hist[i // cell, j // cell, lo_bin] += mag * (1.0 - frac)
-            hist[i // cell, j // cell, hi_bin] += mag * frac
-    return hist
+    gx = np.zeros_like(img)
+    gy = np.zeros_like(img)
+    gx[:, 1:-1] = 0.5 * (img[:, 2:] - img[:, :-2])
+    gy[1:-1, :] = 0.5 * (img[2:, :] - img[:-2, :])
+    mag = np.hypot(gx, gy)
+    theta = np.arctan2(gy, gx)
+    pos = np.where(theta < 0.0, theta + np.pi, theta) * (n_orient / np.pi) - 0.5
+    lo = np.floor(pos)
+    frac = pos - lo
+    lo_bin = lo.astype(np.int64) % n_orient
+    base = _cell_index(img.shape, cell, n_orient)
+    n = (h // cell) * (w // cell) * n_orient
+    hist = np.bincount((base + lo_bin).ravel(), (mag * (1.0 - frac)).ravel(), n)
+    hist += np.bincount((base + (lo_bin + 1) % n_orient).ravel(), (mag * frac).ravel(), n)
+    return hist.reshape(h // cell, w // cell, n_orient)
 
 
 def hog_cells(patch: np.ndarray, cell: int = 4, n_orient: int = 9) -> np.ndarray:
     """HOG map of a 2-D patch, shape ``(H // cell, W // cell, n_orient)`` (see module doc)."""
     img = _crop(np.asarray(patch, dtype=np.float64), cell)
-    hist = _hog_votes(np.ascontiguousarray(img), cell, n_orient)
+    hist = _hog_votes(img, cell, n_orient)
     energy = np.sum(hist * hist, axis=2)
     padded = np.pad(energy, 1, mode="edge")
     hc, wc = energy.shape
@@ -79,24 +87,18 @@ def hog_cells(patch: np.ndarray, cell: int = 4, n_orient: int = 9) -> np.ndarray
     return np.minimum(hist / scale[..., None], HOG_CLIP)
 
 
-@numba.njit(cache=True)
-def _gray_votes(
-    u: np.ndarray, cell: int, n_bins: int, u_max: float
-) -> np.ndarray:  # pragma: no cover
-    """Triangular votes of standardised intensities into n_bins, summed per cell."""
+def _gray_votes(u: np.ndarray, cell: int, n_bins: int, u_max: float) -> np.ndarray:
+    """Triangular votes of standardised intensities into n_bins, summed per cell; pixels
+    outside ``[-u_max, u_max]`` do not vote."""
     h, w = u.shape
-    hist = np.zeros((h // cell, w // cell, n_bins))
-    scale = (n_bins - 1) / (2.0 * u_max)
-    for i in range(h):
-        for j in range(w):
-            if u[i, j] < -u_max or u[i, j] > u_max:
-                continue  # out of band: a droplet, the pipette's glass, the zona
-            pos = (u[i, j] + u_max) * scale
-            lo = min(int(np.floor(pos)), n_bins - 2)
-            frac = pos - lo
-            hist[i // cell, j // cell, lo] += 1.0 - frac
-            hist[i // cell, j // cell, lo + 1] += frac
-    return hist
+    keep = (u >= -u_max) & (u <= u_max)
+    pos = (u[keep] + u_max) * ((n_bins - 1) / (2.0 * u_max))
+    lo = np.minimum(np.floor(pos).astype(np.int64), n_bins - 2)
+    frac = pos - lo
+    base = _cell_index(u.shape, cell, n_bins)[keep] + lo
+    n = (h // cell) * (w // cell) * n_bins
+    hist = np.bincount(base, 1.0 - frac, n) + np.bincount(base + 1, frac, n)
+    return hist.reshape(h // cell, w // cell, n_bins)
 
 
 def gray_histogram_cells(
@@ -106,7 +108,7 @@ def gray_histogram_cells(
     img = _crop(np.asarray(patch, dtype=np.float64), cell)
     level = float(np.median(img[::2, ::2]))
     u = (img / (level if level > 0 else 1.0) - 1.0) / spread
-    return _gray_votes(np.ascontiguousarray(u), cell, n_bins, u_max) / (cell * cell)
+    return _gray_votes(u, cell, n_bins, u_max) / (cell * cell)
 
 
 FEATURES = {"hog": hog_cells, "gray": gray_histogram_cells}

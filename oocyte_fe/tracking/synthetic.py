@@ -23,7 +23,11 @@ Assumptions (each a choice, documented in docs/tracking.md):
   pitch), brighter than the cytoplasm by ``contrast`` x B (a few %), times ``sin^2(2 (theta -
   theta_pol)) / sin^2(2 (theta_0 - theta_pol))``: its visibility follows its angle to the
   polarizer. It rotates by +-``rotation_deg`` about theta_0 and its length and width breathe by
-  +-8 % / -+4 % (slow sinusoids).
+  +-8 % / -+4 % (slow sinusoids). Pushed, it may also turn by ``turn_deg`` and grow by the
+  factor ``1 + growth`` (both following the pipette's advance ``s``, 0 -> 1); with
+  ``polarizer_visibility`` False its visibility stays 1 whatever its angle (a retardance
+  image, as an LC-PolScope gives, or a spindle turning in the plane of the polarizers'
+  diagonal), so that a turn tests the tracker rather than the optics.
 - Motion: the spindle follows the NMSD-predicted path of
   :func:`nmsd.spindle.predict_spindle_offset` for the seed's approach (initial point (15.87,
   18.14) um, pipette from the puncture point), computed once (110-node lattice, 12 spacings
@@ -80,6 +84,9 @@ class SequenceSpec:
     enter_frames: int = 40
     occlusion_frames: int = 25
     rotation_deg: float = 10.0
+    turn_deg: float = 0.0
+    growth: float = 0.0
+    polarizer_visibility: bool = True
     n_distractors: int = 8
     pixel_um: float = 0.227
     fps: float = 10.0
@@ -92,6 +99,8 @@ class SequenceSpec:
     def __post_init__(self) -> None:
         if self.n_frames < 2 or self.enter_frames + self.approach_frames > self.n_frames:
             raise ValueError(f"{self.name}: need enter_frames + approach_frames <= n_frames")
+        if self.growth <= -1:
+            raise ValueError(f"{self.name}: growth must be > -1, got {self.growth}")
         if not 0 <= self.light_drift < 1 or self.contrast <= 0 or self.pixel_um <= 0:
             raise ValueError(f"{self.name}: light_drift in [0, 1), contrast > 0, pixel_um > 0")
 
@@ -276,9 +285,13 @@ def generate(spec: SequenceSpec, path: tuple[np.ndarray, np.ndarray] | None = No
     theta_pol = theta0 - np.pi / 4
     phase = rng.uniform(0, 2 * np.pi, size=4)
     theta = theta0 + np.radians(spec.rotation_deg) * np.sin(2 * np.pi * t / 180 + phase[0])
-    length = spec.spindle_length_um * (1 + 0.08 * np.sin(2 * np.pi * t / 120 + phase[1]))
-    width = spec.spindle_width_um * (1 - 0.04 * np.sin(2 * np.pi * t / 120 + phase[1]))
+    theta = theta + np.radians(spec.turn_deg) * s
+    size = 1.0 + spec.growth * s
+    length = size * spec.spindle_length_um * (1 + 0.08 * np.sin(2 * np.pi * t / 120 + phase[1]))
+    width = size * spec.spindle_width_um * (1 - 0.04 * np.sin(2 * np.pi * t / 120 + phase[1]))
     visibility = np.sin(2 * (theta - theta_pol)) ** 2
+    if not spec.polarizer_visibility:
+        visibility = np.ones_like(theta)
 
     droplets = _droplet_tracks(spec, rng, spindle_world, centre_world)
     gain = 1.0 + spec.light_drift * (

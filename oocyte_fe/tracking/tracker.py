@@ -19,6 +19,12 @@ settings were chosen on the benchmark's 6-sequence tuning subset (:mod:`.motion`
 docs/tracking.md); ``r_lost`` / ``r_found`` on 5 sequences by the first version
 (:mod:`.update`).
 
+Options of issue 29 (docs/tracking.md): a reach gate from the largest push speed
+(``max_step_px``: a lost target is searched for and taken back only where it could have got
+to), a rotation-free signature check (:mod:`.evidence`, ``MFAKCF_SIGNATURE``) and a box size
+from the spindle's moments (:mod:`.extent`); each frame's confidence is ``r`` times the box's
+contrast-to-noise factor.
+
 With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
 seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
 size is fixed (no scale search), as in KCF.
@@ -32,9 +38,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy import ndimage
 
-from oocyte_fe.tracking import kcf
+from oocyte_fe.tracking import evidence, kcf
 from oocyte_fe.tracking.anchor import Anchor
 from oocyte_fe.tracking.context import CONTEXT_OFFSETS, ContextKcfModel
+from oocyte_fe.tracking.evidence import Signature, SignatureCheck
+from oocyte_fe.tracking.extent import BoxExtent, ExtentModel
 from oocyte_fe.tracking.features import FEATURES
 from oocyte_fe.tracking.fusion import apce, fuse, fusion_weights
 from oocyte_fe.tracking.motion import CentreFilter, MotionModel
@@ -62,6 +70,20 @@ class TrackerConfig:
     motion: Kalman prediction of the centre (:mod:`.motion`; adaptive trackers only): the
         window is cut at the predicted centre and a lost target coasts on the prediction;
         None holds the last position.
+    signature: rotation-free appearance check of :mod:`.evidence` (None: off). A peak with
+        ``r < 1`` that lies in the motion model's gate and passes the check is taken (the
+        filter learns at ``signature.learn`` x ``eta0``, at least the rate ``r`` gives)
+        instead of coasting or being declared lost: a turning spindle lowers ``r`` while the
+        template catches up. A re-detected candidate must pass it, and then is taken back if
+        the anchor accepts it or it lies in the motion gate (the anchor fails a turned
+        spindle).
+    extent: the box's size from the spindle's excess-brightness moments (:mod:`.extent`;
+        None: the first box's size throughout, as KCF). Only the reported box changes; the
+        filter's window keeps the first size.
+    max_step_px: the farthest the target can move in one frame, px (the largest push speed
+        over the frame rate and the pixel size, :func:`max_step_px`; 0: no limit). While
+        lost for ``n`` frames only candidates within ``n max_step_px`` + half the box's
+        diagonal of where the target was lost are searched and taken back.
     context, context_offset: lambda_2 of the context-aware filter (:mod:`.context`: four
         context windows ``context_offset`` target sizes up, down, left and right are
         regressed to zero; 0: the plain KCF). Off in every tracker here: on the tuning
@@ -83,6 +105,9 @@ class TrackerConfig:
     verify: float = 0.0
     anchor_frames: int = 30
     motion: MotionModel | None = None
+    signature: SignatureCheck | None = None
+    extent: ExtentModel | None = None
+    max_step_px: float = 0.0
     context: float = 0.0
     context_offset: float = 1.0
     policy: UpdatePolicy = field(default_factory=UpdatePolicy)
@@ -95,6 +120,14 @@ class TrackerConfig:
             raise ValueError("cell must be >= 1 px and padding >= 0")
         if self.context < 0 or self.context_offset <= 0:
             raise ValueError("context (lambda_2) must be >= 0 and context_offset > 0")
+        if not self.max_step_px >= 0:
+            raise ValueError(f"max_step_px must be >= 0, got {self.max_step_px}")
+
+
+def max_step_px(speed_um_s: float, fps: float, pixel_um: float) -> float:
+    """The farthest a target moving at ``speed_um_s`` um/s goes between two frames, px:
+    ``d = v / (f p)`` (frame rate f in frames/s, pixel size p in um/px)."""
+    return speed_um_s / (fps * pixel_um)
 
 
 MFAKCF = TrackerConfig(
@@ -129,13 +162,30 @@ MFAKCF_HOLD = TrackerConfig(smooth_px=1.0)
 """MFAKCF without the motion model (the lost target's position is held), as first built;
 the benchmark reports it as ``MFAKCF (no motion)``."""
 
+MFAKCF_SIGNATURE = replace(
+    MFAKCF, signature=SignatureCheck(), max_step_px=max_step_px(20.0, fps=10.0, pixel_um=0.227)
+)
+"""MFAKCF with the rotation-free signature check of :mod:`.evidence` (a doubtful peak in the
+gate that passes it is taken and learnt at 2 x ``eta0``; a re-detected candidate must pass
+it) and the reach gate for a largest speed of 20 um/s at the benchmark's 10 frames/s and
+0.227 um/px; the benchmark reports it as ``MFAKCF (signature)``. ``band`` = 1.6 and
+``min_coherence`` = 0.2 were set from the brightness and coherence measured at the true
+spindle and 15-45 px from it on the 6 tuning cells (docs/tracking.md); ``learn`` = 2 chosen
+among 0.5, 1, 2, 3 on two draws of turning sequences (seeds 101, 102)."""
+
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
 
 
 @dataclass(frozen=True)
 class FrameEstimate:
-    """What the tracker says about one frame (px; reliability r of :mod:`.update`)."""
+    """What the tracker says about one frame (px; reliability r of :mod:`.update`).
+
+    confidence: ``r e``, with ``e`` the box's contrast-to-noise factor of :mod:`.evidence`
+    (low on a blank frame or a featureless box, where ``r`` alone stays high).
+    redetected_from: on the frame a lost target is taken back, where it had been lost (x, y)
+    px; None on other frames.
+    """
 
     centre: tuple[float, float]
     box: tuple[float, float, float, float]
@@ -143,6 +193,8 @@ class FrameEstimate:
     learning_rate: float
     weights: tuple[float, ...]
     lost: bool
+    confidence: float
+    redetected_from: tuple[float, float] | None = None
 
 
 def window_shape(box_wh: tuple[float, float], padding: float, cell: int) -> tuple[int, int]:
@@ -210,6 +262,13 @@ class Tracker:
         self.apce_n = 0
         use_motion = config.motion is not None and config.adaptive
         self.motion = CentreFilter(self.centre, config.motion) if use_motion else None
+        self.signature = None
+        if config.signature is not None and config.adaptive:
+            self.signature = Signature(config.signature, self.size, self.shape[::-1])
+            self.signature.learn(frame, self.centre)
+        self.extent = None
+        if config.extent is not None and config.adaptive:
+            self.extent = BoxExtent(frame, self.centre, self.size, config.extent)
 
     def _features(
         self, frame: np.ndarray, centre: tuple[float, float]
@@ -254,22 +313,38 @@ class Tracker:
         a = apce(fused)
         return new, peak, a, self.history.reliability(peak, a), weights, apces
 
+    def _reach(self) -> float:
+        """How far from where it was lost the target can be now, px (``max_step_px``)."""
+        w, h = self.size
+        return self.config.max_step_px * self.n_lost + 0.5 * np.hypot(w, h)
+
+    def _in_gate(self, point: tuple[float, float]) -> bool:
+        """True if the point lies inside the motion model's validation gate (:mod:`.motion`)."""
+        return self.motion is not None and self.motion.gate_distance(point) < self.motion.model.gate
+
     def _verified(self, frame: np.ndarray, cands: list):
-        """The best candidate (by r) that passes the re-find thresholds and the anchor check
-        ``A(z) >= verify <A>`` (:mod:`.anchor`); None if none does."""
+        """The best candidate (by r) that is within reach (``max_step_px``), passes the
+        re-find thresholds (``r_found``, or ``r_lost`` in the motion gate), the signature
+        check, and the anchor check ``A(z) >= verify <A>`` (:mod:`.anchor`) unless the
+        signature check passed in the gate; None if none does."""
         p = self.config.policy
-        reference = self.anchor.reference
-        if reference is None:
-            return cands[0]
         for cand in cands:
             if cand[3] < p.r_lost:
                 return None
-            in_gate = (
-                self.motion is not None
-                and self.motion.gate_distance(cand[0]) < self.motion.model.gate
-            )
+            if self.config.max_step_px > 0:
+                if np.hypot(*np.subtract(cand[0], self.lost_at)) > self._reach():
+                    continue
+            in_gate = self._in_gate(cand[0])
             if cand[3] < p.r_found and not in_gate:
                 continue
+            if self.signature is not None:
+                if not self.signature.passes(frame, cand[0]):
+                    continue
+                if in_gate:
+                    return cand
+            reference = self.anchor.reference if self.anchor else None
+            if reference is None:
+                return cand
             feats, _ = self._features(frame, cand[0])
             if self.anchor.score(feats) >= self.config.verify * reference:
                 return cand
@@ -277,19 +352,22 @@ class Tracker:
 
     def _redetect(self, frame: np.ndarray, around: tuple[float, float]):
         """Candidates (best first by r) from the ``(2k+1)^2`` windows around ``around`` px
-        and the window at the position where the target was lost (module doc)."""
+        and the window at the position where the target was lost (module doc); with
+        ``max_step_px`` only the windows that can hold a centre within reach."""
         cfg = self.config
         k = cfg.redetect_radius
         if cfg.redetect_grow > 0:
             k = min(k + self.n_lost // cfg.redetect_grow, max(cfg.redetect_max, k))
         step_y, step_x = self.shape[0] / 2, self.shape[1] / 2
+        reach = self._reach() + 0.5 * np.hypot(*self.shape) if cfg.max_step_px > 0 else np.inf
         cands = []
         if self.motion is not None:
             cands.append(self._detect(frame, self.lost_at))
         for i in range(-k, k + 1):
             for j in range(-k, k + 1):
                 c = (around[0] + j * step_x, around[1] + i * step_y)
-                cands.append(self._detect(frame, c))
+                if np.hypot(*np.subtract(c, self.lost_at)) <= reach:
+                    cands.append(self._detect(frame, c))
         cands.sort(key=lambda c: -c[3])
         return cands
 
@@ -300,28 +378,40 @@ class Tracker:
         self.n_frame += 1
         predicted = self.motion.predict() if self.motion else self.centre
         rejected = note = False
+        found_from = None
+        checks = self.anchor or self.signature or cfg.max_step_px > 0
         if self.lost:
             self.n_lost += 1
             cands = self._redetect(frame, predicted)
-            chosen = self._verified(frame, cands) if self.anchor else cands[0]
+            chosen = self._verified(frame, cands) if checks else cands[0]
             rejected = chosen is None
             new, peak, a, r, weights, apces = cands[0] if rejected else chosen
         else:
             new, peak, a, r, weights, apces = self._detect(frame, predicted)
         if cfg.adaptive:
             p = cfg.policy
-            in_gate = (
-                self.lost
-                and self.motion is not None
-                and self.motion.gate_distance(new) < self.motion.model.gate
+            in_gate = self._in_gate(new)
+            held = (
+                not self.lost
+                and r < 1.0
+                and self.signature is not None
+                and in_gate
+                and self.signature.passes(frame, new)
             )
-            if rejected or (self.lost and r < p.r_found and not in_gate) or r < p.r_lost:
+            if held:  # a turning spindle: take the peak, let the template catch up
+                self.centre = self.motion.correct(new)
+                eta = max(self.history.learning_rate(r), cfg.signature.learn * p.eta0)
+                if self.extent is not None:
+                    self.extent.update(frame, self.centre)
+            elif rejected or (self.lost and r < p.r_found and not in_gate) or r < p.r_lost:
                 if not self.lost:
                     self.lost_at = self.centre
                 self.lost = True  # coast on the prediction (hold without motion model)
                 self.centre = predicted
                 eta = 0.0
             else:
+                if self.lost:
+                    found_from = self.lost_at
                 if self.motion is None:
                     self.centre = new
                 elif self.lost:
@@ -339,6 +429,10 @@ class Tracker:
                 if r >= 1.0 or self.history.n < cfg.policy.warmup:
                     self.apce_ref = self.apce_ref + apces
                     self.apce_n += 1
+                if self.signature is not None and r >= 1.0 and found_from is None:
+                    self.signature.learn(frame, self.centre)
+                if self.extent is not None and r >= p.r_stop and found_from is None:
+                    self.extent.update(frame, self.centre)
                 self.history.accept(peak, a, r)
         else:
             self.centre = new
@@ -352,20 +446,36 @@ class Tracker:
                 self.anchor.note(self.anchor.score(feats))
             if self.anchor and r >= 1.0:
                 self.anchor.learn(feats, self.yf)
-        w, h = self.size
+        w, h = self.size if self.extent is None else self.extent.size
         box = (self.centre[0] - w / 2, self.centre[1] - h / 2, w, h)
-        return FrameEstimate(self.centre, box, r, eta, tuple(weights), self.lost)
+        conf = r * self.contrast_factor(frame)
+        return FrameEstimate(self.centre, box, r, eta, tuple(weights), self.lost, conf, found_from)
+
+    def contrast_factor(self, frame: np.ndarray) -> float:
+        """``e`` of :mod:`.evidence` for the part of the box at the current centre that lies
+        in the frame (noise from the same part of the search window); 0 if under half the box
+        is in the frame (the target has left the field)."""
+        patch = evidence.inside(frame, self.centre, self.size)
+        if min(patch.shape) < 2 or patch.size < 0.5 * self.size[0] * self.size[1]:
+            return 0.0
+        window = evidence.inside(frame, self.centre, self.shape[::-1])
+        s = evidence.contrast_to_noise(patch, evidence.noise_sigma(window))
+        return evidence.confidence_factor(s)
 
 
 @dataclass(frozen=True)
 class TrackResult:
-    """A tracked sequence: boxes (T, 4) px as (x, y, w, h), per-frame reliability, rate."""
+    """A tracked sequence: boxes (T, 4) px as (x, y, w, h), per-frame reliability, rate,
+    confidence, and where a re-detected target had been lost ((T, 2) px, NaN on frames
+    that are not a re-detection; :class:`FrameEstimate`)."""
 
     boxes: np.ndarray
     reliability: np.ndarray
     learning_rate: np.ndarray
     weights: np.ndarray
     lost: np.ndarray
+    confidence: np.ndarray
+    redetected_from: np.ndarray
     seconds: float
     cpu_seconds: float = 0.0
 
@@ -394,7 +504,10 @@ def track(
     """Track a (T, H, W) sequence from the box (x, y, w, h) px on frame 0."""
     tracker = Tracker(frames[0], box, config)
     n_feat = len(config.features)
-    out = [FrameEstimate(tracker.centre, tuple(box), 1.0, 0.0, (1.0 / n_feat,) * n_feat, False)]
+    first = tracker.contrast_factor(np.asarray(frames[0], dtype=np.float64))
+    out = [
+        FrameEstimate(tracker.centre, tuple(box), 1.0, 0.0, (1.0 / n_feat,) * n_feat, False, first)
+    ]
     t0 = time.perf_counter()
     c0 = time.process_time()
     for frame in frames[1:]:
@@ -407,6 +520,8 @@ def track(
         learning_rate=np.array([e.learning_rate for e in out]),
         weights=np.array([e.weights for e in out]),
         lost=np.array([e.lost for e in out]),
+        confidence=np.array([e.confidence for e in out]),
+        redetected_from=np.array([e.redetected_from or (np.nan, np.nan) for e in out]),
         seconds=seconds,
         cpu_seconds=cpu_seconds,
     )

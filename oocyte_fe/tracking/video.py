@@ -53,11 +53,29 @@ def read_frames(path: str | Path) -> np.ndarray:
             frames = iio.imread(path, index=None)
     except Exception as exc:  # the readers raise many types for unreadable files
         raise InputError(path, "", "a readable TIFF stack, video or GIF", str(exc)) from None
-    frames = np.asarray(frames, dtype=np.float64)
-    if frames.ndim == 4:
+    return as_gray_stack(np.asarray(frames, dtype=np.float64), path)
+
+
+COLOUR_CHANNELS = (3, 4)
+"""RGB and RGBA."""
+
+
+def as_gray_stack(frames: np.ndarray, path: str | Path) -> np.ndarray:
+    """A (T, H, W) grayscale stack, or (T, H, W, 3 or 4) colour frames averaged over their
+    first 3 channels; InputError for anything else (a single frame, a single colour image
+    (H, W, 3), a planar colour stack (T, 3, H, W), which would otherwise be read as frames 3
+    or 4 px wide or 3 rows high)."""
+    shape = frames.shape
+    if frames.ndim == 4 and shape[-1] in COLOUR_CHANNELS:
         frames = frames[..., :3].mean(axis=-1)
+    elif frames.ndim == 4 and shape[1] in COLOUR_CHANNELS:
+        raise InputError(path, "", "frames (T, H, W) or (T, H, W, 3), not planar colour", shape)
+    elif frames.ndim == 3 and shape[-1] in COLOUR_CHANNELS:
+        raise InputError(path, "", "a stack of frames, not a single colour image (H, W, 3)", shape)
     if frames.ndim != 3 or frames.shape[0] < 2:
-        raise InputError(path, "", "at least 2 grayscale or colour frames", frames.shape)
+        raise InputError(path, "", "at least 2 grayscale or colour frames", shape)
+    if not np.all(np.isfinite(frames)):
+        raise InputError(path, "", "finite pixel values", "NaN or infinite pixels")
     return frames
 
 
@@ -74,23 +92,31 @@ def write_track_csv(
     boxes_px: np.ndarray,
     confidence: np.ndarray,
     calibration: Calibration,
+    lost: np.ndarray | None = None,
+    redetected_from: np.ndarray | None = None,
 ) -> None:
-    """One row per frame: time (s), box x, y, w, h (px), centre (px and um), confidence."""
+    """One row per frame: time (s), box x, y, w, h (px), centre (px and um), confidence,
+    whether the target was lost (1: the box coasts on the motion prediction), and on a
+    frame where a lost target was taken back, where it had been lost (px; blank otherwise)."""
+    n = len(boxes_px)
+    lost = np.zeros(n, dtype=bool) if lost is None else np.asarray(lost, dtype=bool)
+    found = np.full((n, 2), np.nan) if redetected_from is None else np.asarray(redetected_from)
     centres = boxes_px[:, :2] + 0.5 * boxes_px[:, 2:]
     centres_um = calibration.to_um(centres)
-    times = calibration.times_s(len(boxes_px))
+    times = calibration.times_s(n)
     with open(path, "w", newline="") as fh:
         out = csv.writer(fh)
         out.writerow(
             ["frame", "time_s", "x_px", "y_px", "w_px", "h_px", "cx_px", "cy_px", "cx_um",
-             "cy_um", "confidence"]
+             "cy_um", "confidence", "lost", "redetected_from_x_px", "redetected_from_y_px"]
         )  # fmt: skip
-        for k, (box, c, c_um, conf) in enumerate(
-            zip(boxes_px, centres, centres_um, confidence, strict=True)
-        ):
+        for k in range(n):
+            c, c_um = centres[k], centres_um[k]
+            src = ["", ""] if np.isnan(found[k, 0]) else [f"{v:.3f}" for v in found[k]]
             out.writerow(
-                [k, f"{times[k]:.6g}", *(f"{v:.3f}" for v in box), f"{c[0]:.3f}",
-                 f"{c[1]:.3f}", f"{c_um[0]:.4f}", f"{c_um[1]:.4f}", f"{conf:.4f}"]
+                [k, f"{times[k]:.6g}", *(f"{v:.3f}" for v in boxes_px[k]), f"{c[0]:.3f}",
+                 f"{c[1]:.3f}", f"{c_um[0]:.4f}", f"{c_um[1]:.4f}", f"{confidence[k]:.4f}",
+                 int(lost[k]), *src]
             )  # fmt: skip
 
 

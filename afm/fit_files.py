@@ -1,0 +1,229 @@
+"""A set of curve files -> moduli per group -> a material per group (the user route).
+
+:func:`fit_files` fits every curve (:func:`afm.batch.fit_batch`), regroups the rows by file
+pattern (:func:`regroup`), takes the mean +- SD of E per group over the fits rated good (poor
+ones only when asked; :meth:`afm.batch.BatchResult.stats`) and makes each group's material:
+
+* with a force-clamp creep record of the group: instantaneous E0 and the exact relaxation
+  Prony series of the Lee-Radok creep fit for the record's tip (:func:`afm.creep.fit_creep_tip`);
+* otherwise elastic, E = the group's mean E (kPa), nu as assumed by the fits.
+
+Fits of curves with a known modulus give the relative errors |E / E_known - 1|. Nothing is
+written or drawn here: the result goes to a report (the ``afm_fit_files`` case kind's).
+"""
+
+from __future__ import annotations
+
+import csv
+import fnmatch
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from afm.batch import BatchResult, BatchRow, GroupStats, ReadOptions, fit_batch
+from afm.creep import CreepFit, fit_creep_tip
+from afm.curve_io import read_creep
+from afm.material_file import MaterialFile
+from oocyte_fe.errors import InputError
+
+SOURCE = "afm_fit_files case"
+"""How the material files' source lines name where they came from."""
+
+
+@dataclass(frozen=True)
+class CreepRecord:
+    """A group's force-clamp creep CSV (:func:`afm.curve_io.read_creep`) and the tip it was
+    recorded with (model key and geometry; left-out parameters take the model's default).
+
+    ``file`` and ``field`` name where the record was given (for errors).
+    """
+
+    path: str | Path
+    model: str = "sneddon_cone"
+    geometry: Mapping[str, float] = field(default_factory=dict)
+    file: str = "<input>"
+    field: str = "creep"
+
+
+@dataclass(frozen=True)
+class GroupMaterial:
+    """The material of one group: elastic from the group's mean E (``creep`` None) or from the
+    group's creep fit; ``material`` is None for a group with no fit to average and no creep
+    record."""
+
+    group: str
+    material: MaterialFile | None
+    creep: CreepFit | None = None
+
+
+@dataclass(frozen=True)
+class FitFilesResult:
+    """Result of :func:`fit_files`.
+
+    ``stats`` holds the mean +- SD of E per group (sorted by group) and ``materials`` one
+    entry per group of ``stats``. ``known_errors`` are |E / E_known - 1| of the fitted curves
+    with a known modulus (None without known moduli), ``n_known`` the curves listed.
+    """
+
+    batch: BatchResult
+    include_poor: bool
+    stats: dict[str, GroupStats]
+    materials: tuple[GroupMaterial, ...]
+    known_errors: tuple[float, ...] | None = None
+    n_known: int = 0
+
+    @property
+    def fitted(self) -> list[BatchRow]:
+        """The rows fitted (rated good or poor), in file order."""
+        return [r for r in self.batch.rows if r.fit is not None and not r.error]
+
+    @property
+    def n_poor(self) -> int:
+        """Fitted curves rated poor."""
+        return sum(1 for r in self.fitted if not r.good)
+
+    @property
+    def n_refused(self) -> int:
+        """Curves (or files) that could not be read or fitted."""
+        return len(self.batch.rows) - len(self.fitted)
+
+    @property
+    def summary(self) -> str:
+        """``done: N fitted, M poor, K refused``."""
+        return f"done: {len(self.fitted)} fitted, {self.n_poor} poor, {self.n_refused} refused"
+
+    @property
+    def max_known_error_pct(self) -> float | None:
+        """Largest |E / E_known - 1| in %, 100 when no curve with a known modulus was fitted;
+        None without known moduli."""
+        if self.known_errors is None:
+            return None
+        return 100 * max(self.known_errors) if self.known_errors else 100.0
+
+    def known_within(self, tolerance_pct: float) -> bool:
+        """Every curve with a known modulus fitted, each within ``tolerance_pct`` %."""
+        errors, worst = self.known_errors, self.max_known_error_pct
+        return bool(errors) and len(errors) == self.n_known and worst < tolerance_pct
+
+
+def read_known_moduli(path: str | Path) -> dict[str, float]:
+    """Known moduli from a CSV of columns ``file`` (path relative to the folder the curve
+    files are named from) and ``E_kPa``; lines starting with ``#`` are comments."""
+    path = Path(path)
+    known: dict[str, float] = {}
+    with path.open() as fh:
+        rows = csv.DictReader(line for line in fh if not line.startswith("#"))
+        for i, row in enumerate(rows, start=2):
+            try:
+                known[row["file"]] = float(row["E_kPa"])
+            except (KeyError, TypeError, ValueError):
+                raise InputError(path, f"row {i}", "columns file, E_kPa (a number)") from None
+    return known
+
+
+def regroup(
+    result: BatchResult, relative_to: str | Path, patterns: Mapping[str, str]
+) -> BatchResult:
+    """``result`` with each row in the group of the first glob pattern (group -> pattern)
+    matching its file path relative to ``relative_to``; rows matching none keep their group."""
+    rows = []
+    for row in result.rows:
+        relative = Path(row.file).relative_to(relative_to).as_posix()
+        name = next((g for g, p in patterns.items() if fnmatch.fnmatch(relative, p)), None)
+        rows.append(row if name is None else replace(row, group=name))
+    return BatchResult(rows)
+
+
+def group_material(
+    group: str,
+    stats: GroupStats,
+    model: str,
+    nu: float,
+    include_poor: bool,
+    creep: CreepRecord | None = None,
+) -> GroupMaterial:
+    """The material of ``group``: from its ``creep`` record when given, else elastic with the
+    mean E of ``stats`` (fits of tip ``model`` with Poisson ratio ``nu``; ``include_poor``:
+    whether poor fits entered it); none without fits to average."""
+    if creep is None:
+        if stats.n == 0:
+            return GroupMaterial(group, None)
+        source = (
+            f"{SOURCE}: mean of {stats.n} {model} fits rated "
+            f"{'good or poor' if include_poor else 'good'} ({stats.mean_sd_text} kPa), elastic"
+        )
+        return GroupMaterial(group, MaterialFile(group, source, stats.mean_kPa, nu))
+    fit = fit_creep_tip(read_creep(creep.path), creep.model, creep.geometry, nu)
+    source = (
+        f"{SOURCE}: creep {Path(creep.path).name}, Lee-Radok {fit.model} ({tip_text(fit)}), "
+        "Prony fit, exact relaxation series"
+    )
+    return GroupMaterial(group, fit.material(group, source), fit)
+
+
+def tip_text(fit: CreepFit) -> str:
+    """The creep fit's tip geometry, ``half_angle_deg 10`` (comma-separated)."""
+    return ", ".join(f"{k} {v:g}" for k, v in fit.geometry.items())
+
+
+def fit_files(
+    files: Sequence[str | Path],
+    model: str,
+    geometry: Mapping[str, float],
+    nu: float,
+    relative_to: str | Path,
+    *,
+    fit_options: Mapping[str, object] | None = None,
+    read_options: ReadOptions | None = None,
+    groups: Mapping[str, str] | None = None,
+    creep: Mapping[str, CreepRecord] | None = None,
+    include_poor: bool = False,
+    known_moduli: Mapping[str, float] | None = None,
+    workers: int = 1,
+    progress: Callable[[int, int], None] | None = None,
+) -> FitFilesResult:
+    """Fit the curves of ``files`` (under ``relative_to``), group them, make the materials.
+
+    ``model``, ``geometry`` and ``nu`` are the tip and Poisson ratio of every fit;
+    ``fit_options`` go to :func:`afm.batch.fit_batch` besides them (``fit_range`` and
+    ``contact_method``, or ``fit_function``), as do ``read_options``, ``workers`` and
+    ``progress``. ``groups`` (group -> glob on the path relative to ``relative_to``) regroups
+    the rows (:func:`regroup`); ``creep`` (group -> :class:`CreepRecord`) gives a group its
+    viscoelastic material; ``include_poor`` keeps fits rated poor in the statistics;
+    ``known_moduli`` (relative path -> E_kPa) is compared with the fits.
+
+    Refused (:class:`InputError`): a creep record for a group no fitted curve belongs to, a
+    creep record :func:`afm.creep.fit_creep_tip` refuses.
+    """
+    batch = fit_batch(
+        files,
+        read_options=read_options,
+        workers=workers,
+        progress=progress,
+        model=model,
+        geometry=geometry,
+        nu=nu,
+        **(fit_options or {}),
+    )
+    batch = regroup(batch, relative_to, groups or {})
+    stats = {s.group: s for s in batch.stats(include_poor) if s.quantity == "E_kPa"}
+    creep = creep or {}
+    unknown = sorted(set(creep) - set(stats))
+    if unknown:
+        record = creep[unknown[0]]
+        names = ", ".join(sorted(stats)) or "none"
+        raise InputError(
+            record.file, record.field, f"a group of the fitted curves (one of {names})"
+        )
+    materials = tuple(
+        group_material(g, stats[g], model, nu, include_poor, creep.get(g)) for g in sorted(stats)
+    )
+    result = FitFilesResult(batch, include_poor, stats, materials)
+    if known_moduli is None:
+        return result
+    errors = tuple(
+        abs(r.fit.E_kPa / known_moduli[key] - 1)
+        for r in result.fitted
+        if (key := Path(r.file).relative_to(relative_to).as_posix()) in known_moduli
+    )
+    return replace(result, known_errors=errors, n_known=len(known_moduli))

@@ -1,0 +1,280 @@
+"""Inputs and metrics of the case kind ``afm_fit_files`` (its schema, apart from its run), and
+what the inputs name: the curve files, each file's reader keywords, the creep records, the fit
+keywords, the known-moduli file."""
+
+from __future__ import annotations
+
+import fnmatch
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Literal
+
+from pydantic import Field, ValidationInfo, field_validator, model_validator
+
+from afm.batch import curve_files
+from afm.fit import FitRange
+from afm.fit_files import CreepRecord
+from afm.models import MODELS
+from afm.nanite_pipeline import fit_nanite_default
+from oocyte_fe.checks import inside, regular_file
+from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.data_templates import KNOWN_MODULI
+from oocyte_fe.runner.casefile import DataFile
+from oocyte_fe.runner.schema import CaseInputs
+
+
+class Calibration(CaseInputs):
+    """Cantilever calibration for the files of one pattern (overrides the files' own)."""
+
+    spring_constant_N_per_m: float | None = Field(
+        None, gt=0, description="spring constant", json_schema_extra={"unit": "N/m"}
+    )
+    sensitivity_nm_per_V: float | None = Field(
+        None,
+        gt=0,
+        description="deflection sensitivity (for deflection recorded in volts)",
+        json_schema_extra={"unit": "nm/V"},
+    )
+
+
+class FitFilesInputs(CaseInputs):
+    curves: str = Field(
+        min_length=1,
+        description="folder (searched recursively) or glob of curve files, relative to the "
+        "case folder: CSV/TSV tables or any instrument file afmformats reads",
+    )
+    model: str = Field("sneddon_cone", description="tip model key (afm.models)")
+    geometry: dict[str, float] = Field(
+        default_factory=dict,
+        description="tip parameters of the model, e.g. half_angle_deg = 10 (deg) or "
+        "radius_um (um); left-out ones take the model's default",
+        json_schema_extra={"unit": "deg or um, by the key's suffix"},
+    )
+    nu: float = Field(
+        0.5,
+        gt=-1,
+        le=0.5,
+        description="Poisson ratio of the sample",
+        json_schema_extra={"unit": "1"},
+    )
+    spring_constant_N_per_m: float | None = Field(
+        None,
+        gt=0,
+        description="spring constant for every file (overrides the files' own; needed for "
+        "files without one, e.g. AFM-Workshop CSV, NT-MDT)",
+        json_schema_extra={"unit": "N/m"},
+    )
+    sensitivity_nm_per_V: float | None = Field(
+        None,
+        gt=0,
+        description="deflection sensitivity for every file (overrides the files' own)",
+        json_schema_extra={"unit": "nm/V"},
+    )
+    calibration: dict[str, Calibration] = Field(
+        default_factory=dict,
+        description="glob pattern on the file path relative to the case folder -> "
+        "{ spring_constant_N_per_m, sensitivity_nm_per_V } for those files (first match; "
+        "over the global values)",
+    )
+    max_indentation_um: float | None = Field(
+        None, gt=0, description="fit range: depth past contact", json_schema_extra={"unit": "um"}
+    )
+    max_force_fraction: float | None = Field(
+        None,
+        gt=0,
+        le=1,
+        description="fit range: fraction of the maximum force",
+        json_schema_extra={"unit": "1"},
+    )
+    contact_method: Literal["fit", "deviation"] = Field(
+        "fit", description="contact point: a fit parameter, or the deviation estimate"
+    )
+    analysis: Literal["default", "nanite"] = Field(
+        "default",
+        description="default: afm.fit.fit_indentation (baseline line, unweighted fit); nanite: "
+        "afm.nanite_pipeline.fit_nanite_default (nanite's offset, contact weighting, free "
+        "baseline; whole approach, so no fit range)",
+    )
+    groups: dict[str, str] = Field(
+        default_factory=dict,
+        description="group name -> glob pattern on the file path relative to the case folder; "
+        "files matching none are grouped by their subfolder",
+    )
+    height_channel: str | None = Field(
+        None, description="height channel of instrument files (default: as the instrument does)"
+    )
+    creep: dict[str, DataFile] = Field(
+        default_factory=dict,
+        description="group name -> force-clamp creep CSV: its material gets E0 and a Prony series",
+    )
+    half_angle_deg_creep: float | None = Field(
+        None,
+        gt=0,
+        lt=90,
+        description="cone half angle of the creep probe when it differs from the curves' tip "
+        "(default: the creep fit uses the curves' model and geometry)",
+        json_schema_extra={"unit": "deg"},
+    )
+    include_poor: bool = Field(
+        False,
+        description="keep fits rated poor in the group means and material files (default: "
+        "left out, counted as n_poor)",
+    )
+    curve_plots: Literal["all", "poor", "none"] = Field(
+        "all",
+        description="per-curve figures: every curve, only the poor and refused ones, or none "
+        "(large force maps)",
+    )
+    known_moduli: str | None = Field(
+        None,
+        description="optional CSV (file, E_kPa) of known moduli to check the fits against, "
+        "relative to the case folder",
+        json_schema_extra=KNOWN_MODULI,
+    )
+    known_tolerance_pct: float = Field(
+        5.0, gt=0, description="largest error against known_moduli", json_schema_extra={"unit": "%"}
+    )
+
+    @field_validator("known_moduli")
+    @classmethod
+    def _known_moduli_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        """A known-moduli file must exist inside the case folder (checked at ``validate``;
+        a plain string, not a data file, so ``oocyte-fe new`` leaves it out)."""
+        case_dir = (info.context or {}).get("case_dir")
+        if value is None or case_dir is None:
+            return value
+        where = Path(case_dir) / "case.toml"
+        try:
+            regular_file(inside(value, case_dir, where, "inputs.known_moduli"))
+        except InputError as exc:
+            raise ValueError(exc.expected + ("" if exc.got is None else f" ({exc.got})")) from None
+        return value
+
+    @field_validator("model")
+    @classmethod
+    def _known_model(cls, value: str) -> str:
+        if value not in MODELS:
+            raise ValueError(f"one of {', '.join(sorted(MODELS))}")
+        return value
+
+    @model_validator(mode="after")
+    def _finite(self) -> FitFilesInputs:
+        for key, value in self.geometry.items():
+            if not math.isfinite(value):
+                raise ValueError(f"geometry.{key}: a finite number")
+        return self
+
+
+METRICS = {
+    "n_curves": "curves read (a force map counts each of its curves)",
+    "n_fitted": "curves fitted",
+    "n_failed": "curves that could not be read or fitted (reported and skipped)",
+    "n_poor": "fitted curves rated poor",
+    "max_known_error_pct": "largest |E / E_known - 1| over curves with a known modulus, %",
+}
+
+
+def _inside(case_dir: Path, path: Path, field: str) -> Path:
+    resolved = path.resolve()
+    if not resolved.is_relative_to(case_dir.resolve()):
+        raise InputError(case_dir / "case.toml", field, "a path inside the case folder", str(path))
+    return resolved
+
+
+def find_curve_files(case_dir: Path, pattern: str) -> list[Path]:
+    """The curve files named by ``pattern`` (a folder or a glob, relative to ``case_dir``)."""
+    where = case_dir / "case.toml"
+    if Path(pattern).is_absolute():
+        raise InputError(where, "inputs.curves", "a folder or glob relative to the case folder")
+    target = case_dir / pattern
+    if target.is_dir():
+        _inside(case_dir, target, "inputs.curves")
+        try:
+            return curve_files(target)
+        except InputError as exc:
+            raise InputError(where, "inputs.curves", exc.expected, str(target)) from None
+    files = sorted(p for p in case_dir.glob(pattern) if p.is_file())
+    files = [p for p in files if _inside(case_dir, p, "inputs.curves")]
+    if not files:
+        raise InputError(where, "inputs.curves", "a folder or glob that names curve files", pattern)
+    return files
+
+
+def read_options(inp: FitFilesInputs, case_dir: Path) -> Callable[[Path], dict[str, object]]:
+    """Reader keywords of each file: the height channel and the calibration (the first
+    ``calibration`` pattern matching the file's path relative to ``case_dir``, then the
+    global ``spring_constant_N_per_m`` / ``sensitivity_nm_per_V``)."""
+
+    def options(file: Path) -> dict[str, object]:
+        relative = file.relative_to(case_dir).as_posix()
+        match = next((c for p, c in inp.calibration.items() if fnmatch.fnmatch(relative, p)), None)
+        found: dict[str, object] = {}
+        if inp.height_channel is not None:
+            found["height_channel"] = inp.height_channel
+        for key in ("spring_constant_N_per_m", "sensitivity_nm_per_V"):
+            value = getattr(match, key) if match is not None else None
+            value = getattr(inp, key) if value is None else value
+            if value is not None:
+                found[key] = value
+        return found
+
+    return options
+
+
+def creep_tip(inp: FitFilesInputs, where: Path) -> tuple[str, dict[str, float]]:
+    """Tip of the creep fit: the curves' model and geometry, or the cone of
+    ``half_angle_deg_creep`` (only with a cone model: another tip has no half angle)."""
+    if inp.half_angle_deg_creep is None:
+        return inp.model, dict(inp.geometry)
+    if inp.model != "sneddon_cone":
+        raise InputError(
+            where,
+            "inputs.half_angle_deg_creep",
+            f"left out with model = {inp.model!r} (the creep fit uses the curves' tip)",
+            inp.half_angle_deg_creep,
+        )
+    return "sneddon_cone", {"half_angle_deg": inp.half_angle_deg_creep}
+
+
+def creep_records(inp: FitFilesInputs, case_dir: Path) -> dict[str, CreepRecord]:
+    """The creep record of each group of ``inputs.creep`` (files inside the case folder), with
+    the tip of :func:`creep_tip`."""
+    where = case_dir / "case.toml"
+    for group, file in inp.creep.items():
+        _inside(case_dir, Path(file), f"inputs.creep.{group}")
+    if not inp.creep:
+        return {}
+    model, geometry = creep_tip(inp, where)
+    return {
+        group: CreepRecord(file, model, geometry, str(where), f"inputs.creep.{group}")
+        for group, file in inp.creep.items()
+    }
+
+
+def fit_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
+    """Keywords of :func:`afm.batch.fit_batch` for ``analysis``: nanite's fit function (no fit
+    range, contact point free), or the fit range and contact method of the default fit."""
+    if inp.analysis == "nanite":
+        fit_range = (inp.max_indentation_um, inp.max_force_fraction)
+        if fit_range != (None, None) or inp.contact_method != "fit":
+            raise InputError(
+                where,
+                "inputs.analysis",
+                'no fit range and contact_method = "fit" with analysis = "nanite" (it fits '
+                "the whole approach, contact point free)",
+                inp.analysis,
+            )
+        return {"fit_function": fit_nanite_default}
+    return {
+        "fit_range": FitRange(inp.max_indentation_um, inp.max_force_fraction),
+        "contact_method": inp.contact_method,
+    }
+
+
+def known_moduli_file(inp: FitFilesInputs, case_dir: Path) -> Path | None:
+    """The known-moduli CSV (a file inside the case folder), or None."""
+    if inp.known_moduli is None:
+        return None
+    field = "inputs.known_moduli"
+    return regular_file(inside(inp.known_moduli, case_dir, case_dir / "case.toml", field), field)

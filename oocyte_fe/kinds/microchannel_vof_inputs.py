@@ -1,0 +1,148 @@
+"""Inputs and metrics of the case kind ``microchannel_vof`` (its schema, apart from its run)."""
+
+from __future__ import annotations
+
+from pydantic import Field
+
+from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
+from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
+from oocyte_fe.microchannel import units
+from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+from oocyte_fe.runner.casefile import DataFile
+from oocyte_fe.runner.schema import CaseInputs, Relation
+
+PA_S = units.VISCOSITY["Pa_s"]
+KG_M3 = units.DENSITY["kg_m3"]
+HPA = units.PRESSURE["hPa"]
+
+
+def _f(default: object, description: str, unit: str, **kw: object) -> object:
+    return Field(default, description=description, json_schema_extra={"unit": unit}, **kw)
+
+
+class CellPhaseInputs(CaseInputs):
+    """One of the cell's phases (Table 3 of seed 001): density and Carreau limits."""
+
+    density_kg_m3: float = Field(gt=0, description="density", json_schema_extra={"unit": "kg/m^3"})
+    eta0_Pa_s: float = Field(
+        gt=0,
+        description="zero-shear viscosity (before the cap)",
+        json_schema_extra={"unit": "Pa s"},
+    )
+    eta_inf_Pa_s: float = Field(
+        gt=0, description="infinite-shear viscosity", json_schema_extra={"unit": "Pa s"}
+    )
+
+
+class GeometryInputs(CaseInputs):
+    """The Fig. 6 junction as read here (docs/microchannel.md, VOF section)."""
+
+    channel_width_um: float = _f(250.0, "main channel width (paper)", "um", gt=0)
+    branch_width_um: float = _f(250.0, "width of the medium branch B (reading)", "um", gt=0)
+    upstream_length_um: float = _f(875.0, "inlet A to the junction centre (reading)", "um", gt=0)
+    downstream_length_um: float = _f(1125.0, "junction centre to outlet C (reading)", "um", gt=0)
+    branch_length_um: float = _f(500.0, "length of branch B (reading)", "um", gt=0)
+    cell_diameter_um: float = _f(140.0, "oocyte diameter (paper)", "um", gt=0)
+    cytoplasm_diameter_um: float = _f(110.0, "cytoplasm diameter (paper)", "um", gt=0)
+    cell_offset_um: float = _f(500.0, "start of the cell before the junction centre", "um", gt=0)
+
+    rules = (
+        Relation("cytoplasm_diameter_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("cell_diameter_um", "<", lambda m: m.channel_width_um, "channel_width_um"),
+        Relation(
+            "cell_offset_um",
+            "<",
+            lambda m: m.upstream_length_um - m.cell_diameter_um / 2,
+            "upstream_length_um - cell_diameter_um / 2 (the cell in the upstream arm)",
+        ),
+    )
+
+    def to_geometry(self) -> JunctionGeometry:
+        return JunctionGeometry(
+            self.channel_width_um,
+            self.branch_width_um,
+            self.upstream_length_um,
+            self.downstream_length_um,
+            self.branch_length_um,
+            self.cell_diameter_um,
+            self.cytoplasm_diameter_um,
+            self.cell_offset_um,
+        )
+
+
+class VofInputs(CaseInputs):
+    deformation_data: DataFile = Field(
+        description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
+        json_schema_extra=DEFORMATION,
+    )
+    viscosity_data: DataFile = Field(
+        description="CSV flow curve (Table 2) for the Carreau lambda and n",
+        json_schema_extra=FLOW_CURVE,
+    )
+    channel: ChannelInputs = Field(description="the device (calibrates U(p))")
+    zp: CellPhaseInputs = Field(description="zona pellucida phase (Table 3)")
+    cytoplasm: CellPhaseInputs = Field(description="cytoplasm phase (Table 3)")
+    geometry: GeometryInputs = Field(
+        default_factory=GeometryInputs, description="junction dimensions (defaults: the reading)"
+    )
+    pressures_hPa: list[float] = _f(
+        [300.0], "driving pressures run by the VOF", "hPa", min_length=1
+    )
+    zero_shear_cap_Pa_s: float = _f(46.0, "cap on both cell phases' eta0", "Pa s", gt=0)
+    cap_sensitivity_Pa_s: float | None = _f(
+        None, "second cap, run at the first pressure", "Pa s", gt=0
+    )
+    b_ratio: float = _f(1.0, "mean velocity of inlet B over that of inlet A", "1", gt=0)
+    dx_um: float = _f(10.0, "cell size", "um", gt=0)
+    mesh_check_dx_um: float | None = _f(None, "second mesh, first pressure", "um", gt=0)
+    time_step_s: float = _f(1e-6, "time step (fixed)", "s", gt=0)
+    dt_refinements: int = _f(
+        0,
+        "extra runs at dt/2, dt/4, ... (first pressure, dx_um); 2 or more: the dt -> 0 limit",
+        "1",
+        ge=0,
+        le=3,
+    )
+    travel_um: float = _f(
+        600.0, "run until the cell has moved this far at the mean velocity", "um", gt=0
+    )
+    writes: int = _f(20, "number of written times", "1", ge=2)
+    outer_correctors: int = _f(1, "PIMPLE outer correctors", "1", ge=1)
+    correctors: int = _f(3, "pressure correctors", "1", ge=1)
+    pressure_rel_tol: float = _f(
+        0.0, "GAMG relative tolerance of the correctors before the last", "1", ge=0, lt=1
+    )
+    ranks: int = _f(1, "MPI ranks per run (decomposePar + mpirun)", "1", ge=1)
+    concurrent: int = _f(1, "runs at the same time (local Dask cluster of threads)", "1", ge=1)
+    scheduler: str | None = _f(
+        None,
+        "Dask scheduler address (a cluster); none: a local cluster; the CLI's --scheduler wins",
+        "address",
+    )
+    nice: int = _f(0, "niceness of the OpenFOAM processes", "1", ge=0, le=19)
+    openfoam: str | None = _f(None, "OpenFOAM directory (else env var / WM_PROJECT_DIR)", "path")
+    modulus_kPa: float = _f(1.55, "Kelvin-Voigt estimate: cell modulus (AFM)", "kPa", gt=0)
+    kelvin_voigt_fit_hPa: list[float] = _f(
+        [200.0, 500.0, 900.0], "Kelvin-Voigt estimate: pressures it is fitted on", "hPa"
+    )
+    max_volume_error: float = _f(1e-3, "check: |phase volume change| of the cell phases", "1", gt=0)
+    max_mesh_change_pct: float = _f(2.0, "check: ratio change between the two meshes", "%", gt=0)
+
+
+METRICS = {
+    "ratio_at_junction": "axis ratio b/a when the centroid crosses x = 0, per pressure",
+    "ratio_end": "axis ratio b/a at the end of the run, per pressure",
+    "mean_error_experiment_pct": "mean |ratio_at_junction / experiment - 1| over the run, %",
+    "mean_error_paper_vof_pct": "mean |ratio_at_junction / paper VOF - 1|, %",
+    "kelvin_voigt_mean_error_pct": "reduced model against the experiment, same pressures, %",
+    "max_volume_error": "largest |relative volume change| of the ZP and cytoplasm phases",
+    "mesh_change_pct": "ratio change between the two meshes at x = 0 (else at the end), %",
+    "cap_change_pct": "ratio change between the two caps at x = 0 (else at the end), %",
+    "seconds_per_ms": "wall seconds per simulated ms (first pressure, one run)",
+    "dt_change_pct": "change of 1 - b/a at x = 0 from dt to dt/2 (first pressure), %",
+    "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
+    "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
+    "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",
+    "deformation_dt_limit": "1 - b/a at x = 0 extrapolated to dt -> 0 (first pressure)",
+    "ratio_dt_error_pct": "b/a at x = 0 with the case's dt against its dt -> 0 limit, %",
+}

@@ -1,0 +1,253 @@
+"""Inputs of the NMSD case kinds (``nmsd_calibration``, ``nmsd_spindle_offset``), apart from
+their runs: the press, calibration and spindle inputs and their checks at validation."""
+
+from __future__ import annotations
+
+import functools
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from nmsd.calibration import MODELS
+from nmsd.lattice import circular_lattice
+from nmsd.pipette import (
+    CONTACT_STIFFNESS_NN_PER_UM,
+    HOLD_HALF_WIDTH_UM,
+    TABLE_I_TIP_ANGLE_DEG,
+    TABLE_I_WIDTH_UM,
+)
+from nmsd.press import press_setup
+from nmsd.spindle import approach_setup
+from nmsd.tableII import read_force_displacement
+from oocyte_fe.kinds.data_templates import TABLE_II
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation, Setup
+
+LIBRARY_ARGS = (
+    ("diameter_um", "cell_diameter_um"),
+    ("width_um", "pipette_width_um"),
+    ("contact_stiffness", "contact_stiffness_nN_per_um"),
+)
+"""Library argument -> case input, for the errors of the setups run at validation."""
+
+
+@functools.lru_cache(maxsize=16)
+def _press_geometry(*args: object) -> None:
+    """:func:`press_setup` on a fresh lattice, built once per geometry (a sweep's probes vary
+    other inputs); the mirror pairs are left to ``run`` (costly)."""
+    diameter, spacings, *rest = args
+    press_setup(circular_lattice(diameter, spacings), *rest, symmetric=False)  # type: ignore[arg-type]
+
+
+@functools.lru_cache(maxsize=16)
+def _approach_geometry(diameter: float, spacings: int, *rest: object) -> None:
+    """:func:`approach_setup` on a fresh lattice, built once per geometry."""
+    approach_setup(circular_lattice(diameter, spacings), *rest)  # type: ignore[arg-type]
+
+
+def _press_at_validation(m: PressInputs) -> None:
+    _press_geometry(
+        m.cell_diameter_um,
+        m.spacings_across,
+        m.pipette_width_um,
+        m.tip_angle_deg,
+        m.hold_half_width_um,
+        m.contact_stiffness_nN_per_um,
+        m.speed_um_s,
+        m.travel_um,
+        m.n_steps,
+        m.gap_um,
+    )
+
+
+def _approach_at_validation(m: SpindleInputs) -> None:
+    _approach_geometry(
+        m.cell_diameter_um,
+        m.spacings_across,
+        m.spindle_initial_um,
+        m.pipette_width_um,
+        m.tip_angle_deg,
+        m.hold_half_width_um,
+        m.contact_stiffness_nN_per_um,
+    )
+
+
+class PressInputs(CaseInputs):
+    """Lattice, pipette and calibration settings shared by both kinds."""
+
+    data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
+        description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN",
+        json_schema_extra=TABLE_II,
+    )
+    cell_diameter_um: float = Field(
+        115.625,
+        gt=0,
+        le=1e4,
+        description="oocyte diameter (Table I R_c)",
+        json_schema_extra={"unit": "um"},
+    )
+    spacings_across: int = Field(
+        17,
+        ge=2,
+        le=101,
+        description="grid spacings across the diameter",
+        json_schema_extra={"unit": "1"},
+    )
+    pipette_width_um: float = Field(
+        TABLE_I_WIDTH_UM, gt=0, description="Table I d_inj", json_schema_extra={"unit": "um"}
+    )
+    tip_angle_deg: float = Field(
+        TABLE_I_TIP_ANGLE_DEG,
+        ge=0,
+        lt=180,
+        description="Table I theta_inj",
+        json_schema_extra={"unit": "deg"},
+    )
+    hold_half_width_um: float = Field(
+        HOLD_HALF_WIDTH_UM,
+        gt=0,
+        description="holding pipette mouth half-width",
+        json_schema_extra={"unit": "um"},
+    )
+    contact_stiffness_nN_per_um: float = Field(
+        CONTACT_STIFFNESS_NN_PER_UM,
+        gt=0,
+        description="penalty stiffness of the pipette contact",
+        json_schema_extra={"unit": "nN/um"},
+    )
+    gap_um: float = Field(
+        0.0,
+        ge=0,
+        description="pipette travel before touching the lattice",
+        json_schema_extra={"unit": "um"},
+    )
+    dl_c: float = Field(
+        0.8, gt=0, description="critical link strain of eq 3", json_schema_extra={"unit": "1"}
+    )
+    damping: Literal["nodal", "link"] = Field(
+        "nodal", description="eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
+    )
+    speed_um_s: float = Field(
+        30.0, gt=0, le=1e6, description="pipette speed", json_schema_extra={"unit": "um/s"}
+    )
+    travel_um: float = Field(
+        65.0, gt=0, description="pipette travel", json_schema_extra={"unit": "um"}
+    )
+    n_steps: int = Field(
+        40,
+        ge=1,
+        le=100_000,
+        description="backward-Euler steps over the travel",
+        json_schema_extra={"unit": "1"},
+    )
+    symmetric: bool = Field(
+        True,
+        description="press on the mirror-symmetric branch (the free lattice buckles sideways "
+        "from round-off; docs/nmsd.md); false: the free press",
+    )
+    calibrate_extra: list[Literal["dl_c", "gap_um"]] = Field(
+        default_factory=list, description="also calibrate dl_c and/or the contact gap (bounded)"
+    )
+    n_starts: int = Field(
+        2, ge=1, le=100, description="calibration starts", json_schema_extra={"unit": "1"}
+    )
+    max_evaluations: int = Field(
+        60,
+        ge=4,
+        le=100_000,
+        description="press simulations per start",
+        json_schema_extra={"unit": "1"},
+    )
+
+    rules = (
+        Relation("pipette_width_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation(
+            "hold_half_width_um", "<", lambda m: m.cell_diameter_um / 2, "cell_diameter_um / 2"
+        ),
+        Relation(
+            "travel_um", "<", lambda m: m.cell_diameter_um - m.gap_um, "cell_diameter_um - gap_um"
+        ),
+        Setup(_press_at_validation, LIBRARY_ARGS),
+    )
+
+
+class CalibrationInputs(PressInputs):
+    models: list[Literal[MODELS]] = Field(  # type: ignore[valid-type]
+        default_factory=lambda: list(MODELS),
+        min_length=1,
+        description=f"models calibrated, among {', '.join(MODELS)}",
+    )
+    rate_speeds_um_s: list[Annotated[float, Field(gt=0, le=1e6)]] = Field(
+        default_factory=lambda: [10.0, 30.0, 90.0],
+        description="pipette speeds of the rate check",
+        json_schema_extra={"unit": "um/s"},
+    )
+    snapshot_um: list[Annotated[float, Field(ge=0)]] = Field(
+        default_factory=lambda: [15.0, 30.0, 45.0],
+        description="pipette displacements of the lattice snapshots",
+        json_schema_extra={"unit": "um"},
+    )
+
+    rules = (
+        *PressInputs.rules,
+        Relation("snapshot_um", "<=", lambda m: m.travel_um, "travel_um", measure="max"),
+    )
+
+
+class SpindleInputs(PressInputs):
+    spindle_initial_um: tuple[float, float] = Field(
+        (15.8718, 18.1392),
+        description="spindle position (x, y) before the approach",
+        json_schema_extra={"unit": "um"},
+    )
+    paper_offset_um: tuple[float, float] = Field(
+        (25.6972, 49.127),
+        description="the paper's predicted offset (x, y), for comparison",
+        json_schema_extra={"unit": "um"},
+    )
+    approach_step_um: float = Field(
+        0.5,
+        gt=0,
+        description="pipette displacement per simulated step of the approach",
+        json_schema_extra={"unit": "um"},
+    )
+    kp: float = Field(
+        0.2, ge=0, description="PID proportional gain", json_schema_extra={"unit": "1"}
+    )
+    ki: float = Field(0.3, ge=0, description="PID integral gain", json_schema_extra={"unit": "1"})
+    kd: float = Field(0.0, ge=0, description="PID derivative gain", json_schema_extra={"unit": "1"})
+    period_s: float = Field(
+        0.01, ge=1e-4, description="controller period", json_schema_extra={"unit": "s"}
+    )
+    actuator_lag_s: float = Field(
+        0.02, ge=0, description="first-order actuator lag", json_schema_extra={"unit": "s"}
+    )
+    resolution_um: float = Field(
+        0.04, ge=0, description="positioning resolution", json_schema_extra={"unit": "um"}
+    )
+    removal_pipette_um: float = Field(
+        20.0,
+        gt=0,
+        description="inner diameter of the removal pipette",
+        json_schema_extra={"unit": "um"},
+    )
+    spindle_length_um: float = Field(
+        10.0,
+        ge=0,
+        description="spindle extent aspirated with it",
+        json_schema_extra={"unit": "um"},
+    )
+
+    rules = (
+        *PressInputs.rules,
+        Relation(
+            "spindle_initial_um",
+            "<",
+            lambda m: m.cell_diameter_um,
+            "cell_diameter_um (from the puncture point)",
+            measure="norm",
+        ),
+        Relation("removal_pipette_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("spindle_length_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("approach_step_um", "<=", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Setup(_approach_at_validation, LIBRARY_ARGS),
+    )
