@@ -14,8 +14,9 @@ from nmsd.pipette import (
     TABLE_I_WIDTH_UM,
 )
 from nmsd.tableII import read_force_displacement
+from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.kinds.data_templates import CREEP, TABLE_II
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation, Setup
 
 ZonaRatioReading = Literal["afm_relaxed", "afm_instantaneous"]
 
@@ -240,6 +241,23 @@ class CrosscheckInputs(CaseInputs):
         False,
         description="fit the NMSD to the FE force at speed_um_s and check_speed_um_s together "
         "(eq 7 summed); the rate check then reports a fitted curve, not a prediction",
+    )
+
+    rules = (
+        Relation("cytoplasm_diameter_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("travel_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation("pipette_width_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Setup(
+            lambda m: PressScenario(
+                m.cell_diameter_um,
+                m.cytoplasm_diameter_um,
+                m.pipette_width_um,
+                m.tip_angle_deg,
+                m.speed_um_s,
+                m.hold_half_width_um,
+                tuple(m.spindle_paper_um),
+            )
+        ),
     )
 
 

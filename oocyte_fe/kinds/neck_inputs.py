@@ -11,7 +11,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.fe.material import read_material_file
 from oocyte_fe.kinds.data_templates import CYTOPLASM_MATERIAL, ZONA_MATERIAL
 from oocyte_fe.runner.casefile import read_toml
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Refining, Relation
 
 SizeUm = Annotated[float, Field(ge=1, le=100)]
 
@@ -154,9 +154,12 @@ class NeckInputs(CaseInputs):
             )
         if self.material_case is not None and given:
             raise ValueError("material_case or the two material files, not both")
-        if self.neck_diameter_um >= self.bore_diameter_um:
-            raise ValueError("neck_diameter_um below bore_diameter_um")
         return self
+
+    rules = (
+        Relation("neck_diameter_um", "<", lambda m: m.bore_diameter_um, "bore_diameter_um"),
+        Refining("mesh_study_sizes_um"),
+    )
 
 
 UNITS = {"s", "um", "kPa", "nN"}
