@@ -16,6 +16,7 @@ import tomli_w
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.analysis import closed_form_metrics, push_force_nN
+from oocyte_fe.experiment.cache import cached_arrays
 from oocyte_fe.experiment.templates import TEMPLATES
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import get_kind
@@ -162,3 +163,21 @@ def _write_case(folder: Path, inputs: dict) -> None:
     (folder / "case.toml").write_text(
         tomli_w.dumps({"kind": "fe_experiment", "description": "test", "inputs": inputs})
     )
+
+
+def test_results_are_cached_by_their_inputs(tmp_path: Path, monkeypatch):
+    monkeypatch.setenv("OOCYTE_FE_CACHE", str(tmp_path))
+    calls = []
+
+    def solve() -> dict:
+        calls.append(1)
+        return {"force": np.arange(3.0) * len(calls)}
+
+    exp = Experiment.model_validate(_aspiration())
+    first, hit1 = cached_arrays(exp, "test", solve)
+    again, hit2 = cached_arrays(exp, "test", solve)
+    assert (hit1, hit2, len(calls)) == (False, True, 1)
+    np.testing.assert_array_equal(first["force"], again["force"])
+    other = Experiment.model_validate({**_aspiration(), "mesh_scale": 1.0})  # another input
+    changed, hit3 = cached_arrays(other, "test", solve)
+    assert not hit3 and len(calls) == 2 and changed["force"][1] == 2.0

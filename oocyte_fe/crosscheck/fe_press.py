@@ -26,7 +26,10 @@ import skfem
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.experiment import Experiment, run_experiment
+from oocyte_fe.experiment.cache import cached_arrays
+from oocyte_fe.experiment.driver import cell_mesh
 from oocyte_fe.experiment.layers import LayerMaterials
+from oocyte_fe.experiment.tools import obstacle
 from oocyte_fe.fe.fields import stress_fields
 from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip
@@ -187,6 +190,30 @@ def press_experiment(
     )
 
 
+def _solve(exp: Experiment, log: logging.Logger | None) -> dict[str, np.ndarray]:
+    """The press's arrays (and its cost) from one run of the experiment driver."""
+    result = run_experiment(exp, log=log)
+    if not result.success:
+        raise SolverError(result.reason, result)
+    problem = result.problem
+    penalty = problem.contacts[0][0].law.penalty
+    frames = result.frames
+    return {
+        "force_nN_per_um": result.force_nN[PIPETTE][:, 0],
+        "point_displacement_um": np.stack([result.tracks_um[n] for n in exp.cell.points], 1),
+        "vertex_displacement_um": np.array([problem.body.vertex_displacement(f.x) for f in frames]),
+        "vertex_pressure_kPa": np.array(  # the rest state, then -tr(sigma)/3 of each frame
+            [np.zeros(problem.body.mesh.nvertices)]
+            + [-stress_fields(problem, f.x)["mean_stress"] for f in frames[1:]]
+        ),
+        "penetration_um": np.array(
+            [float(f.contact_pressure[PIPETTE].max()) / penalty for f in frames]
+        ),
+        "counts": np.array([len(result.steps), result.cutbacks, result.newton_iterations]),
+        "seconds": np.array(result.seconds),
+    }
+
+
 def run_fe_press(
     scenario: PressScenario,
     materials: LayerMaterials,
@@ -196,31 +223,27 @@ def run_fe_press(
     log: logging.Logger | None = None,
 ) -> FePress:
     """Press the FE disc ``travel_um`` at the scenario speed through the one experiment
-    driver (:func:`~oocyte_fe.experiment.run_experiment`); record every ``step_um``."""
+    driver (:func:`~oocyte_fe.experiment.run_experiment`); record every ``step_um``.
+
+    The result is cached by its inputs (:mod:`oocyte_fe.experiment.cache`): a second case with
+    the same FE inputs reads it instead of solving again (``seconds`` is the solve's own)."""
     exp = press_experiment(scenario, materials, settings, travel_um, points_um)
-    result = run_experiment(exp, log=log)
-    if not result.success:
-        raise SolverError(result.reason, result)
-    problem = result.problem
-    contact = problem.contacts[0][0]
-    frames = result.frames
+    arrays, hit = cached_arrays(exp, "press", lambda: _solve(exp, log))
+    if hit and log is not None:
+        log.info("FE press read from the cache (equal FE inputs solved before)")
+    steps, cutbacks, iterations = (int(n) for n in arrays["counts"])
     return FePress(
-        mesh=problem.body.mesh,
-        pipette=contact.obstacle,
+        mesh=cell_mesh(exp),
+        pipette=obstacle(exp.tools[PIPETTE], PIPETTE, exp.cell.radius_um, axisym=False),
         advance_um=np.linspace(0.0, travel_um, exp.time.frames + 1),
-        force_nN_per_um=result.force_nN[PIPETTE][:, 0],
+        force_nN_per_um=arrays["force_nN_per_um"],
         points_um=np.asarray(points_um, dtype=float),
-        point_displacement_um=np.stack([result.tracks_um[name] for name in exp.cell.points], 1),
-        vertex_displacement_um=np.array([problem.body.vertex_displacement(f.x) for f in frames]),
-        vertex_pressure_kPa=np.array(  # the rest state, then -tr(sigma)/3 of each frame
-            [np.zeros(problem.body.mesh.nvertices)]
-            + [-stress_fields(problem, f.x)["mean_stress"] for f in frames[1:]]
-        ),
-        penetration_um=np.array(
-            [float(f.contact_pressure[PIPETTE].max()) / contact.law.penalty for f in frames]
-        ),
-        steps=len(result.steps),
-        cutbacks=result.cutbacks,
-        newton_iterations=result.newton_iterations,
-        seconds=result.seconds,
+        point_displacement_um=arrays["point_displacement_um"],
+        vertex_displacement_um=arrays["vertex_displacement_um"],
+        vertex_pressure_kPa=arrays["vertex_pressure_kPa"],
+        penetration_um=arrays["penetration_um"],
+        steps=steps,
+        cutbacks=cutbacks,
+        newton_iterations=iterations,
+        seconds=float(arrays["seconds"]),
     )
