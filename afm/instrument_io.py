@@ -241,6 +241,7 @@ class RecordedRamp:
     n_approach: int
     source: str
     group: str = ""
+    curve_index: int | None = None
 
     @property
     def speed_um_per_s(self) -> float:
@@ -251,7 +252,7 @@ class RecordedRamp:
 
 
 def ramp_from_record(
-    record, source: str, height_channel: str = "auto", group: str = ""
+    record, source: str, height_channel: str = "auto", group: str = "", index: int | None = None
 ) -> RecordedRamp:
     """Approach and retract of one afmformats force-distance record with their times
     (afmformats' segments and ``time`` column). A record without times is refused
@@ -268,7 +269,7 @@ def ramp_from_record(
             parts.append((np.asarray(segment["time"], dtype=float), travel, force))
     time, travel, force = (np.concatenate(c) for c in zip(*parts, strict=True))
     n_approach = parts[0][0].size if len(parts) == 2 else int(np.argmax(travel)) + 1
-    return RecordedRamp(time, travel, force, k, n_approach, source, group)
+    return RecordedRamp(time, travel, force, k, n_approach, source, group, index)
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,20 @@ from oocyte_fe.errors import InputError
 RELAXATION_KEYS = {"prony": "prony", "power_law": "power_law", "sls": "standard_linear_solid"}
 """Names of the relaxation models in a case file -> keys of :mod:`afm.viscoelastic`."""
 
+RAMP_COLUMNS = {
+    "ve_relaxation": "relaxation model of the ramp fit (prony, power_law, standard_linear_solid)",
+    "ve_E0_kPa": "instantaneous modulus E0 (power law: E(t0)), kPa",
+    "ve_E_inf_kPa": "long-time modulus E_inf (Prony, SLS), kPa",
+    "ve_terms": "E_i [kPa] / tau_i [s] of each relaxation term, or the power law's beta",
+    "ve_quality": "good or poor (the reasons: ve_undetermined, or the RMS), or the error",
+    "ve_used_retract": "whether the retract was fitted too",
+    "ramp_speed_um_per_s": "mean piezo speed of the approach, um/s",
+    "ve_drag_offset_nN": "mean force of the retract out of contact with the approach's "
+    "baseline removed (viscous drag shows here), nN",
+    "ve_undetermined": "parameters the ramp does not determine, and why",
+}
+"""Columns a ramp fit adds to ``fits.csv`` and what each holds."""
+
 OUT_OF_CONTACT = 0.1
 """Retract points farther than this fraction of the largest indentation short of contact are
 out of contact (for the drag offset)."""
@@ -61,6 +75,30 @@ class RampRow:
     fit: RampFit | None
     drag_offset_nN: float | None = None
     error: str = ""
+    curve_index: int | None = None
+
+    def columns(self) -> dict[str, str]:
+        """This row's values of :data:`RAMP_COLUMNS` (empty strings where none)."""
+        fit = self.fit
+        values = dict.fromkeys(RAMP_COLUMNS, "")
+        if self.speed_um_per_s is not None:
+            values["ramp_speed_um_per_s"] = f"{self.speed_um_per_s:.6g}"
+        if self.drag_offset_nN is not None:
+            values["ve_drag_offset_nN"] = f"{self.drag_offset_nN:.4g}"
+        if fit is None:
+            values["ve_quality"] = f"error: {self.error}"
+            return values
+        par = fit.parameters
+        values |= {
+            "ve_relaxation": fit.relaxation,
+            "ve_E0_kPa": f"{fit.E0_kPa:.6g}",
+            "ve_E_inf_kPa": f"{par['E_inf_kPa']:.6g}" if "E_inf_kPa" in par else "",
+            "ve_terms": terms_text(fit),
+            "ve_quality": "good" if fit.quality == "good" else "poor",
+            "ve_used_retract": str(fit.used_retract).lower(),
+            "ve_undetermined": "; ".join(fit.undetermined),
+        }
+        return values
 
 
 @dataclass(frozen=True)
@@ -94,6 +132,20 @@ class RampFilesResult:
     def row(self, source: str) -> RampRow | None:
         """The row of the curve named ``source``, or None."""
         return next((r for r in self.rows if r.source == source), None)
+
+
+def terms_text(fit: RampFit) -> str:
+    """The relaxation terms of ``fit``: ``E_1 = 0.3 kPa / tau_1 = 0.05 s; ...`` or
+    ``beta = 0.2 (t0 = 1 s)``."""
+    par = fit.parameters
+    if fit.relaxation == "power_law":
+        return f"beta = {par['beta']:.4g} (t0 = {par['t0_s']:g} s)"
+    moduli = par.get("E_kPa", (fit.amplitudes_kPa[1],))
+    times = par["tau_s"] if isinstance(par["tau_s"], tuple) else (par["tau_s"],)
+    return "; ".join(
+        f"E_{i} = {e:.4g} kPa / tau_{i} = {t:.4g} s"
+        for i, (e, t) in enumerate(zip(moduli, times, strict=True), start=1)
+    )
 
 
 def drag_offset(ramp: RampCurve, contact_um: float) -> float | None:
@@ -151,19 +203,21 @@ def fit_ramp_files(
         except InputError as exc:
             if exc.field in ("time", "time_s"):
                 raise
-            rows.append(RampRow(relative, str(file), file.parent.name, None, None, error=str(exc)))
+            rows.append(RampRow(relative, str(file), file.parent.name, None, None, None, str(exc)))
             continue
         for rec in recorded:
+            index = rec.curve_index
             group = _group(rec, relative, groups or {})
             try:
                 ramp = ramp_curve(rec)
                 fit = fit_ramp(ramp, **keywords)
             except InputError as exc:
-                rows.append(RampRow(relative, rec.source, group, None, None, error=str(exc)))
+                error = str(exc)
+                rows.append(RampRow(relative, rec.source, group, None, None, None, error, index))
                 continue
             offset = drag_offset(ramp, fit.contact_points_um[0])
             speed = rec.speed_um_per_s
-            rows.append(RampRow(relative, rec.source, group, speed, fit, offset))
+            rows.append(RampRow(relative, rec.source, group, speed, fit, offset, "", index))
             ramps.setdefault(group, []).append((ramp, speed))
     joint = []
     for group, items in sorted(ramps.items()):

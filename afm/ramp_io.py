@@ -77,8 +77,9 @@ def read_ramps(
     many = len(records) > 1 or "grid shape x" in records[0].metadata
     ramps = []
     for i, record in enumerate(records):
-        source = f"{path} (curve {int(record.metadata.get('enum', i))})" if many else str(path)
-        ramps.append(ramp_from_record(record, source, height_channel, path.parent.name))
+        index = int(record.metadata.get("enum", i)) if many else None
+        source = f"{path} (curve {index})" if many else str(path)
+        ramps.append(ramp_from_record(record, source, height_channel, path.parent.name, index))
     return ramps
 
 
