@@ -268,8 +268,8 @@ def plot_ramp_fit(fit: RampFit, path: str | Path, title: str = "") -> Path:
         t = ramp.time_s
         ax_f.plot(t, ramp.force_nN, ".", ms=3, c="C0", label="data (baseline removed)")
         ax_f.plot(t, model, "-", c="C1", lw=1.5, label=f"{fit.relaxation} (Ting)")
-        for ax in (ax_f, ax_r):
-            ax.axvline(t[ramp.turn], ls=":", c="0.5", lw=1)
+        ax_f.axvline(t[ramp.turn], ls=":", c="0.5", lw=1, label="turn: approach | retract")
+        ax_r.axvline(t[ramp.turn], ls=":", c="0.5", lw=1)
         ax_f.set(ylabel="force [nN]")
         ax_f.set_title(_wrap_title(Path(ramp.source).name), fontsize=9)
         ax_f.legend(fontsize=7)
