@@ -124,3 +124,28 @@ def test_csv_table_with_times_reads_approach_and_retract(tmp_path):
     assert ramp.n_approach == 101 and ramp.time_s.size == 201
     assert ramp.speed_um_per_s == pytest.approx(3.0, rel=1e-6)
     assert ramp.spring_constant_nN_per_um == pytest.approx(50.0)
+
+
+def test_instrument_record_without_times_is_refused_in_one_line():
+    afmformats = pytest.importorskip("afmformats")
+    from afm.instrument_io import ramp_from_record
+
+    n = 100
+    height = np.r_[np.linspace(2e-6, 0.0, n), np.linspace(0.0, 2e-6, n)]
+    data = {
+        "force": np.clip(1e-6 - height, 0.0, None) * 2e-3,
+        "height (measured)": height,
+        "segment": np.repeat([False, True], n),
+    }
+    meta = {"spring constant": 0.05, "imaging mode": "force-distance", "enum": 0, "path": "x"}
+    record = afmformats.AFMForceDistance(data, meta)
+    with pytest.raises(InputError) as err:
+        ramp_from_record(record, "x.jpk-force")
+    assert str(err.value) == (
+        "x.jpk-force: time: expected a time column (the viscoelastic fit needs times)"
+    )
+    data["time"] = np.linspace(0.0, 2.0, 2 * n)
+    ramp = ramp_from_record(afmformats.AFMForceDistance(data, meta), "x.jpk-force")
+    assert ramp.n_approach == n and ramp.time_s.size == 2 * n
+    assert ramp.speed_um_per_s == pytest.approx(2.0 / (99 / 199 * 2.0), rel=1e-9)
+    np.testing.assert_allclose(ramp.piezo_um[:n], -height[:n] * 1e6)
