@@ -43,6 +43,7 @@ RAMP_COLUMNS = {
     "ve_drag_offset_nN": "mean force of the retract out of contact with the approach's "
     "baseline removed (viscous drag shows here), nN",
     "ve_undetermined": "parameters the ramp does not determine, and why",
+    "ve_plot": "the curve's F(t) figure with its ramp fit",
 }
 """Columns a ramp fit adds to ``fits.csv`` and what each holds."""
 
@@ -80,7 +81,7 @@ class RampRow:
     def columns(self) -> dict[str, str]:
         """This row's values of :data:`RAMP_COLUMNS` (empty strings where none)."""
         fit = self.fit
-        values = dict.fromkeys(RAMP_COLUMNS, "")
+        values = dict.fromkeys(RAMP_COLUMNS, "")  # ve_plot: set by the report
         if self.speed_um_per_s is not None:
             values["ramp_speed_um_per_s"] = f"{self.speed_um_per_s:.6g}"
         if self.drag_offset_nN is not None:

@@ -55,6 +55,8 @@ def test_case_folder_recovers_the_prony_series_from_two_speeds(tmp_path):
     assert float(slow["ramp_speed_um_per_s"]) == pytest.approx(0.2, rel=0.02)
     assert fast["ve_relaxation"] == "prony" and fast["ve_used_retract"] == "true"
     assert abs(float(fast["ve_drag_offset_nN"])) < 1e-9  # the FE has no drag
+    assert fast["ve_plot"] == "curve_plots/ramp_T0.1s_ramp_fit.png"
+    assert (folder / fast["ve_plot"]).stat().st_size > 10_000
     report = (folder / "report.md").read_text()
     assert "Viscous drag" in report and "ramp_cell.png" in report
     assert (folder / "ramp_cell.png").stat().st_size > 10_000

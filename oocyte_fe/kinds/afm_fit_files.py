@@ -30,12 +30,8 @@ from oocyte_fe.kinds.afm_fit_files_inputs import (
     known_moduli_file,
     read_options,
 )
-from oocyte_fe.kinds.afm_fit_files_report import (
-    ramp_metrics,
-    sections,
-    write_fits,
-    write_materials,
-)
+from oocyte_fe.kinds.afm_fit_files_ramps import ramp_metrics
+from oocyte_fe.kinds.afm_fit_files_report import sections, write_fits, write_materials
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
 
 WORKERS = min(2, os.cpu_count() or 1)
