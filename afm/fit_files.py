@@ -222,6 +222,18 @@ def fit_files(
     creep record :func:`afm.creep.fit_creep_tip` refuses; with ``viscoelastic``, a file
     without times.
     """
+    ramps = None  # first: a file without times is refused before the elastic fits
+    if viscoelastic is not None:
+        ramps = fit_ramp_files(
+            files,
+            model,
+            geometry,
+            nu,
+            relative_to,
+            viscoelastic,
+            read_options=read_options,
+            groups=groups,
+        )
     batch = fit_batch(
         files,
         read_options=read_options,
@@ -241,18 +253,6 @@ def fit_files(
         names = ", ".join(sorted(stats)) or "none"
         raise InputError(
             record.file, record.field, f"a group of the fitted curves (one of {names})"
-        )
-    ramps = None
-    if viscoelastic is not None:
-        ramps = fit_ramp_files(
-            files,
-            model,
-            geometry,
-            nu,
-            relative_to,
-            viscoelastic,
-            read_options=read_options,
-            groups=groups,
         )
     materials = tuple(
         group_material(
