@@ -6,7 +6,12 @@ ones only when asked; :meth:`afm.batch.BatchResult.stats`) and makes each group'
 
 * with a force-clamp creep record of the group: instantaneous E0 and the exact relaxation
   Prony series of the Lee-Radok creep fit for the record's tip (:func:`afm.creep.fit_creep_tip`);
+* otherwise, with the viscoelastic option (``viscoelastic``), E0 and the Prony series of the
+  group's ramp fit (:func:`afm.ramp_files.fit_ramp_files`: Ting's method, jointly over the
+  group's curves; Prony or standard linear solid, rated good unless ``include_poor``);
 * otherwise elastic, E = the group's mean E (kPa), nu as assumed by the fits.
+
+A creep record wins over a ramp fit when a group has both.
 
 Fits of curves with a known modulus give the relative errors |E / E_known - 1|. Nothing is
 written or drawn here: the result goes to a report (the ``afm_fit_files`` case kind's).
@@ -24,6 +29,7 @@ from afm.batch import BatchResult, BatchRow, GroupStats, ReadOptions, fit_batch
 from afm.creep import CreepFit, fit_creep_tip
 from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
+from afm.ramp_files import GroupRampFit, RampFilesResult, RampOptions, fit_ramp_files
 from oocyte_fe.errors import InputError
 
 SOURCE = "afm_fit_files case"
@@ -54,6 +60,7 @@ class GroupMaterial:
     group: str
     material: MaterialFile | None
     creep: CreepFit | None = None
+    ramp: GroupRampFit | None = None
 
 
 @dataclass(frozen=True)
@@ -61,7 +68,8 @@ class FitFilesResult:
     """Result of :func:`fit_files`.
 
     ``stats`` holds the mean +- SD of E per group (sorted by group) and ``materials`` one
-    entry per group of ``stats``. ``known_errors`` are |E / E_known - 1| of the fitted curves
+    entry per group of ``stats``; ``ramps`` the viscoelastic ramp fits (None without the
+    option). ``known_errors`` are |E / E_known - 1| of the fitted curves
     with a known modulus (None without known moduli), ``n_known`` the curves listed.
     """
 
@@ -71,6 +79,7 @@ class FitFilesResult:
     materials: tuple[GroupMaterial, ...]
     known_errors: tuple[float, ...] | None = None
     n_known: int = 0
+    ramps: RampFilesResult | None = None
 
     @property
     def fitted(self) -> list[BatchRow]:
@@ -141,10 +150,17 @@ def group_material(
     nu: float,
     include_poor: bool,
     creep: CreepRecord | None = None,
+    ramp: GroupRampFit | None = None,
 ) -> GroupMaterial:
-    """The material of ``group``: from its ``creep`` record when given, else elastic with the
-    mean E of ``stats`` (fits of tip ``model`` with Poisson ratio ``nu``; ``include_poor``:
-    whether poor fits entered it); none without fits to average."""
+    """The material of ``group``: from its ``creep`` record when given, else from its ramp
+    fit (:func:`ramp_material`), else elastic with the mean E of ``stats`` (fits of tip
+    ``model`` with Poisson ratio ``nu``; ``include_poor``: whether poor fits entered it); none
+    without fits to average."""
+    if creep is None and ramp_material(ramp, include_poor):
+        assert ramp is not None
+        speeds = ", ".join(f"{v:.3g}" for v in sorted(set(ramp.speeds_um_per_s)))
+        source = f"{SOURCE}: ramp fit of {len(ramp.speeds_um_per_s)} curves (speeds {speeds} um/s)"
+        return GroupMaterial(group, ramp.fit.material(group, source), ramp=ramp)
     if creep is None:
         if stats.n == 0:
             return GroupMaterial(group, None)
@@ -159,6 +175,14 @@ def group_material(
         "Prony fit, exact relaxation series"
     )
     return GroupMaterial(group, fit.material(group, source), fit)
+
+
+def ramp_material(ramp: GroupRampFit | None, include_poor: bool) -> bool:
+    """Whether a group's ramp fit gives its material: a Prony or standard-linear-solid fit
+    (a power law has no Prony series), rated good unless ``include_poor``."""
+    if ramp is None or ramp.fit.relaxation == "power_law":
+        return False
+    return include_poor or ramp.fit.quality == "good"
 
 
 def tip_text(fit: CreepFit) -> str:
@@ -179,6 +203,7 @@ def fit_files(
     creep: Mapping[str, CreepRecord] | None = None,
     include_poor: bool = False,
     known_moduli: Mapping[str, float] | None = None,
+    viscoelastic: RampOptions | None = None,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
 ) -> FitFilesResult:
@@ -190,11 +215,25 @@ def fit_files(
     ``progress``. ``groups`` (group -> glob on the path relative to ``relative_to``) regroups
     the rows (:func:`regroup`); ``creep`` (group -> :class:`CreepRecord`) gives a group its
     viscoelastic material; ``include_poor`` keeps fits rated poor in the statistics;
-    ``known_moduli`` (relative path -> E_kPa) is compared with the fits.
+    ``known_moduli`` (relative path -> E_kPa) is compared with the fits; ``viscoelastic``
+    also fits every ramp in time (:func:`afm.ramp_files.fit_ramp_files`).
 
     Refused (:class:`InputError`): a creep record for a group no fitted curve belongs to, a
-    creep record :func:`afm.creep.fit_creep_tip` refuses.
+    creep record :func:`afm.creep.fit_creep_tip` refuses; with ``viscoelastic``, a file
+    without times.
     """
+    ramps = None  # first: a file without times is refused before the elastic fits
+    if viscoelastic is not None:
+        ramps = fit_ramp_files(
+            files,
+            model,
+            geometry,
+            nu,
+            relative_to,
+            viscoelastic,
+            read_options=read_options,
+            groups=groups,
+        )
     batch = fit_batch(
         files,
         read_options=read_options,
@@ -216,9 +255,18 @@ def fit_files(
             record.file, record.field, f"a group of the fitted curves (one of {names})"
         )
     materials = tuple(
-        group_material(g, stats[g], model, nu, include_poor, creep.get(g)) for g in sorted(stats)
+        group_material(
+            g,
+            stats[g],
+            model,
+            nu,
+            include_poor,
+            creep.get(g),
+            None if ramps is None else ramps.group_fit(g),
+        )
+        for g in sorted(stats)
     )
-    result = FitFilesResult(batch, include_poor, stats, materials)
+    result = FitFilesResult(batch, include_poor, stats, materials, ramps=ramps)
     if known_moduli is None:
         return result
     errors = tuple(

@@ -29,6 +29,8 @@ loader reopens the file for every column of every curve).
 
 Force-clamp creep files (JPK ``creep-compliance`` modality: approach, hold at constant force,
 retract): :func:`read_instrument_creep`.
+
+Approach and retract in time, for the viscoelastic ramp fits: :func:`ramp_from_record`.
 """
 
 from __future__ import annotations
@@ -221,6 +223,53 @@ def curve_from_record(
         map_position_um=position,
         curve_index=index,
     )
+
+
+@dataclass(frozen=True)
+class RecordedRamp:
+    """Approach and retract of one curve in time, as recorded: time [s], piezo travel towards
+    the sample [um], force [nN] (baseline not removed), spring constant k [nN/um].
+
+    ``n_approach`` points of the approach come first; the rest is the retract. Read by
+    :func:`ramp_from_record` (instrument files) and :func:`afm.ramp_io.read_ramps` (tables).
+    """
+
+    time_s: np.ndarray
+    piezo_um: np.ndarray
+    force_nN: np.ndarray
+    spring_constant_nN_per_um: float
+    n_approach: int
+    source: str
+    group: str = ""
+    curve_index: int | None = None
+
+    @property
+    def speed_um_per_s(self) -> float:
+        """Mean piezo speed of the approach, um/s."""
+        end = max(self.n_approach, 2)
+        span = float(self.piezo_um[end - 1] - self.piezo_um[0])
+        return span / float(self.time_s[end - 1] - self.time_s[0])
+
+
+def ramp_from_record(
+    record, source: str, height_channel: str = "auto", group: str = "", index: int | None = None
+) -> RecordedRamp:
+    """Approach and retract of one afmformats force-distance record with their times
+    (afmformats' segments and ``time`` column). A record without times is refused
+    (:class:`InputError`: Ting's method needs the time of every point)."""
+    channel = choose_height_channel(list(record.columns), height_channel, source)
+    if "time" not in record.columns:
+        raise InputError(source, "time", "a time column (the viscoelastic fit needs times)")
+    k = _spring_constant(record, source)
+    parts = []
+    for segment in (record.appr, record.retr):
+        force = np.asarray(segment["force"], dtype=float) * 1e9
+        if force.size:
+            travel = _travel_um(segment, channel, force, k)
+            parts.append((np.asarray(segment["time"], dtype=float), travel, force))
+    time, travel, force = (np.concatenate(c) for c in zip(*parts, strict=True))
+    n_approach = parts[0][0].size if len(parts) == 2 else int(np.argmax(travel)) + 1
+    return RecordedRamp(time, travel, force, k, n_approach, source, group, index)
 
 
 @dataclass(frozen=True)

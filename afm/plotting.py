@@ -1,5 +1,5 @@
 """Figures of fits (off-screen, matplotlib Agg): curve with fit, E(delta), moduli per group
-(strip plot, histogram), modulus maps, J(t) and G(t)."""
+(strip plot, histogram), modulus maps, J(t) and G(t), ramps F(t) with Ting's fit."""
 
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from afm.batch import BatchResult
 from afm.creep import CreepFit
 from afm.curve_plots import x_label
 from afm.fit import IndentationFit
+from afm.viscoelastic import RampFit
 
 
 def _save(fig: plt.Figure, path: str | Path) -> Path:
@@ -253,3 +254,32 @@ def plot_creep(
     ax_g.set(xscale="log", xlabel="t [s]", ylabel="G(t) [kPa]", title="shear relaxation modulus")
     ax_g.legend(fontsize=7)
     return _save(fig, path)
+
+
+def plot_ramp_fit(fit: RampFit, path: str | Path, title: str = "") -> Path:
+    """Each ramp's force F(t) against the fitted model (Ting's method), residual below; one
+    column per ramp (speed), the turn from approach to retract marked."""
+    n = len(fit.ramps)
+    fig, axes = plt.subplots(
+        2, n, figsize=(5 * n, 5), squeeze=False, sharex="col", height_ratios=(3, 1)
+    )
+    for i, (ramp, model) in enumerate(zip(fit.ramps, fit.fitted_force_nN, strict=True)):
+        ax_f, ax_r = axes[0, i], axes[1, i]
+        t = ramp.time_s
+        ax_f.plot(t, ramp.force_nN, ".", ms=3, c="C0", label="data (baseline removed)")
+        ax_f.plot(t, model, "-", c="C1", lw=1.5, label=f"{fit.relaxation} (Ting)")
+        ax_f.axvline(t[ramp.turn], ls=":", c="0.5", lw=1, label="turn: approach | retract")
+        ax_r.axvline(t[ramp.turn], ls=":", c="0.5", lw=1)
+        ax_f.set(ylabel="force [nN]")
+        ax_f.set_title(_wrap_title(Path(ramp.source).name), fontsize=9)
+        ax_f.legend(fontsize=7)
+        ax_r.plot(t, ramp.force_nN - model, ".", ms=2, c="C3")
+        ax_r.axhline(0.0, c="0.5", lw=0.8)
+        ax_r.set(xlabel="t [s]", ylabel="residual [nN]")
+    if title:
+        fig.suptitle(_wrap_title(title), fontsize=10)
+    return _save(fig, path)
+
+
+def _wrap_title(text: str) -> str:
+    return "\n".join(textwrap.wrap(text, 90)[:3])

@@ -8,7 +8,8 @@ curves with their error; columns in :data:`afm.batch.COLUMNS`), a plot per curve
 showing why), a strip plot and mean +- SD per group over the curves rated good (poor ones
 only with ``include_poor``), a modulus map per force-map file, and per group
 ``material_<group>.toml`` with its ANSYS and FEBio blocks. The run ends with "done: N fitted,
-M poor, K refused".
+M poor, K refused". With ``viscoelastic`` every ramp is also fitted in time (Ting's method;
+its columns in ``fits.csv``, F(t) figures, a group's material from its joint fit).
 
 Inputs and what they name: :mod:`~oocyte_fe.kinds.afm_fit_files_inputs`; the fits, groups and
 materials: :func:`afm.fit_files.fit_files`; the outputs:
@@ -29,6 +30,7 @@ from oocyte_fe.kinds.afm_fit_files_inputs import (
     known_moduli_file,
     read_options,
 )
+from oocyte_fe.kinds.afm_fit_files_ramps import ramp_metrics
 from oocyte_fe.kinds.afm_fit_files_report import sections, write_fits, write_materials
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
 
@@ -60,6 +62,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         creep=creep,
         include_poor=inp.include_poor,
         known_moduli=known,
+        viscoelastic=None if inp.viscoelastic is None else inp.viscoelastic.options(),
         workers=WORKERS,
         progress=lambda done, total: ctx.progress(done, total, "curves fitted"),
     )
@@ -74,6 +77,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "n_fitted": float(n_fitted),
         "n_failed": float(result.n_refused),
         "n_poor": float(result.n_poor),
+        **ramp_metrics(result),
     }
     checks = [
         Check(

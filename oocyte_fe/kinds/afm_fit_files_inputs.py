@@ -17,6 +17,7 @@ from afm.fit import FitRange
 from afm.fit_files import CreepRecord
 from afm.models import MODELS
 from afm.nanite_pipeline import fit_nanite_default
+from afm.ramp_files import RampOptions
 from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import KNOWN_MODULI
@@ -36,6 +37,38 @@ class Calibration(CaseInputs):
         description="deflection sensitivity (for deflection recorded in volts)",
         json_schema_extra={"unit": "nm/V"},
     )
+
+
+class Viscoelastic(CaseInputs):
+    """The viscoelastic fit of every ramp in time (Ting's method, afm.viscoelastic)."""
+
+    relaxation: Literal["prony", "power_law", "sls"] = Field(
+        "prony",
+        description="relaxation modulus: Prony series, power law E0 (t/t0)^-beta, or the "
+        "standard linear solid (sls)",
+    )
+    terms: int = Field(
+        2,
+        ge=1,
+        le=4,
+        description="exponential terms of the Prony series",
+        json_schema_extra={"unit": "1"},
+    )
+    t0_s: float = Field(
+        1.0, gt=0, description="reference time t0 of the power law", json_schema_extra={"unit": "s"}
+    )
+    use_retract: bool = Field(True, description="fit the retract too, where the file has one")
+    joint_speeds: bool = Field(
+        True,
+        description="fit a group's curves together (one modulus; speeds a decade apart resolve "
+        "both short and long times); the group's material comes from that fit",
+    )
+
+    def options(self) -> RampOptions:
+        """The options of :func:`afm.ramp_files.fit_ramp_files`."""
+        return RampOptions(
+            self.relaxation, self.terms, self.t0_s, self.use_retract, self.joint_speeds
+        )
 
 
 class FitFilesInputs(CaseInputs):
@@ -126,6 +159,11 @@ class FitFilesInputs(CaseInputs):
         description="per-curve figures: every curve, only the poor and refused ones, or none "
         "(large force maps)",
     )
+    viscoelastic: Viscoelastic | None = Field(
+        None,
+        description="also fit every ramp (approach and retract) in time with a relaxation "
+        "modulus; needs files with the time of every point",
+    )
     known_moduli: str | None = Field(
         None,
         description="optional CSV (file, E_kPa) of known moduli to check the fits against, "
@@ -172,6 +210,17 @@ METRICS = {
     "n_failed": "curves that could not be read or fitted (reported and skipped)",
     "n_poor": "fitted curves rated poor",
     "max_known_error_pct": "largest |E / E_known - 1| over curves with a known modulus, %",
+    "n_ramps_fitted": "ramps fitted in time (viscoelastic option)",
+    "ve_E0_kPa": "E0 of the first group's joint ramp fit (groups by name), kPa",
+    "ve_E_inf_kPa": "E_inf of the first group's joint ramp fit, kPa",
+    **{
+        f"ve_E{i}_kPa": f"Prony modulus E_{i} of the first group's ramp fit, kPa"
+        for i in (1, 2, 3, 4)
+    },
+    **{
+        f"ve_tau{i}_s": f"Prony time tau_{i} of the first group's ramp fit, s" for i in (1, 2, 3, 4)
+    },
+    "ve_beta": "power-law exponent beta of the first group's ramp fit",
 }
 
 

@@ -18,7 +18,16 @@ from afm.curve_plots import plot_curves, plot_name
 from afm.fe_export import ansys_prony_block, febio_material
 from afm.fit_files import FitFilesResult, GroupMaterial, tip_text
 from afm.material_file import write_material
+from afm.ramp_files import RAMP_COLUMNS
 from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
+from oocyte_fe.kinds.afm_fit_files_ramps import (
+    add_ramp_columns,
+    file_stem,
+    group_figures,
+    ramp_figure_name,
+    ramp_figures,
+    ramp_section,
+)
 from oocyte_fe.runner.registry import Figure
 
 Output = Callable[[str], Path]
@@ -39,12 +48,6 @@ WHY_NOT_NANITE = (
     "higher E on some instrument files; docs/afm.md, 'The default analysis against nanite'). "
     'Set analysis = "nanite" to reproduce a nanite/PyJibe analysis.'
 )
-
-
-def file_stem(group: str) -> str:
-    """``group`` as part of a file name: characters other than letters, digits, ``-`` and
-    ``_`` become ``_`` (a group name can never reach outside the result folder)."""
-    return re.sub(r"[^A-Za-z0-9_-]", "_", group) or "_"
 
 
 def fit_range_text(inp: FitFilesInputs) -> str:
@@ -78,6 +81,10 @@ def write_fits(
     }
     write_batch_table(batch, output("fits.csv"), case_dir, links, inp.analysis, fit_range_text(inp))
     figures = []
+    if result.ramps is not None:
+        links = ramp_figures(result.ramps, output, inp.curve_plots)
+        add_ramp_columns(output("fits.csv"), result.ramps, links)
+        figures.extend(group_figures(result.ramps, output))
     if result.fitted:
         by_group = {g: [r.fit for r in result.fitted if r.group == g] for g in result.stats}
         plotting.plot_strip(by_group, output("moduli.png"), inp.include_poor)
@@ -95,6 +102,14 @@ def _material_row(made: GroupMaterial, output: Output) -> str:
     if material is None:
         return f"| {made.group} | - | - | - | - | none: no fit rated good |"
     how, e_inf = "elastic (mean E)", "-"
+    if made.ramp is not None:
+        ramp = made.ramp.fit
+        figure = ramp_figure_name(made.group)
+        how = (
+            f"ramp fit ({ramp.relaxation}, Ting) of {len(ramp.ramps)} curves: {ramp.quality}; "
+            f"[F(t)]({figure})"
+        )
+        e_inf = f"{ramp.amplitudes_kPa[0]:.4g}"
     if fit is not None:
         figure = f"creep_{file_stem(made.group)}.png"
         plotting.plot_creep(fit, output(figure))
@@ -176,6 +191,12 @@ def sections(
             "rating (and any Prony term the record does not determine) is written into their "
             "source line.",
         ),
-        ("Columns of fits.csv", "\n".join(f"* `{k}`: {text}" for k, text in COLUMNS.items())),
+        (
+            "Columns of fits.csv",
+            "\n".join(
+                f"* `{k}`: {text}"
+                for k, text in (COLUMNS | (RAMP_COLUMNS if result.ramps else {})).items()
+            ),
+        ),
         ("Curve plots", plot_links or "none"),
-    ]
+    ] + ([("Viscoelastic ramp fits", ramp_section(result, inp))] if result.ramps else [])
