@@ -21,15 +21,14 @@ from __future__ import annotations
 import os
 
 from afm.fit_files import fit_files, read_known_moduli
-from oocyte_fe.kinds.afm_fit_files_inputs import (
-    METRICS,
-    FitFilesInputs,
+from oocyte_fe.kinds.afm_fit_files_args import (
     creep_records,
     find_curve_files,
     fit_options,
     known_moduli_file,
     read_options,
 )
+from oocyte_fe.kinds.afm_fit_files_inputs import METRICS, FitFilesInputs
 from oocyte_fe.kinds.afm_fit_files_ramps import ramp_metrics
 from oocyte_fe.kinds.afm_fit_files_report import sections, write_fits, write_materials
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
