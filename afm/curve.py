@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from oocyte_fe.checks import float_array, positive
+from oocyte_fe.checks import float_array, increasing, positive
 from oocyte_fe.errors import InputError
 
 MIN_POINTS = 10
@@ -31,6 +31,9 @@ class ForceCurve:
     files ``height (measured)``, ``height (piezo)`` or ``tip position``; ``piezo`` for text
     tables); ``map_position_um`` is the (x, y) position of the curve on a force map and
     ``curve_index`` its index in the file (``None`` for single curves).
+
+    ``time_s`` (optional) must be finite and increase row by row
+    (:func:`oocyte_fe.checks.increasing`): a decreasing or NaN time is refused, naming the row.
 
     The travel is kept as recorded: a measured height jitters, so steps back of up to
     :data:`MAX_JITTER_FRACTION` of the travel are accepted (no step of the fit needs the data
@@ -70,6 +73,11 @@ class ForceCurve:
                 f"{100 * MAX_JITTER_FRACTION:g} % of the travel are taken as sensor jitter)",
                 None if row is None else f"a step back of {step_back[row]:.3g} um at row {row}",
             )
+        if self.time_s is not None:
+            time = increasing(src, "time_s", self.time_s)
+            if time.shape != piezo.shape:
+                raise InputError(src, "time_s", "one time per piezo position", time.size)
+            object.__setattr__(self, "time_s", time)
         k = positive(
             src,
             "spring_constant",
