@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from oocyte_fe.checks import float_array, increasing, positive
+from oocyte_fe.checks import QUANTITIES, float_array, increasing, number, positive
 from oocyte_fe.errors import InputError
 
 MIN_POINTS = 10
@@ -109,10 +109,21 @@ class ForceCurve:
 
 
 def spring_constant_nN_per_um(k_N_per_m: float, where: str = "<input>") -> float:
-    """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000)."""
-    return 1e3 * positive(
-        where, "spring_constant_N_per_m", k_N_per_m, expected="a positive spring constant in N/m"
+    """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000).
+
+    Bounds: those of ``stiffness_nN_per_um`` in :data:`oocyte_fe.checks.QUANTITIES` over 1000,
+    [1e-12, 1e9] N/m (the case schema's bound of the unit N/m).
+    """
+    low, high, _ = QUANTITIES["stiffness_nN_per_um"]
+    k = number(
+        where,
+        "spring_constant_N_per_m",
+        k_N_per_m,
+        ge=low / 1e3,
+        le=high / 1e3,
+        expected=f"a positive spring constant in [{low / 1e3:g}, {high / 1e3:g}] N/m",
     )
+    return 1e3 * k
 
 
 def force_from_deflection(
