@@ -16,6 +16,7 @@ import pytest
 from afm.curve_io import read_creep, read_curve, write_creep
 from afm.prony_series import RelaxationProny
 from afm.synthetic import creep_indentation, indentation_curve
+from afm.viscoelastic import RampCurve
 from oocyte_fe.errors import InputError
 
 TRUTH = RelaxationProny(7.01 / 3, (0.3,), (0.5,))
@@ -92,3 +93,11 @@ def test_a_creep_record_with_a_bad_time_names_the_row(
     time[row] = value  # NaN, or 0.5 s after 0.78 s (a step back)
     with pytest.raises(InputError, match=f"hold.csv: time_s: .*data row {row + 1}"):
         read_creep(_creep_file(tmp_path, time, creep_indentation(TRUTH, HOLD_T, 5.0)))
+
+
+def test_a_ramp_whose_time_steps_back_names_the_row() -> None:
+    # the viscoelastic ramp record holds its time column to the same check
+    time = np.linspace(0.0, 1.0, 50)
+    time[30] = 0.2
+    with pytest.raises(InputError, match=r"ramp.csv: time_s: .*\(data row 31 after data row 30\)"):
+        RampCurve(time, np.linspace(0.0, 2.0, 50), np.zeros(50), "ramp.csv")
