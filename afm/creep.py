@@ -40,6 +40,7 @@ import numpy as np
 from scipy.optimize import least_squares, nnls
 
 from afm.creep_data import CreepData
+from afm.creep_data import check_creeping as shrinking
 from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
 from afm.models import POISSON_RATIO, get_model
@@ -52,8 +53,6 @@ MAX_RELATIVE_RMS = 0.1
 """Largest relative RMS residual of the J(t) fit accepted at all (above: refused)."""
 GOOD_RELATIVE_RMS = 0.02
 """Largest relative RMS residual of the J(t) fit rated ``good``."""
-SHRINK_SIGMAS = 4.0
-"""A hold whose indentation falls by more than this many standard errors is refused."""
 BOUND_MARGIN = 2.0
 """Retardation times are bounded to [step e^-2, 3 T e^2] (log margin 2 around the NNLS grid)."""
 
@@ -252,24 +251,8 @@ def _finite(values: np.ndarray, field: str) -> np.ndarray:
 
 
 def check_creeping(data: CreepData) -> None:
-    """Refuse a hold whose indentation shrinks: under a clamped force it can only grow.
-
-    The mean indentation of the last fifth of the hold is compared with that of the first
-    fifth; a fall larger than ``SHRINK_SIGMAS`` standard errors (noise from the point-to-point
-    differences, sigma = SD(diff) / sqrt(2)) is refused.
-    """
-    d = data.indentation_um
-    n = max(d.size // 5, 2)
-    first, last = float(np.mean(d[:n])), float(np.mean(d[-n:]))
-    sigma = float(np.std(np.diff(d))) / math.sqrt(2.0)
-    if first - last > SHRINK_SIGMAS * sigma * math.sqrt(2.0 / n) + 1e-12 * first:
-        raise InputError(
-            data.source,
-            "indentation_um",
-            "an indentation that does not shrink during the hold (creep under a clamped "
-            "force; check the sign of height/indentation and that the record is the hold)",
-            f"mean {first:.4g} um over the first fifth, {last:.4g} um over the last",
-        )
+    """Refuse a hold whose indentation shrinks (:func:`afm.creep_data.check_creeping`)."""
+    shrinking(data.indentation_um, data.source)
 
 
 def undetermined_terms(creep: CreepProny, time_s: np.ndarray) -> tuple[str, ...]:

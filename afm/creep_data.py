@@ -11,10 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from oocyte_fe.checks import increasing
 from oocyte_fe.errors import InputError
 
 FORCE_CLAMP_TOLERANCE = 0.05
 """Largest relative spread (SD / mean) of the force during the hold accepted as clamped."""
+SHRINK_SIGMAS = 4.0
+"""A hold whose indentation falls by more than this many standard errors is refused."""
 
 
 @dataclass(frozen=True)
@@ -35,12 +38,14 @@ class CreepData:
             raise InputError(src, "time_s", "equal-length 1-D columns time, force, indentation")
         if t.size < 10:
             raise InputError(src, "time_s", "at least 10 samples", t.size)
-        for name, values in (("time_s", t), ("force_nN", f), ("indentation_um", d)):
+        for name, values in (("force_nN", f), ("indentation_um", d)):
             bad = np.flatnonzero(~np.isfinite(values))
             if bad.size:
-                raise InputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
-        if np.any(np.diff(t) <= 0):
-            raise InputError(src, "time_s", "strictly increasing time")
+                row = int(bad[0])
+                raise InputError(
+                    src, name, f"finite numbers (data row {row + 1} holds {values[row]!r})"
+                )
+        t = increasing(src, "time_s", t)
         if np.any(d <= 0):
             raise InputError(src, "indentation_um", "positive indentation during the hold")
         mean = float(np.mean(f))
@@ -52,6 +57,7 @@ class CreepData:
                 f"a clamped force (SD/mean <= {FORCE_CLAMP_TOLERANCE:g} over the hold)",
                 f"SD/mean = {spread:.3g}",
             )
+        check_creeping(d, src)
         object.__setattr__(self, "time_s", t - t[0])
         object.__setattr__(self, "force_nN", f)
         object.__setattr__(self, "indentation_um", d)
@@ -60,3 +66,26 @@ class CreepData:
     def clamp_force_nN(self) -> float:
         """Mean force over the hold, nN (the F0 of Lee-Radok)."""
         return float(np.mean(self.force_nN))
+
+
+def check_creeping(indentation_um: np.ndarray, source: str = "<input>") -> None:
+    """Refuse a hold whose indentation shrinks: under a clamped force it can only grow.
+
+    The mean indentation of the last fifth of the hold is compared with that of the first
+    fifth; a fall larger than :data:`SHRINK_SIGMAS` standard errors (noise from the
+    point-to-point differences, sigma = SD(diff) / sqrt(2)) is refused. Checked when a
+    :class:`CreepData` is made, so every reader refuses such a record.
+    """
+    d = np.asarray(indentation_um, dtype=float)
+    n = max(d.size // 5, 2)
+    first, last = float(np.mean(d[:n])), float(np.mean(d[-n:]))
+    sigma = float(np.std(np.diff(d))) / math.sqrt(2.0)
+    if first - last > SHRINK_SIGMAS * sigma * math.sqrt(2.0 / n) + 1e-12 * first:
+        raise InputError(
+            source,
+            "indentation_um",
+            "an indentation that does not shrink during the hold (creep under a clamped "
+            "force; check the sign of height/indentation and that the record is the hold)",
+            f"mean {first:.4g} um over rows 1-{n}, "
+            f"{last:.4g} um over rows {d.size - n + 1}-{d.size}",
+        )

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from oocyte_fe.checks import float_array, positive
+from oocyte_fe.checks import QUANTITIES, float_array, increasing, number, positive
 from oocyte_fe.errors import InputError
 
 MIN_POINTS = 10
@@ -31,6 +31,9 @@ class ForceCurve:
     files ``height (measured)``, ``height (piezo)`` or ``tip position``; ``piezo`` for text
     tables); ``map_position_um`` is the (x, y) position of the curve on a force map and
     ``curve_index`` its index in the file (``None`` for single curves).
+
+    ``time_s`` (optional) must be finite and increase row by row
+    (:func:`oocyte_fe.checks.increasing`): a decreasing or NaN time is refused, naming the row.
 
     The travel is kept as recorded: a measured height jitters, so steps back of up to
     :data:`MAX_JITTER_FRACTION` of the travel are accepted (no step of the fit needs the data
@@ -70,6 +73,11 @@ class ForceCurve:
                 f"{100 * MAX_JITTER_FRACTION:g} % of the travel are taken as sensor jitter)",
                 None if row is None else f"a step back of {step_back[row]:.3g} um at row {row}",
             )
+        if self.time_s is not None:
+            time = increasing(src, "time_s", self.time_s)
+            if time.shape != piezo.shape:
+                raise InputError(src, "time_s", "one time per piezo position", time.size)
+            object.__setattr__(self, "time_s", time)
         k = positive(
             src,
             "spring_constant",
@@ -101,10 +109,21 @@ class ForceCurve:
 
 
 def spring_constant_nN_per_um(k_N_per_m: float, where: str = "<input>") -> float:
-    """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000)."""
-    return 1e3 * positive(
-        where, "spring_constant_N_per_m", k_N_per_m, expected="a positive spring constant in N/m"
+    """Convert a spring constant from N/m (instrument convention) to nN/um (x 1000).
+
+    Bounds: those of ``stiffness_nN_per_um`` in :data:`oocyte_fe.checks.QUANTITIES` over 1000,
+    [1e-12, 1e9] N/m (the case schema's bound of the unit N/m).
+    """
+    low, high, _ = QUANTITIES["stiffness_nN_per_um"]
+    k = number(
+        where,
+        "spring_constant_N_per_m",
+        k_N_per_m,
+        ge=low / 1e3,
+        le=high / 1e3,
+        expected=f"a positive spring constant in [{low / 1e3:g}, {high / 1e3:g}] N/m",
     )
+    return 1e3 * k
 
 
 def force_from_deflection(

@@ -181,6 +181,32 @@ def numbers_array(
     return array
 
 
+def increasing(where: str | Path, name: str, values: object, unit: str = "s") -> np.ndarray:
+    """``values`` as a 1-D float array of finite numbers increasing row by row (a time column).
+
+    Refused, naming the first bad data row (1 = the first row below the header): a NaN or
+    inf, a value not larger than the one above it (a decreasing or repeated time: rows
+    shuffled, approach and retract mixed, or a clock reset).
+    """
+    array = float_array(where, name, values)
+    if array.ndim != 1:
+        raise InputError(where, name, "a 1-D column of numbers", got=f"shape {array.shape}")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        row = int(bad[0])
+        raise InputError(where, name, f"finite numbers (data row {row + 1} holds {array[row]!r})")
+    back = np.flatnonzero(np.diff(array) <= 0)
+    if back.size:
+        row = int(back[0]) + 1
+        raise InputError(
+            where,
+            name,
+            f"values increasing row by row (data row {row + 1} after data row {row})",
+            got=f"{array[row]:.6g} {unit} after {array[row - 1]:.6g} {unit}",
+        )
+    return array
+
+
 def _vector_within(a: np.ndarray, gt, ge, lt, le) -> np.ndarray:
     ok = np.ones(a.shape, dtype=bool)
     if gt is not None:

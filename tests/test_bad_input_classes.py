@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 import tomli_w
 
+from afm.curve import spring_constant_nN_per_um
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.cytoplasm_loss import loss_fraction
 from nmsd.lattice import circular_lattice
@@ -59,6 +60,7 @@ SHIPPED = {
     "microchannel_vof": "microchannel_vof_quick",
     "fe_verification": "fe_verification",
     "enucleation_loop": "enucleation_loop",
+    "afm_creep_prony": "afm_creep_prony",
 }
 RELATIONS = [
     (kind, block, rule)
@@ -142,6 +144,21 @@ def test_physical_bounds_per_unit(
         load_case(folder)
     message = str(err.value)
     assert f"[{low:g}, {high:g}] {unit}" in message or "expected a value" in message, message
+
+
+@pytest.mark.parametrize("value", [1e-320, 1e-13, 2e9])
+def test_spring_constants_have_a_physical_bound(tmp_path: Path, value: float) -> None:
+    """N/m (spring constants): [1e-12, 1e9] N/m, the bound of nN/um over 1000, in both the case
+    schema and the afm conversion every reader uses."""
+    folder = _case(tmp_path, "afm_creep_prony", spring_constant_N_per_m=value)
+    bound = "[1e-12, 1e+09] N/m"
+    with pytest.raises(InputError, match=r"inputs\.spring_constant_N_per_m: expected") as err:
+        load_case(folder)
+    assert bound in str(err.value)
+    with pytest.raises(InputError, match=r"spring_constant_N_per_m: expected") as err:
+        spring_constant_nN_per_um(value)
+    assert bound in str(err.value)
+    assert spring_constant_nN_per_um(0.07) == pytest.approx(70.0, rel=1e-15)
 
 
 def test_booleans_are_not_numbers() -> None:

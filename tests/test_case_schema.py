@@ -14,7 +14,7 @@ import pytest
 from pydantic import BaseModel, ConfigDict, Field
 
 from oocyte_fe.errors import InputError
-from oocyte_fe.kinds.afm_zp_cytoplasm import _draw
+from oocyte_fe.kinds.afm_zp_cytoplasm import MAX_REDRAW_ROUNDS
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import CaseContext, case_kind, kinds
 from oocyte_fe.runner.schema import CaseInputs, unit_of
@@ -133,11 +133,34 @@ def test_zp_draws_that_cannot_pass_the_floor_are_refused_at_validation(tmp_path:
         load_case(case)
 
 
-def test_redraw_loop_is_bounded() -> None:
+def test_redraw_loop_is_bounded(tmp_path: Path) -> None:
+    """A floor 2.99 SD above the mean passes validation (the 3 SD rule) but almost every draw
+    falls below it: the run gives up after MAX_REDRAW_ROUNDS rounds, in well under a second,
+    naming the floor and how many draws stayed below it."""
+    case = _copy(tmp_path, "afm_zp_cytoplasm")
+    raw = (case / "case.toml").read_text()
+    for key, value in (
+        ("E_zp_mean_kPa", "1.0"),
+        ("E_zp_sd_kPa", "1.0"),
+        ("E_cytoplasm_mean_kPa", "1.0"),
+        ("E_cytoplasm_sd_kPa", "1.0"),
+        ("min_E_kPa", "3.99"),
+    ):
+        at = raw.index(f"\n{key} = ") + 1
+        raw = raw[:at] + f"{key} = {value}" + raw[raw.index("\n", at) :]
+    (case / "case.toml").write_text(raw)
+    loaded = load_case(case)
+    ctx = CaseContext(
+        loaded.name, loaded.directory, tmp_path / "out", loaded.inputs, False, logging.getLogger()
+    )
     start = time.perf_counter()
-    with pytest.raises(InputError, match="redraw rounds"):
-        _draw(np.random.default_rng(0), 1.0, 0.0, 10, 50.0, Path("case.toml"))
+    with pytest.raises(InputError) as err:
+        loaded.kind.run(ctx)
     assert time.perf_counter() - start < 1.0
+    assert str(err.value) == (
+        f"{case / 'case.toml'}: inputs.min_E_kPa: expected a floor most draws of N(1, 1) kPa "
+        f"pass; {MAX_REDRAW_ROUNDS} redraw rounds left 13 of 60 below 3.99 kPa"
+    )
 
 
 def test_fit_pressures_must_be_in_the_table(tmp_path: Path) -> None:
@@ -225,19 +248,21 @@ def test_tolerance_given_as_text_is_refused(tmp_path: Path) -> None:
 
 
 def test_library_argument_errors_inside_a_run_name_the_case_file(tmp_path: Path) -> None:
-    """An input that passes validation but that a library refuses at run time (a spring
-    constant of 1e-300 N/m, a unit without physical bounds in the schema, refused by ``afm``)
-    is reported against ``case.toml: inputs``, never under the library's ``<input>``
-    placeholder."""
+    """An input that passes validation but that a library refuses at run time (a cone half
+    angle of 1e-4 deg: the schema asks > 0, the tip model [1e-3, 90] deg) is reported against
+    ``case.toml: inputs``, never under the library's ``<input>`` placeholder."""
     case = _copy(tmp_path, "afm_creep_prony")
-    _edit(case, "spring_constant_N_per_m = 0.07", "spring_constant_N_per_m = 1e-300")
+    _edit(case, "half_angle_deg = 10.0", "half_angle_deg = 1e-4")
     loaded = load_case(case)
     ctx = CaseContext(
         loaded.name, loaded.directory, tmp_path / "out", loaded.inputs, False, logging.getLogger()
     )
     with pytest.raises(InputError) as err:
         loaded.kind.run(ctx)
-    assert str(err.value).startswith(str(case / "case.toml") + ": inputs (passed on as argument")
+    assert str(err.value) == (
+        f"{case / 'case.toml'}: inputs (passed on as argument 'half_angle_deg'): expected a "
+        "value in (0.001, 90) deg, got 0.0001"
+    )
 
 
 def test_full_table_overrides_inputs_and_quick_overrides_both(tmp_path: Path) -> None:

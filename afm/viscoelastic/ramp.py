@@ -15,7 +15,7 @@ import numpy as np
 
 from afm.baseline import fit_baseline
 from afm.curve import MIN_POINTS, ForceCurve
-from oocyte_fe.checks import float_array, positive
+from oocyte_fe.checks import float_array, increasing, positive
 from oocyte_fe.errors import InputError
 
 UNIFORM_TOLERANCE = 1e-3
@@ -45,12 +45,11 @@ class RampCurve:
             raise InputError(src, "force_nN", "one time, tip position and force per row (1-D)")
         if t.size < MIN_POINTS:
             raise InputError(src, "time_s", f"at least {MIN_POINTS} points", t.size)
-        for name, values in (("time_s", t), ("tip_position_um", x), ("force_nN", f)):
+        t = increasing(src, "time_s", t)  # names the first bad data row
+        for name, values in (("tip_position_um", x), ("force_nN", f)):
             if not np.all(np.isfinite(values)):
                 raise InputError(src, name, "finite numbers")
         steps = np.diff(t)
-        if not np.all(steps > 0):
-            raise InputError(src, "time_s", "strictly increasing times")
         step = float(np.median(steps))
         resampled = self.resampled
         if float(np.max(np.abs(steps - step))) > UNIFORM_TOLERANCE * step:

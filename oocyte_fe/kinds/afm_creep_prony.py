@@ -16,13 +16,33 @@ from afm.plotting import plot_creep
 from afm.prony_series import RelaxationProny
 from afm.synthetic import creep_indentation
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Relation
 
 RelaxationTime = Annotated[float, Field(ge=1e-4, le=1e4)]
 Fraction = Annotated[float, Field(ge=1e-6, lt=1)]
+MIN_SAMPLES = 10
+"""Fewest samples of a creep record (:class:`afm.creep_data.CreepData`)."""
+MAX_SAMPLES = 1e6
 
 
 class CreepInputs(CaseInputs):
+    rules = (
+        # the record is t = 0, 1/rate, ... up to the hold: hold x rate + 1 samples
+        Relation(
+            "hold_s",
+            ">=",
+            lambda m: (MIN_SAMPLES - 1) / m.sample_rate_Hz,
+            f"{MIN_SAMPLES - 1} / sample_rate_Hz (a creep record of at least {MIN_SAMPLES} "
+            "samples)",
+        ),
+        Relation(
+            "hold_s",
+            "<=",
+            lambda m: MAX_SAMPLES / m.sample_rate_Hz,
+            f"{MAX_SAMPLES:g} / sample_rate_Hz (at most {MAX_SAMPLES:g} samples)",
+        ),
+    )
+
     E0_kPa: float = Field(
         7.01,
         gt=0,
@@ -99,8 +119,6 @@ class CreepInputs(CaseInputs):
             raise ValueError("prony_g and prony_tau_s of equal length")
         if sum(self.prony_g) >= 1:
             raise ValueError(f"prony_g summing below 1 (a solid; the sum is {sum(self.prony_g):g})")
-        if self.hold_s * self.sample_rate_Hz > 1e6:
-            raise ValueError("hold_s x sample_rate_Hz at most 1e6 samples")
         return self
 
 

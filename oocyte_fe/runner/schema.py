@@ -9,8 +9,8 @@ rule below holds for every kind, a new one included, without a line of its own:
 * every float, also inside lists, tuples and tables, is finite (``inf``, ``nan``, ``1e400``
   refused) and of magnitude at most :data:`MAX_ABS` unless the field sets its own bound with
   ``json_schema_extra={"max_abs": ...}`` (``1e308`` would overflow the first product);
-* a float whose field declares a unit of :data:`UNIT_BOUNDS` (kPa, um, s, nN, nN/um, Pa s,
-  Pa, hPa), list elements included, is 0 or of a magnitude within the physical bounds of its
+* a float whose field declares a unit of :data:`UNIT_BOUNDS` (kPa, um, s, nN, nN/um, N/m,
+  Pa s, Pa, hPa), list elements included, is 0 or of a magnitude within the physical bounds of its
   quantity (:data:`oocyte_fe.checks.QUANTITIES`): a modulus of ``1e-320`` kPa is refused with
   the bound named, not divided by later;
 * cross-field rules are declared on the model (``rules = (Relation(...), Refining(...),
@@ -75,13 +75,15 @@ UNIT_BOUNDS: dict[str, tuple[float, float]] = {
         ("s", "time_s", 1.0),
         ("nN", "force_nN", 1.0),
         ("nN/um", "stiffness_nN_per_um", 1.0),
+        ("N/m", "stiffness_nN_per_um", 1e-3),
         ("Pa s", "viscosity_kPa_s", 1e3),
         ("Pa", "pressure_kPa", 1e3),
         ("hPa", "pressure_kPa", 10.0),
     )
 }
 """Unit of a case input -> (smallest, largest) non-zero magnitude, from the physical bounds of
-:data:`oocyte_fe.checks.QUANTITIES` (converted: 1 kPa s = 1e3 Pa s, 1 kPa = 10 hPa)."""
+:data:`oocyte_fe.checks.QUANTITIES` (converted: 1 kPa s = 1e3 Pa s, 1 kPa = 10 hPa, 1 N/m =
+1e3 nN/um, so a spring constant lies in [1e-12, 1e9] N/m)."""
 
 
 def _first_outside(value: Any, low: float, high: float) -> float | None:

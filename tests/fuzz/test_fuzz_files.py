@@ -153,6 +153,76 @@ def test_data_file_contents(bases: dict, data: st.DataObject) -> None:  # noqa: 
         target.write_bytes(original)
 
 
+TIME_FAULTS = ["time back", "time repeated", "time nan", "hold shrinks"]
+"""Issue 26, class 5, in the case's own tables: a time cell set below or equal to the one above
+it or to NaN, or the hold's height/indentation column reversed (it shrinks under the clamp)."""
+
+
+def _timed_tables(bases: dict) -> list[tuple[str, tuple[str, ...]]]:  # noqa: F811
+    """(kind, data field) of every data table with a ``time_s`` column (a creep record)."""
+    found = []
+    for kind in _with_data(bases):
+        folder, raw = bases[kind]
+        for field in _data_fields(kind):
+            value = raw["inputs"]
+            for key in field:
+                value = value.get(key, {}) if isinstance(value, dict) else {}
+            if isinstance(value, str) and (folder / value).suffix == ".csv":
+                header = [n for n in (folder / value).read_text().splitlines() if n[:1] != "#"][0]
+                if "time_s" in header.split(","):
+                    found.append((kind, field))
+    return found
+
+
+def test_creep_tables_are_found(bases: dict) -> None:  # noqa: F811
+    assert ("nmsd_vs_fe", ("creep_data",)) in _timed_tables(bases)
+
+
+@fuzz_settings(ci_examples=40, full_examples=1000)
+@given(data=st.data())
+def test_time_columns_and_holds(bases: dict, data: st.DataObject) -> None:  # noqa: F811
+    """Every fault of :data:`TIME_FAULTS` is refused naming the file, the column and, for the
+    time, the data row: never read silently."""
+    kind, field = data.draw(st.sampled_from(_timed_tables(bases)), label="table")
+    folder, raw = bases[kind]
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    name = raw["inputs"]
+    for key in field:
+        name = name[key]
+    target = folder / name
+    original = target.read_bytes()
+    lines = original.decode().splitlines()
+    at = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    header, rows = lines[at].split(","), [line.split(",") for line in lines[at + 1 :]]
+    fault = data.draw(st.sampled_from(TIME_FAULTS), label="fault")
+    if fault == "hold shrinks":
+        column = next(c for c in ("indentation_um", "height_um") if c in header)
+        j = header.index(column)
+        values = [r[j] for r in rows][::-1]
+        for r, v in zip(rows, values, strict=True):
+            r[j] = v
+        expected = "indentation_um: expected an indentation that does not shrink"
+    else:
+        row = data.draw(st.integers(1, len(rows) - 1), label="data row (0-based)")
+        j = header.index("time_s")
+        before = float(rows[row - 1][j])
+        back = data.draw(st.floats(0.0, 1e3), label="step back") if fault == "time back" else 0
+        rows[row][j] = "nan" if fault == "time nan" else repr(before - back)
+        what = "finite numbers" if fault == "time nan" else "values increasing row by row"
+        expected = f"time_s: expected {what} (data row {row + 1}"
+    lines[at + 1 :] = [",".join(r) for r in rows]
+    target.write_text("\n".join(lines) + "\n")
+    try:
+        case = check_outcome(f"time columns and holds ({kind})", lambda: load_case(folder))
+        assert case is None, f"silent acceptance: {fault} in {target.name}"
+        with pytest.raises(InputError) as info:
+            load_case(folder)
+        message = str(info.value)
+        assert message.startswith(str(target)) and expected in message, message
+    finally:
+        target.write_bytes(original)
+
+
 @fuzz_settings(ci_examples=60, full_examples=1000)
 @given(content=CONTENTS)
 def test_case_toml_bytes(bases: dict, content: bytes) -> None:  # noqa: F811
