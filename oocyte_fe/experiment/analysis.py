@@ -26,12 +26,7 @@ from afm import get_model
 from oocyte_fe.experiment import tools as tl
 from oocyte_fe.experiment.description import Cone, Plate, Sphere, StraightPipette
 from oocyte_fe.experiment.driver import ExperimentResult
-from oocyte_fe.verification import (
-    THERET_PHI,
-    hertz_force_nN,
-    sneddon_cone_force_nN,
-    theret_length_um,
-)
+from oocyte_fe.verification import THERET_PHI, hertz_force_nN, theret_length_um
 
 SMALL_STRAIN = 0.25
 """Largest ``L / a`` used for the Theret slope."""
@@ -60,6 +55,28 @@ def _first(result: ExperimentResult, kind: type) -> str | None:
     return next((n for n, t in result.experiment.tools.items() if isinstance(t, kind)), None)
 
 
+def _model_of(result: ExperimentResult, name: str) -> tuple[str, dict[str, float]]:
+    """``afm``'s model key and tip geometry for a cone or sphere tool (sphere: radius R*)."""
+    tool, R = result.experiment.tools[name], result.experiment.cell.radius_um
+    if isinstance(tool, Cone):
+        return "sneddon_cone", {"half_angle_deg": tool.half_angle_deg}
+    return "hertz_sphere", {"radius_um": tool.radius_um * R / (tool.radius_um + R)}
+
+
+def closed_form_force_nN(result: ExperimentResult, name: str, depth: np.ndarray) -> np.ndarray:
+    """The closed form a tool's force is compared with, at advances ``depth`` [um], with the
+    outer layer's modulus: Sneddon's cone, Sneddon's exact sphere (radius R*), or Hertz for a
+    plate (a sphere of radius R on a flat); NaN for other tools."""
+    E, nu = outer_layer_modulus(result)
+    tool = result.experiment.tools[name]
+    if isinstance(tool, Cone | Sphere):
+        model, geometry = _model_of(result, name)
+        return E * get_model(model).shape(np.asarray(depth, dtype=float), geometry, nu)
+    if isinstance(tool, Plate):
+        return hertz_force_nN(E, nu, result.experiment.cell.radius_um, depth)
+    return np.full(np.shape(depth), np.nan)
+
+
 def theret_slope(result: ExperimentResult, name: str) -> float:
     """Least-squares slope of the aspiration change [um] against suction [kPa], L <= 0.25 a."""
     a = result.experiment.tools[name].inner_radius_um
@@ -82,27 +99,20 @@ def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
         out["theret_modulus_kPa"] = 3 * THERET_PHI * a / (2 * np.pi * s)
         if homogeneous:
             out["theret_phi"] = s / theret_length_um(1.0, a, E, 1.0)
-    R = result.experiment.cell.radius_um
-    for kind, model in ((Cone, "sneddon_cone"), (Sphere, "hertz_sphere")):
+    for kind, label in ((Cone, "cone"), (Sphere, "sphere")):
         name = _first(result, kind)
         if name is None:
             continue
-        tool = result.experiment.tools[name]
         d, F = depth_um(result, name), push_force_nN(result, name)
-        if isinstance(tool, Cone):
-            label, geometry = "cone", {"half_angle_deg": tool.half_angle_deg}
-            exact = sneddon_cone_force_nN(E, nu, tool.half_angle_deg, d[-1])
-        else:
-            label, geometry = "sphere", {"radius_um": tool.radius_um * R / (tool.radius_um + R)}
-            exact = E * get_model(model).shape(d[-1:], geometry, nu)[0]  # Sneddon's sphere
-        out[f"{label}_force_ratio"] = float(F[-1] / exact)
+        out[f"{label}_force_ratio"] = float(F[-1] / closed_form_force_nN(result, name, d[-1:])[0])
+        model, geometry = _model_of(result, name)
         shape = get_model(model).shape(d, geometry, nu)
         out[f"{label}_fit_modulus_kPa"] = float(np.sum(F * shape) / np.sum(shape**2))
     plate = _first(result, Plate)
     if plate is not None:
         d, F = depth_um(result, plate), push_force_nN(result, plate)
         k = int(np.argmax(d > 0))
-        out["plate_hertz_ratio"] = float(F[k] / hertz_force_nN(E, nu, R, d[k]))
+        out["plate_hertz_ratio"] = float(F[k] / closed_form_force_nN(result, plate, d[k]))
         out["plate_force_nN"] = float(F[-1])
     out["completed_fraction"] = float(result.times_s[-1] / result.experiment.time.duration_s)
     out["volume_change"] = float(np.max(np.abs(result.volume_change)))

@@ -16,7 +16,6 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from oocyte_fe.experiment import analysis as an
-from oocyte_fe.experiment.description import Cone, Plate, Sphere
 from oocyte_fe.experiment.driver import ExperimentResult
 from oocyte_fe.fe.contact import Contact
 from oocyte_fe.fe.obstacles import Circle
@@ -24,8 +23,6 @@ from oocyte_fe.io import write_history_csv
 from oocyte_fe.plotting import plot_section
 from oocyte_fe.verification import (
     THERET_PHI,
-    hertz_force_nN,
-    sneddon_cone_force_nN,
     theret_length_um,
 )
 
@@ -52,17 +49,12 @@ def write_history(result: ExperimentResult, output: Output) -> str:
     return "history.csv"
 
 
-def _closed_form(result: ExperimentResult, name: str, depth: np.ndarray) -> np.ndarray | None:
-    tool = result.experiment.tools[name]
-    E, nu = an.outer_layer_modulus(result)
-    R = result.experiment.cell.radius_um
-    if isinstance(tool, Cone):
-        return sneddon_cone_force_nN(E, nu, tool.half_angle_deg, depth)
-    if isinstance(tool, Sphere):
-        return hertz_force_nN(E, nu, tool.radius_um * R / (tool.radius_um + R), depth)
-    if isinstance(tool, Plate):
-        return hertz_force_nN(E, nu, R, depth)
-    return None
+def _save(fig: plt.Figure, output: Output, name: str) -> str:
+    """Lay out, write ``name`` (PNG, 120 dpi) and close ``fig``; the file's name."""
+    fig.tight_layout()
+    fig.savefig(output(name), dpi=120)
+    plt.close(fig)
+    return name
 
 
 def force_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
@@ -71,17 +63,16 @@ def force_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
     for name in result.force_nN:
         d = an.depth_um(result, name)
         ax.plot(d, an.push_force_nN(result, name), "o-", ms=3, label=f"{name} (FE)")
-        exact = _closed_form(result, name, d)
-        if exact is not None:
+        exact = an.closed_form_force_nN(result, name, d)
+        if np.isfinite(exact).any():
             ax.plot(d, exact, "--", label=f"{name}: closed form, E of the outer layer")
     ax.set_xlabel("advance beyond contact (um)")
     ax.set_ylabel("force on the tool (nN)")
     ax.legend(fontsize=7)
     ax.set_title(result.experiment.description[:60] or "force against advance", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(output("force_advance.png"), dpi=120)
-    plt.close(fig)
-    return "force_advance.png", "Force on each tool against its advance; dashed: closed form"
+    return _save(
+        fig, output, "force_advance.png"
+    ), "Force on each tool against its advance; dashed: closed form"
 
 
 def aspiration_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
@@ -97,10 +88,9 @@ def aspiration_figure(result: ExperimentResult, output: Output) -> tuple[str, st
     ax.set_xlabel("suction (Pa)")
     ax.set_ylabel("aspiration length change (um)")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(output("aspiration.png"), dpi=120)
-    plt.close(fig)
-    return "aspiration.png", "Aspirated length (apex) against suction; dashed: Theret et al. 1988"
+    return _save(
+        fig, output, "aspiration.png"
+    ), "Aspirated length (apex) against suction; dashed: Theret et al. 1988"
 
 
 def suction_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
@@ -111,10 +101,9 @@ def suction_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
     ax.set_xlabel("time (s)")
     ax.set_ylabel("suction (Pa)")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(output("suction.png"), dpi=120)
-    plt.close(fig)
-    return "suction.png", "Suction against time (a controlled suction: the one the path needs)"
+    return _save(
+        fig, output, "suction.png"
+    ), "Suction against time (a controlled suction: the one the path needs)"
 
 
 def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
@@ -125,10 +114,7 @@ def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
     ax.set_xlabel("time (s)")
     ax.set_ylabel("|u| (um)")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(output("tracks.png"), dpi=120)
-    plt.close(fig)
-    return "tracks.png", "Displacement of the material points"
+    return _save(fig, output, "tracks.png"), "Displacement of the material points"
 
 
 def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
