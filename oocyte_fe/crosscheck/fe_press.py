@@ -27,11 +27,11 @@ from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.cache import cached_arrays
+from oocyte_fe.experiment.description import inline_table
 from oocyte_fe.experiment.driver import cell_mesh
 from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.experiment.tools import obstacle
 from oocyte_fe.fe.fields import stress_fields
-from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip
 
 PIPETTE = "pipette"
@@ -124,14 +124,6 @@ def pipette_at(scenario: PressScenario, advance_um: float, length_um: float = 80
     )
 
 
-def _inline(material: Material) -> dict:
-    """A layer's material as the experiment description's inline table (same floats)."""
-    table: dict = {"E_kPa": material.E_kPa, "nu": material.nu}
-    if material.prony.g:
-        table["prony"] = {"g": list(material.prony.g), "tau_s": list(material.prony.tau_s)}
-    return table
-
-
 def press_experiment(
     scenario: PressScenario,
     materials: LayerMaterials,
@@ -159,8 +151,8 @@ def press_experiment(
                 "refine_depth_um": settings.refine_depth_um,
                 "refine_half_angle_deg": settings.refine_half_window_deg,
                 "materials": {
-                    "zona": _inline(materials.zona),
-                    "cytoplasm": _inline(materials.cytoplasm),
+                    "zona": inline_table(materials.zona),
+                    "cytoplasm": inline_table(materials.cytoplasm),
                 },
                 "points": {f"p{i}": [float(x), float(y)] for i, (x, y) in enumerate(points_um)},
             },

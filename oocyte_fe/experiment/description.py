@@ -82,6 +82,15 @@ def to_material(spec: LayerMaterial, name: str) -> Material:
     return read_material_file(spec)
 
 
+def inline_table(material: Material) -> dict:
+    """A FE material as the description's inline table (the same floats; the inverse of
+    :func:`to_material` for inline layers)."""
+    table: dict = {"E_kPa": material.E_kPa, "nu": material.nu}
+    if material.prony.g:
+        table["prony"] = {"g": list(material.prony.g), "tau_s": list(material.prony.tau_s)}
+    return table
+
+
 class Layers(CaseInputs):
     zona: LayerMaterial | None = Field(
         None, description="the ZP (needed if thicker than 0)", json_schema_extra=ZONA_MATERIAL

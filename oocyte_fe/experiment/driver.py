@@ -248,19 +248,21 @@ def run_experiment(
     v0 = problem.volume(problem.x)
     outer_vertices = np.unique(mesh.facets[:, mesh.boundaries["outer_surface"]])
 
+    contact_points = [np.asarray(fb.global_coordinates()) for _, fb in problem.contacts]
+
     def record(frame: Frame, notify: bool = True) -> None:
         u = body.displacement(frame.x)
         row: dict = {"t": frame.t, "volume": frame.volume / v0 - 1.0}
         current = mesh.p[:, outer_vertices] + body.vertex_displacement(frame.x)[:, outer_vertices]
         net = np.zeros(2)
-        for c, fb in problem.contacts:
+        for (c, fb), X in zip(problem.contacts, contact_points, strict=True):
             tool = exp.tools[c.name]
             force = np.asarray(frame.obstacle_forces[c.name], dtype=float)
             net += force
             row[("force", c.name)] = force
             path = getattr(tool, "displacement_um", None)
             row[("advance", c.name)] = 0.0 if path is None else path(frame.t)
-            xq = np.asarray(fb.global_coordinates()) + np.asarray(fb.interpolate(u))
+            xq = X + np.asarray(fb.interpolate(u))
             lateral = np.abs((tl.rotation(tool.side).T @ xq.reshape(2, -1))[0])
             loaded = frame.contact_pressure[c.name].ravel() > 0
             row[("radius", c.name)] = float(lateral[loaded].max()) if loaded.any() else 0.0

@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from oocyte_fe.checks import numeric_fields
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
+from oocyte_fe.experiment.description import inline_table
 from oocyte_fe.fe import contact as ct
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.material import Material
@@ -122,13 +123,6 @@ def _wall_split(problem: Problem, t: float) -> tuple[float, float, NDArray, NDAr
     return normal, friction, (X + uq)[1].ravel(), ev.pressure.ravel()
 
 
-def _inline(material: Material) -> dict:
-    table: dict = {"E_kPa": material.E_kPa, "nu": material.nu}
-    if material.prony.g:
-        table["prony"] = {"g": list(material.prony.g), "tau_s": list(material.prony.tau_s)}
-    return table
-
-
 def passage_experiment(
     materials: dict[str, Material],
     settings: PassageSettings,
@@ -147,7 +141,7 @@ def passage_experiment(
         "zona_thickness_um": zona_um,
         "mesh_size_um": s.size_um,
         "curved_edges": False,  # straight-edged P2, as the passage was verified
-        "materials": {name: _inline(m) for name, m in materials.items()},
+        "materials": {name: inline_table(m) for name, m in materials.items()},
     }
     if refine:
         cell |= {
