@@ -181,3 +181,26 @@ def test_results_are_cached_by_their_inputs(tmp_path: Path, monkeypatch):
     other = Experiment.model_validate({**_aspiration(), "mesh_scale": 1.0})  # another input
     changed, hit3 = cached_arrays(other, "test", solve)
     assert not hit3 and len(calls) == 2 and changed["force"][1] == 2.0
+
+
+@pytest.mark.parametrize(
+    ("change", "says"),
+    [
+        ({"type": "sphere", "radius_um": -5.0}, "tools.pipette.sphere.radius_um: expected a value"),
+        ({"type": "spere"}, "tools.pipette: expected a table with type = one of plate"),
+    ],
+)
+def test_a_tool_error_names_the_field_of_its_own_type(tmp_path: Path, change: dict, says: str):
+    inputs = copy.deepcopy(_aspiration())
+    inputs["tools"]["pipette"] = {"displacement_um": {"time_s": [0, 1], "value": [0, 1]}, **change}
+    _write_case(tmp_path, inputs)
+    with pytest.raises(InputError, match=says.replace(".", r"\.")):
+        load_case(tmp_path)
+
+
+def test_an_inline_material_error_names_the_inline_field(tmp_path: Path):
+    inputs = copy.deepcopy(_aspiration())
+    inputs["cell"]["materials"] = {"cytoplasm": {"E_kPa": 1e-320, "nu": 0.5}}
+    _write_case(tmp_path, inputs)
+    with pytest.raises(InputError, match=r"materials\.cytoplasm\.inline\.E_kPa: expected a value"):
+        load_case(tmp_path)

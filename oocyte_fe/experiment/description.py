@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import AfterValidator, Field, model_validator
+from pydantic import AfterValidator, Discriminator, Field, Tag, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.fe.material import Material, Prony, read_material_file
@@ -67,7 +67,19 @@ class InlineMaterial(CaseInputs):
     prony: PronyTerms | None = None
 
 
-LayerMaterial = MaterialFile | InlineMaterial
+def _material_form(value: object) -> str:
+    return "inline" if isinstance(value, dict | InlineMaterial) else "file"
+
+
+LayerMaterial = Annotated[
+    Annotated[MaterialFile, Tag("file")] | Annotated[InlineMaterial, Tag("inline")],
+    Discriminator(
+        _material_form,
+        custom_error_type="material",
+        custom_error_message="a material file name or an inline table {E_kPa, nu, prony}",
+    ),
+]
+"""A layer's material: told apart by its form, so that an error names the form given."""
 
 
 def to_material(spec: LayerMaterial, name: str) -> Material:
@@ -317,8 +329,37 @@ class NeckedPipette(ToolBase):
         return self
 
 
-Tool = Plate | Sphere | Cone | StraightPipette | NeckedPipette | WedgePipette | HoldingPipette
-"""A tool table, told apart by its ``type``."""
+TOOL_TYPES = {
+    "plate": Plate,
+    "sphere": Sphere,
+    "cone": Cone,
+    "straight_pipette": StraightPipette,
+    "necked_pipette": NeckedPipette,
+    "wedge_pipette": WedgePipette,
+    "holding_pipette": HoldingPipette,
+}
+
+
+def _tool_type(value: object) -> str | None:
+    kind = value.get("type") if isinstance(value, dict) else getattr(value, "type", None)
+    return kind if kind in TOOL_TYPES else None
+
+
+Tool = Annotated[
+    Annotated[Plate, Tag("plate")]
+    | Annotated[Sphere, Tag("sphere")]
+    | Annotated[Cone, Tag("cone")]
+    | Annotated[StraightPipette, Tag("straight_pipette")]
+    | Annotated[NeckedPipette, Tag("necked_pipette")]
+    | Annotated[WedgePipette, Tag("wedge_pipette")]
+    | Annotated[HoldingPipette, Tag("holding_pipette")],
+    Discriminator(
+        _tool_type,
+        custom_error_type="tool_type",
+        custom_error_message=f"a table with type = one of {', '.join(TOOL_TYPES)}",
+    ),
+]
+"""A tool table, told apart by its ``type`` (an error names the fields of that type only)."""
 
 
 class TimePath(CaseInputs):
