@@ -12,7 +12,11 @@ For the first tool of each type (the metrics of kind ``fe_experiment``):
   modulus that the same ``afm`` model fits to the FE curve (linear least squares in E over
   every frame in contact);
 * plates (each pressing by its advance ``d``): the force over Hertz (sphere on a rigid flat,
-  radius R) at the first frame, and the force at the last.
+  radius R) at the first frame, and the force at the last;
+* surface loads (a flow's traction, a pressure): the deformed section's aspect ratio ``b/a``
+  at the last frame, ``a`` and ``b`` the outline's extents along the principal axes of its
+  area moment (plane strain; axisymmetric: the equatorial diameter and the axial height,
+  ``a >= b``), and the deformation ``1 - b/a``.
 
 Forces are the compressive (approach-direction) component on the tool [nN], depths its advance
 beyond the clearance [um], pressures kPa.
@@ -87,6 +91,65 @@ def theret_slope(result: ExperimentResult, name: str) -> float:
     return float(np.sum(p[use] * L[use]) / np.sum(p[use] ** 2))
 
 
+def outline_extents_um(result: ExperimentResult, frame: int = -1) -> tuple[float, float]:
+    """(a, b) [um], a >= b: the deformed outline's extents along the principal axes of the
+    section's area moment (plane strain), or its equatorial diameter and axial height
+    (axisymmetric), at output ``frame``."""
+    body = result.problem.body
+    mesh = body.mesh
+    vertices = np.unique(mesh.facets[:, mesh.boundaries["outer_surface"]])
+    X = mesh.p[:, vertices]
+    x = X + body.vertex_displacement(result.frames[frame].x)[:, vertices]
+    if body.axisym:
+        extents = [2.0 * x[0].max(), x[1].max() - x[1].min()]
+    else:
+        x = x[:, np.argsort(np.arctan2(X[1], X[0]))]  # around the outline
+        xn, yn = np.roll(x[0], -1), np.roll(x[1], -1)
+        cross = x[0] * yn - xn * x[1]  # the polygon's area moments (shoelace)
+        area = cross.sum() / 2.0
+        c = np.array([((x[0] + xn) * cross).sum(), ((x[1] + yn) * cross).sum()]) / (6.0 * area)
+        d, dn = x - c[:, None], np.array([xn, yn]) - c[:, None]
+        cr = d[0] * dn[1] - dn[0] * d[1]
+        Ixx = ((d[1] ** 2 + d[1] * dn[1] + dn[1] ** 2) * cr).sum() / 12.0
+        Iyy = ((d[0] ** 2 + d[0] * dn[0] + dn[0] ** 2) * cr).sum() / 12.0
+        Ixy = ((d[0] * dn[1] + 2 * d[0] * d[1] + 2 * dn[0] * dn[1] + dn[0] * d[1]) * cr).sum() / 24
+        _, axes = np.linalg.eigh(np.array([[Iyy, Ixy], [Ixy, Ixx]]))
+        proj = axes.T @ d
+        extents = list(proj.max(axis=1) - proj.min(axis=1))
+    return max(extents), min(extents)
+
+
+def section_outline_um(result: ExperimentResult, frame: int = -1) -> np.ndarray:
+    """The deformed outline of the whole section (k, 2) [um] at output ``frame``, closed and
+    ordered around it, at the outer surface's quadrature points (axisymmetric: the meridional
+    half mirrored about the axis)."""
+    body = result.problem.body
+    fb = body.facet_basis("outer_surface")
+    X = np.asarray(fb.global_coordinates()).reshape(2, -1)
+    x = X + np.asarray(fb.interpolate(body.displacement(result.frames[frame].x))).reshape(2, -1)
+    x = x[:, np.argsort(np.arctan2(X[0], X[1]))]
+    if body.axisym:
+        x = np.concatenate([x, x[:, ::-1] * [[-1.0], [1.0]]], axis=1)
+    return x.T
+
+
+def contour_deformation(result: ExperimentResult, frame: int = -1) -> tuple[float, float]:
+    """(deformation, area [um^2]) of the section's outline, as real-time deformability
+    cytometry defines them: ``d = 1 - 2 sqrt(pi A) / P`` (1 - circularity; ``A`` the area and
+    ``P`` the perimeter of the outline polygon). The polygon's own defect (the same formula on
+    the undeformed outline, O(1 / n^2) for n points) is subtracted."""
+
+    def shape(x: np.ndarray) -> tuple[float, float]:
+        xn = np.roll(x, -1, axis=0)
+        area = 0.5 * abs(np.sum(x[:, 0] * xn[:, 1] - xn[:, 0] * x[:, 1]))
+        perimeter = float(np.sum(np.hypot(*(xn - x).T)))
+        return 1.0 - 2.0 * np.sqrt(np.pi * area) / perimeter, area
+
+    d, area = shape(section_outline_um(result, frame))
+    d0, _ = shape(section_outline_um(result, 0))
+    return d - d0, area
+
+
 def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
     """The metrics of the module docstring for the tools present."""
     out: dict[str, float] = {}
@@ -114,6 +177,10 @@ def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
         k = int(np.argmax(d > 0))
         out["plate_hertz_ratio"] = float(F[k] / closed_form_force_nN(result, plate, d[k]))
         out["plate_force_nN"] = float(F[-1])
+    if result.experiment.loads:
+        a, b = outline_extents_um(result)
+        out["aspect_ratio"] = b / a
+        out["deformation"] = 1.0 - b / a
     out["completed_fraction"] = float(result.times_s[-1] / result.experiment.time.duration_s)
     out["volume_change"] = float(np.max(np.abs(result.volume_change)))
     return out

@@ -23,6 +23,8 @@ import numpy as np
 from pydantic import AfterValidator, Discriminator, Field, Tag, model_validator
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.loads import Load, TractionLoad, read_traction_table
+from oocyte_fe.experiment.paths import PathSpec
 from oocyte_fe.fe.material import Material, Prony, read_material_file
 from oocyte_fe.kinds.data_templates import ZONA_MATERIAL
 from oocyte_fe.runner.schema import CaseInputs, DataFile
@@ -194,25 +196,6 @@ class Cell(CaseInputs):
             if np.hypot(x, y) > r * (1 + 1e-9) or (self.symmetry == "axisymmetric" and x < 0):
                 raise ValueError(f"point {name!r} = ({x:g}, {y:g}) inside the cell (radius {r:g})")
         return self
-
-
-class PathSpec(CaseInputs):
-    """A piecewise-linear history ``value(time_s)``, held after its last time."""
-
-    time_s: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(min_length=2)
-    value: list[Annotated[float, Field(ge=-1e6, le=1e6)]] = Field(min_length=2)
-
-    @model_validator(mode="after")
-    def _increasing(self) -> PathSpec:
-        if len(self.time_s) != len(self.value):
-            raise ValueError("as many values as times")
-        t = self.time_s
-        if t[0] != 0 or any(b <= a for a, b in zip(t, t[1:], strict=False)):
-            raise ValueError("times increasing from 0")
-        return self
-
-    def __call__(self, t: float) -> float:
-        return float(np.interp(t, self.time_s, self.value))
 
 
 class ToolBase(CaseInputs):
@@ -418,7 +401,15 @@ class Experiment(CaseInputs):
 
     description: str = Field("", max_length=2000, description="what the experiment is")
     cell: Cell = Field(description="the cell: size, layers, materials, mesh, points")
-    tools: dict[str, Tool] = Field(min_length=1, description="the rigid tools, by name")
+    tools: dict[str, Tool] = Field(default_factory=dict, description="the rigid tools, by name")
+    loads: dict[str, Load] = Field(
+        default_factory=dict, description="pressures and traction tables on the outer surface"
+    )
+    support: Literal["tools", "inertia_relief"] = Field(
+        "tools",
+        description="tools: holding pipettes, seals or opposed tools hold the cell; "
+        "inertia_relief: a free cell balanced by its rigid-body acceleration (loads only)",
+    )
     time: TimePath = Field(description="the time path")
     record: Record = Field(Record(), description="what to record beyond the histories")
     mesh_scale: float = Field(
@@ -433,6 +424,20 @@ class Experiment(CaseInputs):
     def _relations(self) -> Experiment:
         r = self.cell.radius_um
         axisym = self.cell.symmetry == "axisymmetric"
+        if not self.tools and not self.loads:
+            raise ValueError("tools or loads: at least one tool or load")
+        if set(self.tools) & set(self.loads):
+            raise ValueError("tools and loads: distinct names")
+        for name, load in self.loads.items():
+            if isinstance(load, TractionLoad):
+                try:
+                    read_traction_table(load.table, r, axisym)
+                except InputError as exc:
+                    raise ValueError(f"loads.{name}.table: {exc}") from None
+        if self.support == "inertia_relief":
+            if self.tools or not self.loads:
+                raise ValueError("support 'inertia_relief': a free cell with loads, no tools")
+            return self._sections()
         for name, tool in self.tools.items():
             where = f"tools.{name}"
             if axisym and tool.side not in ("top", "bottom"):
@@ -474,8 +479,11 @@ class Experiment(CaseInputs):
                 raise ValueError(
                     "tools: a holding_pipette, a pipette with seal 'fixed', or (axisymmetric) "
                     "tools on top and bottom that press the cell throughout: the cell needs "
-                    "support"
+                    "support (a free cell under loads only: support = 'inertia_relief')"
                 )
+        return self._sections()
+
+    def _sections(self) -> Experiment:
         for t in self.record.sections_at_s:
             if t > self.time.duration_s:
                 raise ValueError(f"record.sections_at_s within the duration ({t:g} s)")

@@ -36,11 +36,17 @@ from oocyte_fe.experiment.description import (
     StraightPipette,
     to_material,
 )
+from oocyte_fe.experiment.surface_loads import inertia_relief, rigid_pins, surface_loads
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact, ContactLaw
 from oocyte_fe.fe.fields import point_probes
-from oocyte_fe.fe.loads import FollowerPressure, Prescribed, ReactionControl
-from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog
+from oocyte_fe.fe.loads import (
+    FollowerPressure,
+    Prescribed,
+    ReactionControl,
+)
+from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog, dead_load_vector
+from oocyte_fe.fe.vectorized import FacetOperators
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
 from oocyte_fe.neck.suction import seal_mask
 
@@ -52,8 +58,10 @@ class ExperimentResult:
     ``force_nN[tool]`` (k, 2) is the force on the tool (global x, y components);
     ``advance_um[tool]`` (k,) its advance towards the cell; ``contact_radius_um[tool]`` (k,);
     ``suction_kPa``, ``aspiration_um`` (apex above the mouth plane) and
-    ``aspiration_change_um`` (since t = 0) per pipette with suction; ``tracks_um[point]``
-    (k, 2) displacement of each material point; ``hold_reaction_nN`` (k, 2).
+    ``aspiration_change_um`` (since t = 0) per pipette with suction; ``load_force_nN[load]``
+    (k, 2) the resultant of each surface load on the cell; ``tracks_um[point]`` (k, 2)
+    displacement of each material point; ``hold_reaction_nN`` (k, 2) the reaction of the
+    holds (of the pins of a free cell: the loads' imbalance left after inertia relief).
     """
 
     experiment: Experiment
@@ -65,6 +73,7 @@ class ExperimentResult:
     aspiration_um: dict[str, NDArray]
     aspiration_change_um: dict[str, NDArray]
     tracks_um: dict[str, NDArray]
+    load_force_nN: dict[str, NDArray]
     hold_reaction_nN: NDArray
     volume_change: NDArray
     frames: tuple[Frame, ...]
@@ -162,6 +171,8 @@ def _supports(exp: Experiment, mesh: skfem.Mesh) -> list[Prescribed]:
             raise SolverError(f"tools.{name}: no surface facet under the pipette's end face")
         tool = exp.tools[name]
         fixed.append(Prescribed(f"seal:{name}", 0 if tool.side in ("left", "right") else 1))
+    if exp.support == "inertia_relief":
+        fixed += rigid_pins(mesh, axisym)
     # without holds or seals the tools on top and bottom hold the cell by their contacts
     # (validated); a point pin at the centre would be a point force in 3-D, singular as soon
     # as the mesh's asymmetry loads it (it inverted elements at 1 % compression)
@@ -242,13 +253,33 @@ def run_experiment(
             if tool.suction_control is not None:
                 ctl = tool.suction_control
                 control = ReactionControl(name, f"hold:{ctl.tool}", 1, ctl.target_nN)
-    problem = Problem(body, _supports(exp, mesh), pressures, contacts, log=log, control=control)
+    load_pressures, tractions = surface_loads(exp)
+    dead: list = list(tractions)
+    if exp.support == "inertia_relief":
+        vectors = [(t.name, dead_load_vector(body, t), t.scale) for t in tractions]
+        ops = FacetOperators.of(body.facet_basis("outer_surface"))
+        for pl in load_pressures:
+            pn = np.ones(ops.dS.shape) if pl.where is None else pl.where(ops.X).astype(float)
+            f = ops.pressure_force(np.zeros(body.n_u), pn, axisym)
+            vectors.append((pl.name, f, pl.pressure))
+        dead += inertia_relief(body, vectors)
+    problem = Problem(
+        body,
+        _supports(exp, mesh),
+        pressures + load_pressures,
+        contacts,
+        log=log,
+        control=control,
+        dead_loads=dead,
+    )
     probes = point_probes(body, np.array(list(cell.points.values()))) if cell.points else None
     rows: list[dict] = []
     v0 = problem.volume(problem.x)
     outer_vertices = np.unique(mesh.facets[:, mesh.boundaries["outer_surface"]])
 
     contact_points = [np.asarray(fb.global_coordinates()) for _, fb in problem.contacts]
+    split = body.ubasis.split_indices()
+    ring = np.array([0.0, 1.0]) if axisym else np.ones(2)  # axisymmetric: x sums are not forces
 
     def record(frame: Frame, notify: bool = True) -> None:
         u = body.displacement(frame.x)
@@ -267,17 +298,27 @@ def run_experiment(
             loaded = frame.contact_pressure[c.name].ravel() > 0
             row[("radius", c.name)] = float(lateral[loaded].max()) if loaded.any() else 0.0
         for k, (pl, _) in enumerate(problem.pressures):
+            if pl.name in exp.loads:  # a surface load: its pull on the cell
+                force = pl.pressure(frame.t) * problem.unit_load(k, frame.x)
+                row[("load", pl.name)] = np.array([np.sum(force[d]) for d in split]) * ring
+                net -= row[("load", pl.name)]
+                continue
             tool = pipettes[pl.name]
             controlled = problem.control is not None and problem.control.load == pl.name
             p = -problem.control_value if controlled else -pl.pressure(frame.t)
             suction = -p * problem.unit_load(k, frame.x)
-            net -= [np.sum(suction[dofs]) for dofs in body.ubasis.split_indices()]
+            net -= [np.sum(suction[dofs]) for dofs in split]
             row[("suction", pl.name)] = p
             if isinstance(tool, StraightPipette):
                 local = tl.rotation(tool.side).T @ current
                 inside = np.abs(local[0]) < tool.inner_radius_um
                 apex = float(local[1][inside].max()) if inside.any() else np.nan
                 row[("aspiration", pl.name)] = apex - tl.mouth_height(tool, R)
+        for load, _ in problem.dead_loads:
+            force = problem.dead_load_force(load.name, frame.t)
+            if load.name in exp.loads:
+                row[("load", load.name)] = force
+            net -= force
         # the cell's balance: forces on tools + on holds = pull of the suction on the cell
         row["hold"] = -net * ([0.0, 1.0] if axisym else [1.0, 1.0])  # axisym: z is net
         if probes is not None:
@@ -328,6 +369,7 @@ def _result(exp, rows, frames, steps, problem, success, reason, tic) -> Experime
         aspiration_um=aspiration,
         aspiration_change_um={n: a - a[0] for n, a in aspiration.items()},
         tracks_um=tracks,
+        load_force_nN=series("load"),
         hold_reaction_nN=np.array([r["hold"] for r in rows]),
         volume_change=np.array([r["volume"] for r in rows]),
         frames=tuple(frames),

@@ -125,16 +125,33 @@ def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
         f"{exp.cell.zona_thickness_um:g} um; {result.n_dofs} unknowns; "
         f"{len(result.steps)} steps, {result.newton_iterations} Newton iterations, "
         f"{result.cutbacks} cutbacks; {result.seconds:.1f} s.",
-        "",
-        "| tool | type | final advance (um) | final force (nN) | contact radius (um) |",
-        "|---|---|---|---|---|",
     ]
+    if exp.tools:
+        lines += [
+            "",
+            "| tool | type | final advance (um) | final force (nN) | contact radius (um) |",
+            "|---|---|---|---|---|",
+        ]
     for name in result.force_nN:
         lines.append(
             f"| {name} | {exp.tools[name].type} | {result.advance_um[name][-1]:.4g} | "
             f"{an.push_force_nN(result, name)[-1]:.4g} | "
             f"{result.contact_radius_um[name][-1]:.4g} |"
         )
+    if exp.loads:
+        lines += ["", "| load | type | final resultant on the cell (nN) |", "|---|---|---|"]
+        lines += [
+            f"| {name} | {exp.loads[name].type} | ({f[-1, 0]:.4g}, {f[-1, 1]:.4g}) |"
+            for name, f in result.load_force_nN.items()
+        ]
+        if exp.support == "inertia_relief":
+            lines += [
+                "",
+                "A free cell: the loads' resultant and moment are balanced by the body force of "
+                "its rigid-body acceleration (inertia relief); the pins' reaction, "
+                f"({result.hold_reaction_nN[-1, 0]:.3g}, {result.hold_reaction_nN[-1, 1]:.3g}) "
+                "nN, is what that balance leaves.",
+            ]
     if not result.success:
         lines += ["", f"**Ended early** at t = {result.times_s[-1]:.4g} s: {result.reason}"]
     lines += ["", "| metric | value |", "|---|---|"]

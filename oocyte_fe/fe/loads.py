@@ -78,3 +78,31 @@ class ReactionControl:
     boundary: str
     component: int
     target_nN: float = 0.0
+
+
+@dataclass(frozen=True)
+class SurfaceTraction:
+    """A dead traction ``scale(t) T(X)`` [kPa] on ``boundary``, per reference area.
+
+    ``traction`` maps reference points (2, ...) [um] to nominal tractions (2, ...) [kPa]; the
+    load does not follow the deformation (the one-way reading of a flow's traction on the
+    undeformed cell), so it adds no stiffness. Per reference arc length ``dS``::
+
+        f_i = scale(t) T(X) . v_i A dS,   A = 2 pi R (axisymmetric) or 1 (plane strain)
+    """
+
+    boundary: str
+    traction: Callable[[NDArray], NDArray]
+    scale: Callable[[float], float]
+    name: str = "traction"
+
+
+@dataclass(frozen=True)
+class BodyForce:
+    """A dead body force ``scale(t) b(X)`` [nN/um^3] per reference volume:
+    ``f_i = scale(t) int b(X) . v_i dV`` (``dV = 2 pi R dA`` axisymmetric, ``dA`` plane strain);
+    e.g. the inertia relief of a free cell, ``b = -rho a`` of its rigid-body acceleration."""
+
+    force: Callable[[NDArray], NDArray]
+    scale: Callable[[float], float]
+    name: str = "body force"

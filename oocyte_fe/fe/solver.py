@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from skfem import asm, condense
+from skfem import LinearForm, asm, condense
 
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.fe import contact as ct
@@ -38,10 +38,12 @@ from oocyte_fe.fe.forms import (
 from oocyte_fe.fe.kinematics import Kinematics
 from oocyte_fe.fe.linear import SparseLU
 from oocyte_fe.fe.loads import (
+    BodyForce,
     FollowerPressure,
     PinnedPoint,
     Prescribed,
     ReactionControl,
+    SurfaceTraction,
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
 from oocyte_fe.fe.vectorized import FacetOperators, RegionOperators
@@ -114,6 +116,24 @@ class _StepFailed(Exception):
         self.cause, self.residual = cause, residual
 
 
+def dead_load_vector(body: Body, load: SurfaceTraction | BodyForce) -> NDArray:
+    """The force vector [nN] of a dead load on ``body`` at ``scale = 1``."""
+    axisym = bool(body.axisym)
+    if isinstance(load, SurfaceTraction):
+        ops = FacetOperators.of(body.facet_basis(load.boundary))
+        T = np.asarray(load.traction(ops.X), dtype=float)
+        if T.shape != ops.X.shape or not np.all(np.isfinite(T)):
+            raise InputError(load.name, "traction", "finite tractions (2, ...) at every point")
+        return ops.dead_traction_force(T, axisym)
+
+    def form(v, w):
+        b = load.force(np.asarray(w.x))
+        measure = 2.0 * np.pi * w.x[0] if axisym else 1.0
+        return (b[0] * v[0] + b[1] * v[1]) * measure
+
+    return asm(LinearForm(form), body.ubasis)
+
+
 class Problem:
     """A body with its boundary conditions, pressures and contacts; ``solve`` runs the steps."""
 
@@ -125,6 +145,7 @@ class Problem:
         contacts: Sequence[ct.Contact] = (),
         log: logging.Logger | None = None,
         control: ReactionControl | None = None,
+        dead_loads: Sequence[SurfaceTraction | BodyForce] = (),
     ) -> None:
         self.body = body
         self.prescribed = list(prescribed)
@@ -178,6 +199,7 @@ class Problem:
             (np.asarray(r.ubasis.global_coordinates())[0], r.ubasis.dx) for r in body.regions
         ]
         self._pressure_ops = [FacetOperators.of(fb) for _, fb in self.pressures]
+        self.dead_loads = [(load, dead_load_vector(body, load)) for load in dead_loads]
         self._contact_ops = [FacetOperators.of(fb) for _, fb in self.contacts]
         self._ops = [
             RegionOperators.of(r.ubasis, r.pbasis, bool(body.axisym)) for r in body.regions
@@ -202,6 +224,16 @@ class Problem:
             self.contact_states.append(ct.ContactState(np.zeros_like(X), np.zeros(gap.shape), 0.0))
 
     # --- assembly ----------------------------------------------------------------------------
+
+    def dead_load_force(self, name: str, t: float) -> NDArray:
+        """Resultant (x, y) [nN] of the dead load ``name`` on the body at time ``t``
+        (axisymmetric: the ring sum, x is 0 by symmetry)."""
+        for load, vec in self.dead_loads:
+            if load.name == name:
+                split = self.body.ubasis.split_indices()
+                total = np.array([vec[d].sum() for d in split])
+                return load.scale(t) * total * ([0.0, 1.0] if self.body.axisym else 1.0)
+        raise KeyError(name)
 
     def _mask(self, k: int, x: NDArray) -> NDArray | None:
         """``where`` of pressure load ``k`` at its quadrature points in the configuration ``x``."""
@@ -280,6 +312,8 @@ class Problem:
             fc, Kc = ops.contact(self._contact_eval(k, x, t), bool(a))
             f_ext += fc
             blocks_uu.append(Kc)
+        for load, vec in self.dead_loads:
+            f_ext += load.scale(t) * vec
         r[: body.n_u] -= f_ext
         Kuu = sum(blocks_uu[1:], blocks_uu[0]).tocoo()
         rows.append(Kuu.row)

@@ -153,6 +153,12 @@ class FacetOperators:
         Ke = np.einsum("icfq,jcfq->ijf", self.phi, T * (pn * self.dS))
         return f, self._matrix(Ke)
 
+    def dead_traction_force(self, T: NDArray, axisym: bool) -> NDArray:
+        """External force [nN] of the nominal traction ``T`` (2, nf, nq) [kPa], per reference
+        area (a dead load: no stiffness)."""
+        A = 2.0 * np.pi * self.X[0] if axisym else np.ones_like(self.dS)
+        return self._vector(T * A)
+
     def contact(self, ev, axisym: bool) -> tuple[NDArray, sp.coo_matrix]:
         """Contact tractions ``ev`` (:class:`~oocyte_fe.fe.contact.ContactEval`) as an external
         force vector and its stiffness ``-d f / d u``."""

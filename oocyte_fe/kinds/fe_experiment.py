@@ -24,6 +24,8 @@ METRICS = {
     "sphere_fit_modulus_kPa": "modulus of afm's hertz_sphere (effective radius) fitted",
     "plate_hertz_ratio": "plate force / Hertz (sphere on a flat) at the first frame",
     "plate_force_nN": "force on the first plate at the last frame",
+    "aspect_ratio": "b/a of the deformed section under surface loads (principal extents)",
+    "deformation": "1 - b/a of the deformed section under surface loads",
     "completed_fraction": "time reached / duration (1: the whole path solved)",
     "volume_change": "largest relative volume change",
 }
