@@ -133,3 +133,17 @@ def plot_duct_velocity(flow: DuctFlow, file: Path, title: str) -> Path:
     plotter.screenshot(str(file))
     plotter.close()
     return file
+
+
+def plot_rtdc_moduli(rows: Sequence[tuple[float, float, float, float]], file: Path) -> Path:
+    """RT-DC's table against the one-way FE: E_table / E against the deformation, one line per
+    cell radius. ``rows``: (radius um, E kPa, deformation, E_table kPa)."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for a in sorted({r[0] for r in rows}):
+        pts = sorted((d, lut / E) for aa, E, d, lut in rows if aa == a and np.isfinite(lut))
+        if pts:
+            ax.semilogx(*zip(*pts, strict=True), "o-", label=f"a = {a:g} um")
+    ax.axhline(1.0, color="k", lw=0.8)
+    ax.set_xlabel("deformation 1 - circularity")
+    ax.set_ylabel("E from LE-2D-FEM-19 / E put in")
+    return _finish(fig, ax, file, which="both")
