@@ -65,7 +65,9 @@ class CreepInputs(CaseInputs):
         json_schema_extra={"unit": "s"},
     )
     half_angle_deg: float = Field(
-        10.0, gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}
+        10.0,
+        description="cone half angle, in [0.1, 89] deg",
+        json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
     )
     clamp_force_nN: float = Field(
         5.0, gt=0, description="force held during the creep", json_schema_extra={"unit": "nN"}

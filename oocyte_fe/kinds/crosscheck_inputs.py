@@ -83,10 +83,8 @@ class CrosscheckInputs(CaseInputs):
     )
     afm_half_angle_deg: float = Field(
         10.0,
-        gt=0,
-        lt=90,
-        description="AFM cone half angle of the creep record",
-        json_schema_extra={"unit": "deg"},
+        description="AFM cone half angle of the creep record, in [0.1, 89] deg",
+        json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
     )
     thickness_um: float = Field(
         115.625,
