@@ -236,6 +236,19 @@ def plot_histogram(
     return _save(fig, path)
 
 
+MARKERS = 3000
+"""Most data points a log-time plot draws (a 1e6-sample record took 2 s to draw)."""
+
+
+def _log_spaced_rows(t: np.ndarray, most: int) -> np.ndarray:
+    """Row indices of ``t`` (ascending, t[0] >= 0) at most ``most`` of them, evenly spread in
+    log time (all rows when there are fewer)."""
+    if t.size <= most:
+        return np.arange(t.size)
+    targets = np.logspace(np.log10(max(t[1], 1e-12)), np.log10(t[-1]), most - 1)
+    return np.unique(np.concatenate([[0], np.searchsorted(t, targets).clip(0, t.size - 1)]))
+
+
 def plot_creep(
     fit: CreepFit, path: str | Path, truth: Callable[[np.ndarray], np.ndarray] | None = None
 ) -> Path:
@@ -243,7 +256,15 @@ def plot_creep(
     t = fit.time_s
     tt = np.logspace(np.log10(max(t[1], 1e-4)), np.log10(t[-1]), 200)
     fig, (ax_j, ax_g) = plt.subplots(1, 2, figsize=(10, 4))
-    ax_j.plot(t, fit.compliance_per_kPa, ".", ms=2, alpha=0.4, label="Lee-Radok J(t) from data")
+    shown = _log_spaced_rows(t, MARKERS)
+    ax_j.plot(
+        t[shown],
+        fit.compliance_per_kPa[shown],
+        ".",
+        ms=2,
+        alpha=0.4,
+        label="Lee-Radok J(t) from data",
+    )
     ax_j.plot(tt, fit.creep(tt), "-", label=f"creep Prony ({len(fit.creep.lambda_s)} terms)")
     ax_j.set(xscale="log", xlabel="t [s]", ylabel="J(t) [1/kPa]", title="shear creep compliance")
     ax_j.legend(fontsize=7)
