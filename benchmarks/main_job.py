@@ -58,10 +58,12 @@ def main() -> None:
         wall = time.perf_counter() - tic
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-        cases = {}
+        cases, failed = {}, {}
         for found in Path(out).glob("*/result.json"):
             data = json.loads(found.read_text())
             cases[data["name"]] = (float(data.get("cpu_seconds", 0.0)), float(data["seconds"]))
+            if data["status"] not in ("PASS", "MISS", "SKIPPED"):
+                failed[data["name"]] = f"{data['status']}: {data['reason']}"
         shutil.rmtree(out, ignore_errors=True)
     print(f"exit code {done.returncode}; -j {args.j}; {len(cases)} cases")
     print(f"wall {wall:7.1f} s   goal {GOAL_WALL_S:.0f} s   ratio {wall / GOAL_WALL_S:.2f}")
@@ -71,10 +73,13 @@ def main() -> None:
         print(f"  {name:34s} {case_cpu:7.1f} {seconds:7.1f}")
     overhead = cpu - sum(c for c, _ in cases.values())
     print(f"  {'overhead (start-up, imports)':34s} {overhead:7.1f}")
+    for name, why in sorted(failed.items()):
+        print(f"  not ok: {name}: {why}")
     if args.save:
         record = {"wall_s": wall, "cpu_s": cpu, "cases": cases, "overhead_cpu_s": overhead}
+        record["not_ok"] = failed
         args.save.write_text(json.dumps(record, indent=1))
-    if done.returncode:
+    if done.returncode and not failed:
         print(done.stdout[-2000:], done.stderr[-2000:])
 
 
