@@ -20,11 +20,19 @@ from afm.fit import IndentationFit
 from afm.viscoelastic import RampFit
 
 
-def _save(fig: plt.Figure, path: str | Path) -> Path:
-    fig.tight_layout()
+def _save(fig: plt.Figure, path: str | Path, tight: bool = True) -> Path:
+    """Save at 120 dpi and close; ``tight``: fit the layout to the labels first (a quarter of
+    a small figure's cost; a figure drawn many times sets its margins once instead)."""
+    if tight:
+        fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return Path(path)
+
+
+FIT_MARGINS = {"left": 0.065, "right": 0.98, "bottom": 0.145, "top": 0.91, "wspace": 0.2}
+"""Margins of :func:`plot_fit`'s two panels (10 x 4 in): ``tight_layout``'s for a curve with
+four-digit force ticks, a little wider on the left."""
 
 
 def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title: str = "") -> Path:
@@ -55,7 +63,8 @@ def plot_fit(fits: Sequence[tuple[str, IndentationFit]], path: str | Path, title
     ax_e.set(xlabel="indentation delta [um]", ylabel="E(delta) = F / shape(delta) [kPa]")
     ax_e.set_title("pointwise modulus (flat where the model holds)", fontsize=9)
     ax_e.legend(fontsize=7)
-    return _save(fig, path)
+    fig.subplots_adjust(**FIT_MARGINS)  # one per curve of a batch: fixed, not tight_layout
+    return _save(fig, path, tight=False)
 
 
 def plot_batch(result: BatchResult, folder: str | Path) -> list[Path]:
