@@ -45,9 +45,9 @@ from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
 from afm.models import POISSON_RATIO, get_model
 from afm.models.sneddon_cone import HALF_ANGLE
-from afm.prony_series import CreepProny, RelaxationProny, relaxation_from_creep
+from afm.prony_series import MAX_TIME_S, CreepProny, RelaxationProny, relaxation_from_creep
 from oocyte_fe.checks import float_array, integer, positive
-from oocyte_fe.errors import InputError
+from oocyte_fe.errors import InputError, SolverError
 
 MAX_RELATIVE_RMS = 0.1
 """Largest relative RMS residual of the J(t) fit accepted at all (above: refused)."""
@@ -175,18 +175,42 @@ def _merge(weights: np.ndarray, lambdas: np.ndarray) -> tuple[np.ndarray, np.nda
     return np.array(merged_w), np.array(merged_l)
 
 
+def fit_window(time_s: np.ndarray, where: str = "<input>") -> tuple[float, float]:
+    """The retardation-time grid of a record, [max(step, 1e-6 s), 3 T] (T its last time).
+
+    The fitted times may leave it by e^2 either side (:data:`BOUND_MARGIN`), so it must lie
+    within the Prony series' [MIN_TIME_S, MAX_TIME_S] by that margin and hold a decade:
+    refused (:class:`InputError` naming ``time_s``) otherwise, before a fit that could not
+    hold its own result (a record of 6e-9 s gave an empty interval, one of 3e9 s a time of
+    1.07e9 s).
+    """
+    t = np.asarray(time_s, dtype=float)
+    lo = max(float(np.min(np.diff(t))), 1e-6)
+    longest = MAX_TIME_S / (3.0 * math.exp(BOUND_MARGIN)) * (1 - 1e-9)  # exp/log round-off
+    shortest = 10.0 * lo / 3.0
+    if not shortest <= float(t[-1]) <= longest:
+        raise InputError(
+            where,
+            "time_s",
+            f"a record ending between {shortest:.3g} s (10 x max(sampling step, 1e-6 s) / 3) "
+            f"and {longest:.3g} s (fitted times within {MAX_TIME_S:g} s)",
+            got=f"{float(t[-1]):.6g} s",
+        )
+    return lo, 3.0 * float(t[-1])
+
+
 def fit_creep_prony(
     time_s: np.ndarray, compliance_per_kPa: np.ndarray, per_decade: int = 4
 ) -> tuple[CreepProny, float]:
     """Fit J(t) = J0 + sum J_i (1 - exp(-t/lambda_i)) with J0, J_i >= 0 (module docstring).
 
     Residuals are relative (divided by J), so short and long times weigh alike. Returns the
-    series and the relative RMS residual.
+    series and the relative RMS residual. The record's times must allow a fit window
+    (:func:`fit_window`).
     """
     t = np.asarray(time_s, dtype=float)
     j = np.asarray(compliance_per_kPa, dtype=float)
-    step = float(np.min(np.diff(t)))
-    lo, hi = max(step, 1e-6), 3.0 * float(t[-1])
+    lo, hi = fit_window(t)
     n_grid = max(int(round(per_decade * math.log10(hi / lo))) + 1, 2)
     grid = np.logspace(math.log10(lo), math.log10(hi), n_grid)
     weight = 1.0 / j
@@ -280,6 +304,21 @@ def undetermined_terms(creep: CreepProny, time_s: np.ndarray) -> tuple[str, ...]
     return tuple(flags)
 
 
+def _relaxation_of_fit(creep: CreepProny, src: str) -> RelaxationProny:
+    """The exact relaxation series of a *fitted* creep series; a conversion that fails (the
+    fit's times too close or its terms beyond floating point range: brentq cannot bracket a
+    zero) is the fit's failure, so a :class:`SolverError` naming the record, not an argument."""
+    try:
+        return relaxation_from_creep(creep)
+    except InputError as exc:
+        times = ", ".join(f"{lam:.6g}" for lam in creep.lambda_s)
+        raise SolverError(
+            f"{src}: the creep Prony series fitted to this record ({len(creep.lambda_s)} terms, "
+            f"retardation times {times} s) does not convert to a relaxation series "
+            f"({exc.expected}); try a smaller per_decade or a longer, less noisy hold"
+        ) from None
+
+
 def fit_creep(
     data: CreepData, half_angle_deg: float = 10.0, nu: float = 0.5, per_decade: int = 4
 ) -> CreepFit:
@@ -303,7 +342,8 @@ def fit_creep_tip(
     (:func:`check_creeping`), a fit with relative RMS above ``MAX_RELATIVE_RMS``, a geometry
     outside the model's bounds, nu outside (-1, 0.5], ``per_decade`` not an integer in
     [1, 50]. Terms the record cannot determine are listed in ``CreepFit.undetermined`` and
-    make the ``quality`` poor.
+    make the ``quality`` poor. A fitted series that does not convert to relaxation raises
+    :class:`SolverError` naming the record.
     """
     if not isinstance(data, CreepData):
         raise InputError("<input>", "data", "a CreepData record", type(data).__name__)
@@ -320,6 +360,7 @@ def fit_creep_tip(
         raise InputError(
             src, "indentation_um", "an indentation whose compliance J(t) is within 1e-100..1e100"
         )
+    fit_window(data.time_s, src)
     creep, rms = fit_creep_prony(data.time_s, compliance, per_decade)
     if not rms <= MAX_RELATIVE_RMS:
         raise InputError(
@@ -332,7 +373,7 @@ def fit_creep_tip(
         time_s=data.time_s,
         compliance_per_kPa=compliance,
         creep=creep,
-        relaxation=relaxation_from_creep(creep),
+        relaxation=_relaxation_of_fit(creep, src),
         nu=nu,
         model=tip.key,
         geometry=geometry,

@@ -127,13 +127,17 @@ QUANTITIES: dict[str, tuple[float, float, str]] = {
     "viscosity_kPa_s": (1e-12, 1e9, "kPa s"),
     "stiffness_nN_per_um": (1e-9, 1e12, "nN/um"),
     "shear_rate_per_s": (1e-9, 1e12, "1/s"),
+    "cone_half_angle_deg": (0.1, 89.0, "deg"),
 }
 """Physical bounds of each quantity a user gives, in internal units: (smallest, largest, unit).
 
 Wider than any oocyte experiment by orders of magnitude (an AFM modulus of 1 mPa to 1 TPa, a
 length of 1 pm to 1 m, a time of 1 ns to 30 years), narrow enough that a typing slip of
 ``1e308`` or a denormal ``1e-320`` is refused with the bound named instead of giving inf or a
-division by zero downstream (docs/units.md)."""
+division by zero downstream (docs/units.md). A cone's half angle lies in [0.1, 89] deg: the
+sharpest AFM tips have about 5 deg, and at 90 deg Sneddon's tan(alpha) diverges (a flat
+punch); both bounds lie inside the tip model's (1e-3, 90) deg, so what passes validation
+passes the fit."""
 
 
 def quantity(where: str | Path, name: str, value: object, kind: str) -> float:

@@ -1,4 +1,5 @@
-"""A test-only case kind: returns y = 2 x, or crashes, sleeps, writes partial output."""
+"""A test-only case kind: returns y = 2 x, or crashes, sleeps, writes partial output, or hands
+an argument to a library that refuses it."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import time
 
 from pydantic import Field
 
+from afm.models.sneddon_cone import HALF_ANGLE
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
 from oocyte_fe.runner.schema import CaseInputs
@@ -18,6 +20,9 @@ class EchoInputs(CaseInputs):
     sleep_s: float = Field(default=0.0, ge=0)
     steps: int = Field(default=0, ge=0, description="counted steps (ctx.progress), 0.01 s each")
     data: DataFile | None = None
+    cone_half_angle_deg: float = Field(
+        default=10.0, gt=0, lt=90, description="passed to afm's cone model (bounds (1e-3, 90))"
+    )
 
 
 @case_kind("test_echo", inputs=EchoInputs, metrics={"y_um": "2 x, um", "n_rows": "rows in data"})
@@ -32,6 +37,7 @@ def run_echo(ctx: CaseContext) -> CaseOutcome:
         ctx.progress(i + 1, inp.steps, "counting")
     if inp.sleep_s:
         time.sleep(inp.sleep_s)
+    HALF_ANGLE.check(inp.cone_half_angle_deg)  # a library argument bounded more loosely here
     if inp.crash:
         raise RuntimeError("deliberate crash for the test")
     rows = len(inp.data.read_text().splitlines()) if inp.data else 0

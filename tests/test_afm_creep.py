@@ -23,7 +23,7 @@ from afm.prony_series import (
     relaxation_from_creep,
 )
 from afm.synthetic import creep_indentation
-from oocyte_fe.errors import InputError
+from oocyte_fe.errors import InputError, SolverError
 
 TRUTH = RelaxationProny(7.01 / 3.0, (0.3, 0.2), (0.2, 1.5))  # G0 = E0 / (2 (1 + 0.5))
 T_CHECK = np.logspace(-2, math.log10(6.0), 200)  # issue 4: 0.01-6 s
@@ -94,6 +94,31 @@ def test_pointwise_inverse_compliance_is_not_the_relaxation_modulus():
     ratio = 1 / creep(T_CHECK) / TRUTH(T_CHECK)
     assert np.all(ratio >= 1 - 1e-12)
     assert ratio.max() > 1.03
+
+
+@pytest.mark.parametrize("scale", [1e-9, 5e8])
+def test_record_too_short_or_too_long_for_the_fit_window_names_time_s(scale):
+    # a 6e-9 s hold left an empty time grid (scipy's "lower bound must be strictly less"),
+    # a 3e9 s one a fitted time of 1.07e9 s beyond the series' 1e9 s (run-level fuzz)
+    hold = _hold()
+    record = CreepData(hold.time_s * scale, hold.force_nN, hold.indentation_um)
+    with pytest.raises(InputError, match=r"^<input>: time_s: expected a record ending between"):
+        fit_creep(record)
+    longest = CreepData(hold.time_s * 1e6, hold.force_nN, hold.indentation_um)
+    assert fit_creep(longest).creep.lambda_s[1] == pytest.approx(2.14e6, rel=0.02)
+
+
+def test_fitted_series_that_does_not_convert_is_a_solver_error(monkeypatch):
+    # a conversion failure of the *fitted* series (brentq without a bracket once ended the
+    # run-level fuzz) is the fit's, reported against the record, not as a user's argument
+    import afm.creep
+
+    def refused(creep):
+        raise InputError("<input>", "lambda_s", "time constants the conversion can separate")
+
+    monkeypatch.setattr(afm.creep, "relaxation_from_creep", refused)
+    with pytest.raises(SolverError, match=r"^<input>: the creep Prony series fitted .*\(2 terms"):
+        fit_creep(_hold())
 
 
 def test_unclamped_force_is_refused():

@@ -28,6 +28,7 @@ from nmsd.cytoplasm_loss import loss_fraction
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters
 from nmsd.spindle import predict_spindle_offset
+from oocyte_fe.checks import QUANTITIES
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.runner.casefile import load_case
@@ -144,6 +145,60 @@ def test_physical_bounds_per_unit(
         load_case(folder)
     message = str(err.value)
     assert f"[{low:g}, {high:g}] {unit}" in message or "expected a value" in message, message
+
+
+def _shipped_case(kind: str) -> str:
+    """The first case of ``cases/`` of ``kind``."""
+    return next(
+        folder.name
+        for folder in sorted(CASES.iterdir())
+        if (folder / "case.toml").is_file()
+        and tomllib.loads((folder / "case.toml").read_text())["kind"] == kind
+    )
+
+
+QUANTITY_FIELDS = [
+    (kind, name, info.json_schema_extra["quantity"])
+    for kind, spec in kinds().items()
+    for name, info in spec.inputs.model_fields.items()
+    if isinstance(info.json_schema_extra, dict) and "quantity" in info.json_schema_extra
+]
+CONE_FIELDS = [
+    pytest.param(
+        kind,
+        name,
+        marks=[pytest.mark.xfail(strict=True, reason="owned by the afm_fit_files work")]
+        if kind == "afm_fit_files"
+        else [],
+    )
+    for kind, spec in kinds().items()
+    for name, info in spec.inputs.model_fields.items()
+    if "cone half angle" in (info.description or "").lower()
+]
+
+
+@pytest.mark.parametrize(("kind", "name"), CONE_FIELDS)
+def test_every_cone_half_angle_declares_its_quantity(kind: str, name: str) -> None:
+    assert (kind, name, "cone_half_angle_deg") in QUANTITY_FIELDS
+
+
+@pytest.mark.parametrize(("kind", "name", "quantity"), QUANTITY_FIELDS)
+@pytest.mark.parametrize("where", ["low", "high"])
+def test_a_declared_quantity_is_held_to_its_bounds(
+    tmp_path: Path, kind: str, name: str, quantity: str, where: str
+) -> None:
+    """Each field naming a quantity of ``checks.QUANTITIES`` (a cone half angle in [0.1, 89]
+    deg) takes its bound and refuses what lies beyond it (0 and the sign included), naming it."""
+    low, high, unit = QUANTITIES[quantity]
+    bound = low if where == "low" else high
+    case = _shipped_case(kind)
+    assert getattr(load_case(_case(tmp_path / "at", case, **{name: bound})).inputs, name) == bound
+    beyond = [low * (1 - 1e-9), 0.0, -low] if where == "low" else [high * (1 + 1e-9), 2 * high]
+    for value in beyond:
+        folder = _case(tmp_path / repr(value), case, **{name: value})
+        with pytest.raises(InputError, match=rf"inputs\.{name}: expected") as err:
+            load_case(folder)
+        assert f"[{low:g}, {high:g}] {unit}" in str(err.value)
 
 
 @pytest.mark.parametrize("value", [1e-320, 1e-13, 2e9])

@@ -249,10 +249,15 @@ def test_tolerance_given_as_text_is_refused(tmp_path: Path) -> None:
 
 def test_library_argument_errors_inside_a_run_name_the_case_file(tmp_path: Path) -> None:
     """An input that passes validation but that a library refuses at run time (a cone half
-    angle of 1e-4 deg: the schema asks > 0, the tip model [1e-3, 90] deg) is reported against
-    ``case.toml: inputs``, never under the library's ``<input>`` placeholder."""
-    case = _copy(tmp_path, "afm_creep_prony")
-    _edit(case, "half_angle_deg = 10.0", "half_angle_deg = 1e-4")
+    angle of 1e-4 deg: the test kind's schema asks > 0, afm's tip model (1e-3, 90) deg) is
+    reported against ``case.toml: inputs``, never under the library's ``<input>`` placeholder."""
+    import tests.kinds_for_tests  # noqa: F401  (registers test_echo)
+
+    case = tmp_path / "echo"
+    case.mkdir()
+    (case / "case.toml").write_text(
+        'kind = "test_echo"\ndescription = "d"\n[inputs]\nx_um = 1.0\ncone_half_angle_deg = 1e-4\n'
+    )
     loaded = load_case(case)
     ctx = CaseContext(
         loaded.name, loaded.directory, tmp_path / "out", loaded.inputs, False, logging.getLogger()

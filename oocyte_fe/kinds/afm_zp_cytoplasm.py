@@ -48,7 +48,8 @@ class ZpCytoplasmInputs(CaseInputs):
         json_schema_extra={"unit": "kPa"},
     )
     half_angle_deg: float = Field(
-        gt=0, lt=90, description="cone half angle", json_schema_extra={"unit": "deg"}
+        description="cone half angle, in [0.1, 89] deg",
+        json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
     )
     nu: float = Field(gt=-1, le=0.5, description="Poisson ratio", json_schema_extra={"unit": "1"})
     spring_constant_N_per_m: float = Field(

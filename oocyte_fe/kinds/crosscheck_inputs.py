@@ -13,9 +13,24 @@ from nmsd.pipette import (
     TABLE_I_TIP_ANGLE_DEG,
     TABLE_I_WIDTH_UM,
 )
-from nmsd.tableII import read_force_displacement
 from oocyte_fe.crosscheck.scenario import PressScenario
-from oocyte_fe.kinds.data_templates import CREEP, TABLE_II
+from oocyte_fe.kinds.data_templates import CREEP
+from oocyte_fe.kinds.nmsd_inputs import (
+    CellDiameter,
+    ContactStiffness,
+    CriticalStrain,
+    Damping,
+    Evaluations,
+    HoldHalfWidth,
+    PipetteWidth,
+    SpacingsAcross,
+    Speed,
+    Starts,
+    Steps,
+    TableIIFile,
+    TipAngle,
+    Travel,
+)
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation, Setup
 
 ZonaRatioReading = Literal["afm_relaxed", "afm_instantaneous"]
@@ -28,46 +43,21 @@ class CrosscheckInputs(CaseInputs):
         description="ZP force-clamp creep CSV (afm.curve_io format)",
         json_schema_extra=CREEP,
     )
-    table2_data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
-        description="Table II CSV: displacement_um, force_*_uN",
-        json_schema_extra=TABLE_II,
-    )
-    cell_diameter_um: float = Field(
-        115.625, gt=0, description="Table I R_c, outer diameter", json_schema_extra={"unit": "um"}
-    )
+    table2_data: TableIIFile
+    cell_diameter_um: CellDiameter = 115.625
     cytoplasm_diameter_um: float = Field(
         83.597, gt=0, description="Table I R_zp, inside the ZP", json_schema_extra={"unit": "um"}
     )
-    pipette_width_um: float = Field(
-        TABLE_I_WIDTH_UM,
-        gt=0,
-        description="injection pipette width (Table I d_inj)",
-        json_schema_extra={"unit": "um"},
-    )
-    tip_angle_deg: float = Field(
-        TABLE_I_TIP_ANGLE_DEG,
-        ge=0,
-        lt=180,
-        description="injection pipette tip angle (Table I theta_inj)",
-        json_schema_extra={"unit": "deg"},
-    )
-    speed_um_s: float = Field(
-        30.0, gt=0, description="pipette speed", json_schema_extra={"unit": "um/s"}
-    )
-    hold_half_width_um: float = Field(
-        HOLD_HALF_WIDTH_UM,
-        gt=0,
-        description="holding pipette mouth half-width",
-        json_schema_extra={"unit": "um"},
-    )
+    pipette_width_um: PipetteWidth = TABLE_I_WIDTH_UM
+    tip_angle_deg: TipAngle = TABLE_I_TIP_ANGLE_DEG
+    speed_um_s: Speed = 30.0
+    hold_half_width_um: HoldHalfWidth = HOLD_HALF_WIDTH_UM
     spindle_paper_um: tuple[float, float] = Field(
         (15.8718, 18.1392),
         description="the paper's spindle position (x, y)",
         json_schema_extra={"unit": "um"},
     )
-    travel_um: float = Field(
-        62.5, gt=0, description="pipette travel, um", json_schema_extra={"unit": "um"}
-    )
+    travel_um: Travel = 62.5
     nu: float = Field(
         0.5,
         gt=-1,
@@ -83,10 +73,8 @@ class CrosscheckInputs(CaseInputs):
     )
     afm_half_angle_deg: float = Field(
         10.0,
-        gt=0,
-        lt=90,
-        description="AFM cone half angle of the creep record",
-        json_schema_extra={"unit": "deg"},
+        description="AFM cone half angle of the creep record, in [0.1, 89] deg",
+        json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
     )
     thickness_um: float = Field(
         115.625,
@@ -138,19 +126,9 @@ class CrosscheckInputs(CaseInputs):
         description="C1 smoothing of the normal contact law, um (0: exact kink)",
         json_schema_extra={"unit": "um"},
     )
-    nmsd_spacings_across: int = Field(
-        17,
-        ge=2,
-        le=101,
-        description="NMSD grid spacings across the diameter",
-        json_schema_extra={"unit": "1"},
-    )
-    nmsd_dl_c: float = Field(
-        0.8, gt=0, description="NMSD critical link strain of eq 3", json_schema_extra={"unit": "1"}
-    )
-    nmsd_damping: Literal["nodal", "link"] = Field(
-        "nodal", description="NMSD eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
-    )
+    nmsd_spacings_across: SpacingsAcross = 17
+    nmsd_dl_c: CriticalStrain = 0.8
+    nmsd_damping: Damping = "nodal"
     nmsd_area_stiffness: float = Field(
         0.0,
         ge=0,
@@ -165,12 +143,7 @@ class CrosscheckInputs(CaseInputs):
         "'afm_instantaneous': the ratio of the FE layers' relaxed / instantaneous moduli",
         json_schema_extra={"unit": "1"},
     )
-    nmsd_contact_stiffness_nN_per_um: float = Field(
-        CONTACT_STIFFNESS_NN_PER_UM,
-        gt=0,
-        description="NMSD penalty stiffness of the pipette contact",
-        json_schema_extra={"unit": "nN/um"},
-    )
+    nmsd_contact_stiffness_nN_per_um: ContactStiffness = CONTACT_STIFFNESS_NN_PER_UM
     nmsd_k2_over_k1_min: float = Field(
         50.0,
         ge=0,
@@ -178,23 +151,9 @@ class CrosscheckInputs(CaseInputs):
         "a neo-Hookean FE reference, which does not stiffen like k2 >= 50 k1 cubic links)",
         json_schema_extra={"unit": "1"},
     )
-    nmsd_n_steps: int = Field(
-        50,
-        ge=1,
-        le=100_000,
-        description="NMSD steps over the travel",
-        json_schema_extra={"unit": "1"},
-    )
-    n_starts: int = Field(
-        2, ge=1, le=100, description="calibration starts", json_schema_extra={"unit": "1"}
-    )
-    max_evaluations: int = Field(
-        60,
-        ge=4,
-        le=100_000,
-        description="press simulations per calibration start",
-        json_schema_extra={"unit": "1"},
-    )
+    nmsd_n_steps: Steps = 50
+    n_starts: Starts = 2
+    max_evaluations: Evaluations = 60
     grid_spacing_um: float = Field(
         10.0,
         gt=0,

@@ -71,74 +71,118 @@ def _approach_at_validation(m: SpindleInputs) -> None:
     )
 
 
-class PressInputs(CaseInputs):
-    """Lattice, pipette and calibration settings shared by both kinds."""
-
-    data: Annotated[DataFile, DataReader(read_force_displacement)] = Field(
+TableIIFile = Annotated[
+    DataFile,
+    DataReader(read_force_displacement),
+    Field(
         description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN",
         json_schema_extra=TABLE_II,
-    )
-    cell_diameter_um: float = Field(
-        115.625,
-        gt=0,
-        le=1e4,
-        description="oocyte diameter (Table I R_c)",
-        json_schema_extra={"unit": "um"},
-    )
-    spacings_across: int = Field(
-        17,
+    ),
+]
+CellDiameter = Annotated[
+    float,
+    Field(
+        gt=0, le=1e4, description="oocyte diameter (Table I R_c)", json_schema_extra={"unit": "um"}
+    ),
+]
+SpacingsAcross = Annotated[
+    int,
+    Field(
         ge=2,
         le=101,
         description="grid spacings across the diameter",
         json_schema_extra={"unit": "1"},
-    )
-    pipette_width_um: float = Field(
-        TABLE_I_WIDTH_UM, gt=0, description="Table I d_inj", json_schema_extra={"unit": "um"}
-    )
-    tip_angle_deg: float = Field(
-        TABLE_I_TIP_ANGLE_DEG,
+    ),
+]
+PipetteWidth = Annotated[
+    float,
+    Field(
+        gt=0,
+        description="injection pipette width (Table I d_inj)",
+        json_schema_extra={"unit": "um"},
+    ),
+]
+TipAngle = Annotated[
+    float,
+    Field(
         ge=0,
         lt=180,
-        description="Table I theta_inj",
+        description="injection pipette tip angle (Table I theta_inj)",
         json_schema_extra={"unit": "deg"},
-    )
-    hold_half_width_um: float = Field(
-        HOLD_HALF_WIDTH_UM,
-        gt=0,
-        description="holding pipette mouth half-width",
-        json_schema_extra={"unit": "um"},
-    )
-    contact_stiffness_nN_per_um: float = Field(
-        CONTACT_STIFFNESS_NN_PER_UM,
+    ),
+]
+HoldHalfWidth = Annotated[
+    float,
+    Field(gt=0, description="holding pipette mouth half-width", json_schema_extra={"unit": "um"}),
+]
+ContactStiffness = Annotated[
+    float,
+    Field(
         gt=0,
         description="penalty stiffness of the pipette contact",
         json_schema_extra={"unit": "nN/um"},
-    )
+    ),
+]
+CriticalStrain = Annotated[
+    float, Field(gt=0, description="critical link strain of eq 3", json_schema_extra={"unit": "1"})
+]
+Damping = Annotated[
+    Literal["nodal", "link"],
+    Field(description="eq 6 per node (as printed) or per link (Voigt, Fig. 3)"),
+]
+Speed = Annotated[
+    float, Field(gt=0, le=1e6, description="pipette speed", json_schema_extra={"unit": "um/s"})
+]
+Travel = Annotated[
+    float, Field(gt=0, description="pipette travel", json_schema_extra={"unit": "um"})
+]
+Steps = Annotated[
+    int,
+    Field(
+        ge=1,
+        le=100_000,
+        description="backward-Euler steps over the travel",
+        json_schema_extra={"unit": "1"},
+    ),
+]
+Starts = Annotated[
+    int, Field(ge=1, le=100, description="calibration starts", json_schema_extra={"unit": "1"})
+]
+Evaluations = Annotated[
+    int,
+    Field(
+        ge=4,
+        le=100_000,
+        description="press simulations per calibration start",
+        json_schema_extra={"unit": "1"},
+    ),
+]
+"""The NMSD press inputs, declared once: :class:`PressInputs` and ``nmsd_vs_fe``'s
+:class:`~oocyte_fe.kinds.crosscheck_inputs.CrosscheckInputs` (its names prefixed ``nmsd_``
+where the FE has its own) use these, each with its own default."""
+
+
+class PressInputs(CaseInputs):
+    """Lattice, pipette and calibration settings shared by both kinds."""
+
+    data: TableIIFile
+    cell_diameter_um: CellDiameter = 115.625
+    spacings_across: SpacingsAcross = 17
+    pipette_width_um: PipetteWidth = TABLE_I_WIDTH_UM
+    tip_angle_deg: TipAngle = TABLE_I_TIP_ANGLE_DEG
+    hold_half_width_um: HoldHalfWidth = HOLD_HALF_WIDTH_UM
+    contact_stiffness_nN_per_um: ContactStiffness = CONTACT_STIFFNESS_NN_PER_UM
     gap_um: float = Field(
         0.0,
         ge=0,
         description="pipette travel before touching the lattice",
         json_schema_extra={"unit": "um"},
     )
-    dl_c: float = Field(
-        0.8, gt=0, description="critical link strain of eq 3", json_schema_extra={"unit": "1"}
-    )
-    damping: Literal["nodal", "link"] = Field(
-        "nodal", description="eq 6 per node (as printed) or per link (Voigt, Fig. 3)"
-    )
-    speed_um_s: float = Field(
-        30.0, gt=0, le=1e6, description="pipette speed", json_schema_extra={"unit": "um/s"}
-    )
-    travel_um: float = Field(
-        65.0, gt=0, description="pipette travel", json_schema_extra={"unit": "um"}
-    )
-    n_steps: int = Field(
-        40,
-        ge=1,
-        le=100_000,
-        description="backward-Euler steps over the travel",
-        json_schema_extra={"unit": "1"},
-    )
+    dl_c: CriticalStrain = 0.8
+    damping: Damping = "nodal"
+    speed_um_s: Speed = 30.0
+    travel_um: Travel = 65.0
+    n_steps: Steps = 40
     symmetric: bool = Field(
         True,
         description="press on the mirror-symmetric branch (the free lattice buckles sideways "
@@ -147,16 +191,8 @@ class PressInputs(CaseInputs):
     calibrate_extra: list[Literal["dl_c", "gap_um"]] = Field(
         default_factory=list, description="also calibrate dl_c and/or the contact gap (bounded)"
     )
-    n_starts: int = Field(
-        2, ge=1, le=100, description="calibration starts", json_schema_extra={"unit": "1"}
-    )
-    max_evaluations: int = Field(
-        60,
-        ge=4,
-        le=100_000,
-        description="press simulations per start",
-        json_schema_extra={"unit": "1"},
-    )
+    n_starts: Starts = 2
+    max_evaluations: Evaluations = 60
 
     rules = (
         Relation("pipette_width_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),

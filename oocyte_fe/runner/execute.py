@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import resource
 import shutil
 import signal
 import threading
@@ -205,14 +206,14 @@ def execute_case(
     logger, handler = _case_logger(case.name, tmp / "log.txt")
     quiet_vtk(tmp / "vtk.log" if verbose else None)
     ctx = _context(case, tmp, quick, logger, Throttle(events), scheduler)
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), cpu_seconds()
     try:
         logger.info(case.started(quick))
         with _time_limit(case.spec.timeout_s, logger), reporting(ctx.progress):
             outcome = case.kind.run(ctx)
         checks = [] if outcome.skipped else evaluate_checks(case, outcome)
-        seconds = time.perf_counter() - start
-        logger.info("finished in %.2f s", seconds)
+        seconds, cpu = time.perf_counter() - start, cpu_seconds() - cpu_start
+        logger.info("finished in %.2f s (%.2f CPU s)", seconds, cpu)
         handler.close()
         status = write_case_report(case, outcome, checks, tmp, seconds)
         failed = [c.name for c in checks if c.status == "FAIL"]
@@ -234,6 +235,7 @@ def execute_case(
             seconds,
             reason,
             misses(checks),
+            cpu,
         )
     except Exception as exc:  # a case failure must never stop the other cases
         seconds = time.perf_counter() - start
@@ -250,6 +252,15 @@ def execute_case(
         logger.removeHandler(handler)
     result.write(tmp)
     return result
+
+
+def cpu_seconds() -> float:
+    """CPU time of this process (all threads) and of its children it waited for, s."""
+    own, children = (
+        resource.getrusage(resource.RUSAGE_SELF),
+        resource.getrusage(resource.RUSAGE_CHILDREN),
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def failure_folder(out_root: Path, name: str, kind: str, reason: str) -> CaseResult:

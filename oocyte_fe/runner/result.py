@@ -26,6 +26,9 @@ class CaseResult:
     reason: str = ""
     misses: tuple[str, ...] = field(default_factory=tuple)
     """One line per documented miss: the check, its distance to the goal and the reason."""
+    cpu_seconds: float = 0.0
+    """CPU time of the case's run (its process and the children it waited for), s: on a
+    shared machine the cost, where ``seconds`` (wall) also counts the waiting."""
 
     @property
     def ok(self) -> bool:

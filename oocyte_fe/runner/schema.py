@@ -13,6 +13,10 @@ rule below holds for every kind, a new one included, without a line of its own:
   Pa s, Pa, hPa), list elements included, is 0 or of a magnitude within the physical bounds of its
   quantity (:data:`oocyte_fe.checks.QUANTITIES`): a modulus of ``1e-320`` kPa is refused with
   the bound named, not divided by later;
+* a float whose field names its quantity (``json_schema_extra={"unit": "deg", "quantity":
+  "cone_half_angle_deg"}``, a key of :data:`oocyte_fe.checks.QUANTITIES`) lies within that
+  quantity's bounds, 0 included in the refusal: for quantities a unit does not identify (an
+  angle may be a cone's half angle or a position on the cell);
 * cross-field rules are declared on the model (``rules = (Relation(...), Refining(...),
   Setup(...))``, see :class:`Relation`), checked after the fields and reported against the
   field they name; the fuzz suite reads the declarations and breaks each rule;
@@ -86,14 +90,15 @@ UNIT_BOUNDS: dict[str, tuple[float, float]] = {
 1e3 nN/um, so a spring constant lies in [1e-12, 1e9] N/m)."""
 
 
-def _first_outside(value: Any, low: float, high: float) -> float | None:
+def _first_outside(value: Any, low: float, high: float, signed: bool = False) -> float | None:
     """The first float in ``value`` (nested lists, tuples, dicts) that is neither 0 nor of a
-    magnitude in ``[low, high]``."""
+    magnitude in ``[low, high]`` (``signed``: that is not itself in ``[low, high]``)."""
     stack = [value]
     while stack:
         item = stack.pop()
         if isinstance(item, float):
-            if item != 0 and not low <= abs(item) <= high:
+            inside = low <= item <= high if signed else item == 0 or low <= abs(item) <= high
+            if not inside:
                 return item
         elif isinstance(item, list | tuple):
             stack.extend(item)
@@ -224,6 +229,16 @@ class CaseInputs(BaseModel):
         bad = _first_outside(value, 0.0, bound)
         if bad is not None:
             raise ValueError(f"numbers of magnitude at most {bound:g} (got {bad:g})")
+        quantity = _extra(field).get("quantity") if field else None
+        if quantity is not None:
+            low, high, unit = checks.QUANTITIES[quantity]
+            bad = _first_outside(value, low, high, signed=True)
+            if bad is not None:
+                raise ValueError(
+                    f"a number in [{low:g}, {high:g}] {unit} (the physical bounds of "
+                    f"{quantity}; got {bad:g})"
+                )
+            return value
         unit = unit_of(field) if field else None
         if unit in UNIT_BOUNDS:
             low, high = UNIT_BOUNDS[unit]

@@ -72,6 +72,8 @@ def test_run_accepted_edge_inputs(
         current = current.get(key) if isinstance(current, dict) else None
     if isinstance(current, list):
         value = [value] * len(current)
+    elif isinstance(current, dict):  # a table of numbers (label -> value): every entry
+        value = dict.fromkeys(current, value)
     elif isinstance(current, int) and not isinstance(current, bool):
         value = int(value) if math.isfinite(value) and abs(value) < 2**62 else value
     _set(raw["inputs"], path, value)
