@@ -12,7 +12,7 @@ depth ``d`` (points uniform in depth), reads
 (``python -m oocyte_fe.afm_corrections.table``; its header names the grid and the
 code). ``ratio = 1`` for ``E_c = E_ZP`` and at ``d -> 0``. Interpolation: a cubic spline in
 sqrt(d/h) along each FE curve (nodes every 0.025 h; the ratio falls like sqrt(d) from 1),
-then monotone cubic (PCHIP) in ln(E_c/E_ZP) and in Rp/h; it passes through the nodes. The
+then monotone cubic (PCHIP) in ln(E_c/E_ZP) and in ln(Rp/h); it passes through the nodes. The
 table is for the seed's cell, R/h = 70/15 (R/h within 15 % accepted; the effect is measured
 in docs/afm.md). Cones are not covered: the FE cone is not verified (docs/fe.md).
 
@@ -109,7 +109,8 @@ def shell_ratio(
         at_probe.append(float(PchipInterpolator(log_e, col)(math.log(e_ratio))))
     if len(use) == 1:
         return at_probe[0]
-    return float(PchipInterpolator([t.probes[k] for k in use], at_probe)(probe_h))
+    nodes = np.log([t.probes[k] for k in use])
+    return float(PchipInterpolator(nodes, at_probe)(math.log(probe_h)))
 
 
 def effective_radius_um(probe_um: float, cell_um: float) -> float:
