@@ -193,7 +193,10 @@ def test_dimitriadis_against_the_fe_in_its_own_limit():
     # a 5 um layer on a 1000x stiffer, 1 mm cell, 5 um probe to 3 um (x up to 0.77)
     from oocyte_fe.afm_corrections.bottom_check import bonded_layer_check
 
+    # measured: FE/Hertz within 0.7 % of Dimitriadis for 0.16 <= x <= 0.55; below x = 0.16
+    # the contact (a < 0.8 um) spans fewer than 4 elements, beyond 0.55 finite strain (d/R*
+    # > 0.3) takes the FE below the small-strain formula (8 % at x = 0.77; docs/afm.md)
     check = bonded_layer_check()
-    use = check["x"] > 0.1
-    relative = check["layer"][use] / check["homogeneous"][use]
-    assert relative == pytest.approx(check["dimitriadis"][use], rel=0.05)
+    use = (check["x"] >= 0.16) & (check["x"] <= 0.55)
+    assert use.sum() >= 8
+    assert check["layer"][use] == pytest.approx(check["dimitriadis"][use], rel=0.015)
