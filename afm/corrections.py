@@ -17,7 +17,9 @@ table is for the seed's cell, R/h = 70/15 (R/h within 15 % accepted; the effect 
 in docs/afm.md). Cones are not covered: the FE cone is not verified (docs/fe.md).
 
 A fit with the probe's own radius ``Rp`` (what a user enters) reads ``E_app`` over the
-curvature factor of :func:`curvature_factor`; :func:`zona_modulus` undoes both. Units: um, kPa.
+curvature factor of :func:`curvature_factor`; :func:`zona_modulus` undoes both. The options of
+a batch of fits (this table; a bonded layer, :mod:`afm.bottom_effect`) are in
+:mod:`afm.corrected_batch`. Units: um, kPa.
 """
 
 from __future__ import annotations
@@ -25,14 +27,14 @@ from __future__ import annotations
 import csv
 import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicSpline, PchipInterpolator
+from scipy.optimize import brentq
 
-from afm import bottom_effect
-from afm.bottom_effect import CONE_MODELS, SPHERE_MODELS
 from afm.models import get_model
 from oocyte_fe.errors import InputError
 
@@ -53,6 +55,8 @@ class ShellTable:
     e_ratios: tuple[float, ...]
     depth: tuple[np.ndarray, ...]
     ratio: tuple[tuple[np.ndarray, ...], ...]
+    splines: tuple[tuple[CubicSpline, ...], ...]
+    """Cubic splines of each column in sqrt(d/h) (the ratio falls like sqrt(d) from 1)."""
 
     def max_depth_h(self, probe_h: float) -> float:
         """Deepest d/h tabulated for Rp/h = ``probe_h`` (that of the probe node below it)."""
@@ -79,12 +83,47 @@ def load_table(path: str | Path = TABLE) -> ShellTable:
             col = at_p[at_p[:, 1] == e]
             columns.append(col[np.argsort(col[:, 0]), 3])
         ratio.append(tuple(columns))
-    return ShellTable(probes, e_ratios, tuple(depth), tuple(ratio))
+    splines = tuple(
+        tuple(CubicSpline(np.sqrt(d), c) for c in columns)
+        for d, columns in zip(depth, ratio, strict=True)
+    )
+    return ShellTable(probes, e_ratios, tuple(depth), tuple(ratio), splines)
 
 
-def _check(value: float, lo: float, hi: float, quantity: str, where: str) -> None:
+def check_range(value: float, lo: float, hi: float, quantity: str, where: str) -> None:
     if not (math.isfinite(value) and lo * (1 - 1e-9) <= value <= hi * (1 + 1e-9)):
         raise InputError(where, quantity, f"within the table's range [{lo:g}, {hi:g}]", value)
+
+
+def _at_depth(t: ShellTable, depth_h: float, probe_h: float) -> Callable[[float], float]:
+    """``ratio`` as a function of E_c/E_ZP at fixed d/h and Rp/h (the interpolation of
+    :func:`shell_ratio`; the spline in depth is made once)."""
+    use = [k for k in range(len(t.probes)) if t.depth[k][-1] >= depth_h * (1 - 1e-9)]
+    log_e = np.log(t.e_ratios)
+    by_e = []
+    for k in use:
+        col = [float(spline(math.sqrt(depth_h))) for spline in t.splines[k]]
+        by_e.append(PchipInterpolator(log_e, col))
+    nodes = np.log([t.probes[k] for k in use])
+
+    def ratio(e_ratio: float) -> float:
+        at_probe = [float(f(math.log(e_ratio))) for f in by_e]
+        if len(at_probe) == 1:
+            return at_probe[0]
+        return float(PchipInterpolator(nodes, at_probe)(math.log(probe_h)))
+
+    return ratio
+
+
+def _checked_profile(
+    depth_h: float, probe_h: float, where: str
+) -> tuple[ShellTable, Callable[[float], float]]:
+    t = load_table()
+    check_range(probe_h, t.probes[0], t.probes[-1], "probe radius / ZP thickness (Rp/h)", where)
+    check_range(
+        depth_h, 0.0, t.max_depth_h(probe_h), f"depth / ZP thickness at Rp/h = {probe_h:.3g}", where
+    )
+    return t, _at_depth(t, depth_h, probe_h)
 
 
 def shell_ratio(
@@ -94,23 +133,9 @@ def shell_ratio(
 
     Outside the table: :class:`InputError` naming the quantity and the range.
     """
-    t = load_table()
-    _check(probe_h, t.probes[0], t.probes[-1], "probe radius / ZP thickness (Rp/h)", where)
-    _check(e_ratio, t.e_ratios[0], t.e_ratios[-1], "E_cytoplasm / E_ZP", where)
-    _check(
-        depth_h, 0.0, t.max_depth_h(probe_h), f"depth / ZP thickness at Rp/h = {probe_h:.3g}", where
-    )
-    use = [k for k, p in enumerate(t.probes) if t.depth[k][-1] >= depth_h * (1 - 1e-9)]
-    log_e = np.log(t.e_ratios)
-    at_probe = []
-    for k in use:
-        root = np.sqrt(t.depth[k])  # the ratio falls like sqrt(d) from 1 at d = 0
-        col = [float(CubicSpline(root, c)(math.sqrt(depth_h))) for c in t.ratio[k]]
-        at_probe.append(float(PchipInterpolator(log_e, col)(math.log(e_ratio))))
-    if len(use) == 1:
-        return at_probe[0]
-    nodes = np.log([t.probes[k] for k in use])
-    return float(PchipInterpolator(nodes, at_probe)(math.log(probe_h)))
+    t, ratio = _checked_profile(depth_h, probe_h, where)
+    check_range(e_ratio, t.e_ratios[0], t.e_ratios[-1], "E_cytoplasm / E_ZP", where)
+    return ratio(e_ratio)
 
 
 def effective_radius_um(probe_um: float, cell_um: float) -> float:
@@ -146,9 +171,9 @@ def zona_modulus(
 ) -> float:
     """E_ZP [kPa] from the modulus ``e_fit_kPa`` a Hertz ``model`` fit with the probe's radius
     read to ``depth_um``: solves ``E_fit c = E_ZP ratio(d/h, E_c/E_ZP, Rp/h)`` (eq. 1, ``c``
-    the :func:`curvature_factor`) for E_ZP by bisection in ln E_ZP (the cytoplasm's modulus
-    given in kPa)."""
-    _check(
+    the :func:`curvature_factor`) for E_ZP by Brent's method in ln E_ZP (the cytoplasm's
+    modulus given in kPa)."""
+    check_range(
         cell_um / zona_um / TABLE_CELL_OVER_ZONA,
         1 - CELL_TOLERANCE,
         1 + CELL_TOLERANCE,
@@ -156,12 +181,11 @@ def zona_modulus(
         where,
     )
     e_app = e_fit_kPa * curvature_factor(model, probe_um, cell_um, depth_um)
-    d_h, p_h = depth_um / zona_um, probe_um / zona_um
-    t = load_table()
+    t, ratio = _checked_profile(depth_um / zona_um, probe_um / zona_um, where)
     lo, hi = cytoplasm_kPa / t.e_ratios[-1], cytoplasm_kPa / t.e_ratios[0]  # E_ZP range
 
     def residual(e_zp: float) -> float:
-        return e_zp * shell_ratio(d_h, cytoplasm_kPa / e_zp, p_h, where) - e_app
+        return e_zp * ratio(min(max(cytoplasm_kPa / e_zp, t.e_ratios[0]), t.e_ratios[-1])) - e_app
 
     if residual(lo) > 0 or residual(hi) < 0:
         raise InputError(
@@ -171,145 +195,5 @@ def zona_modulus(
             f"that explains E = {e_app:.4g} kPa",
             f"no E_ZP in [{lo:.4g}, {hi:.4g}] kPa does",
         )
-    a, b = math.log(lo), math.log(hi)
-    for _ in range(60):
-        m = 0.5 * (a + b)
-        a, b = (m, b) if residual(math.exp(m)) < 0 else (a, m)
-    return math.exp(0.5 * (a + b))
-
-
-@dataclass(frozen=True)
-class ShelledOocyte:
-    """Option ``shelled_oocyte``: E_ZP from each sphere fit (:func:`zona_modulus`), for a ZP
-    of ``zona_um`` over a cytoplasm of ``cytoplasm_kPa`` on a cell of radius ``cell_um``."""
-
-    zona_um: float
-    cytoplasm_kPa: float
-    cell_um: float
-    name: str = "shelled_oocyte"
-
-    def check(
-        self,
-        model: str,
-        geometry: dict[str, float],
-        nu: float,
-        depth_um: float | None,
-        where: str,
-        field: str,
-    ) -> None:
-        """Refuse what the table does not cover: a tip other than a sphere, nu other than
-        0.5, an unbounded fit range, a depth, probe or cell outside the table."""
-        if model not in ("hertz_sphere", "hertz_paraboloid"):
-            raise InputError(
-                where,
-                f"{field}.type",
-                "a spherical probe (model hertz_sphere or hertz_paraboloid): cones are not covered",
-                model,
-            )
-        if nu != 0.5:
-            raise InputError(where, "inputs.nu", f"0.5 with {field} (the table's layers)", nu)
-        if depth_um is None:
-            raise InputError(
-                where, "inputs.max_indentation_um", f"a depth (the fit range) with {field}", None
-            )
-        t = load_table()
-        probe_h = geometry["radius_um"] / self.zona_um
-        _check(probe_h, t.probes[0], t.probes[-1], "probe radius / ZP thickness (Rp/h)", where)
-        deepest = t.max_depth_h(probe_h) * self.zona_um
-        if depth_um > deepest * (1 + 1e-9):
-            raise InputError(
-                where,
-                "inputs.max_indentation_um",
-                f"<= {deepest:.4g} um, the table's deepest for this probe and ZP",
-                depth_um,
-            )
-        _check(
-            self.cell_um / self.zona_um / TABLE_CELL_OVER_ZONA,
-            1 - CELL_TOLERANCE,
-            1 + CELL_TOLERANCE,
-            "cell radius / ZP thickness over the table's 70/15",
-            where,
-        )
-
-    def corrected(
-        self, e_kPa: float, model: str, geometry: dict[str, float], depth_um: float
-    ) -> float:
-        """E_ZP [kPa] of a fit that read ``e_kPa`` to ``depth_um``."""
-        return zona_modulus(
-            e_kPa,
-            depth_um,
-            self.zona_um,
-            self.cytoplasm_kPa,
-            geometry["radius_um"],
-            self.cell_um,
-            model,
-        )
-
-    @property
-    def text(self) -> str:
-        return (
-            f"shelled_oocyte: E_ZP from the FE table (afm/data/shell_correction.csv) for a "
-            f"{self.zona_um:g} um ZP over a {self.cytoplasm_kPa:g} kPa cytoplasm, cell "
-            f"radius {self.cell_um:g} um (curvature and shell)"
-        )
-
-
-@dataclass(frozen=True)
-class BondedLayer:
-    """Option ``dimitriadis_bonded`` (sphere) / ``garcia_bonded`` (cone): a layer of
-    ``layer_um`` bonded to a rigid support (:mod:`afm.bottom_effect`)."""
-
-    layer_um: float
-    name: str = "dimitriadis_bonded"
-
-    def check(
-        self,
-        model: str,
-        geometry: dict[str, float],
-        nu: float,
-        depth_um: float | None,
-        where: str,
-        field: str,
-    ) -> None:
-        """Refuse a tip the formula is not for, nu other than 0.5, an unbounded or too deep
-        fit range (d < h; Dimitriadis: sqrt(R d)/h <= 1, their stated range)."""
-        models = CONE_MODELS if self.name == "garcia_bonded" else SPHERE_MODELS
-        if model not in models:
-            raise InputError(
-                where, f"{field}.type", f"a tip model {' or '.join(models)} for {self.name}", model
-            )
-        if nu != 0.5:
-            raise InputError(where, "inputs.nu", f"0.5 with {field} (nu = 0.5 coefficients)", nu)
-        if depth_um is None:
-            raise InputError(
-                where, "inputs.max_indentation_um", f"a depth (the fit range) with {field}", None
-            )
-        limit = self.layer_um
-        if model in SPHERE_MODELS:
-            limit = min(limit, self.layer_um**2 / geometry["radius_um"])
-        if depth_um > limit:
-            raise InputError(
-                where,
-                "inputs.max_indentation_um",
-                f"<= {limit:.4g} um (d < h and sqrt(R d)/h <= 1 for {self.name})",
-                depth_um,
-            )
-
-    def corrected(
-        self, e_kPa: float, model: str, geometry: dict[str, float], depth_um: float
-    ) -> float:
-        """E [kPa] of the layer from a half-space fit that read ``e_kPa`` to ``depth_um``."""
-        return e_kPa / bottom_effect.fit_factor(model, geometry, depth_um, self.layer_um)
-
-    @property
-    def text(self) -> str:
-        who = (
-            "Garcia and Garcia 2018 (cone; not FE-checked)"
-            if self.name == "garcia_bonded"
-            else "Dimitriadis et al. 2002 (sphere)"
-        )
-        return f"{self.name}: a {self.layer_um:g} um layer bonded to a rigid support, {who}"
-
-
-Correction = ShelledOocyte | BondedLayer
-"""A correction option of :func:`afm.fit_files.fit_files`."""
+    root = brentq(lambda x: residual(math.exp(x)), math.log(lo), math.log(hi), xtol=1e-13)
+    return math.exp(root)

@@ -29,8 +29,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from afm.batch import BatchResult, BatchRow, GroupStats, ReadOptions, fit_batch
-from afm.corrected_batch import apply_correction, corrected_stats
-from afm.corrections import Correction
+from afm.corrected_batch import Correction, apply_correction, corrected_stats
 from afm.creep import CreepFit, fit_creep_tip
 from afm.curve_io import read_creep
 from afm.material_file import MaterialFile

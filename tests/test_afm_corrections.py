@@ -162,7 +162,7 @@ def test_dimitriadis_option_through_the_case(tmp_path):
         (SHELL, "hertz_sphere", "nu = 0.45\n", "inputs.nu"),
         (SHELL.replace("15.0", "30.0"), "hertz_sphere", "", "Rp/h"),
         (SHELL.replace("15.0", "9.0"), "hertz_sphere", "", "inputs.max_indentation_um"),
-        (SHELL.replace("70.0", "40.0"), "hertz_sphere", "", "cell radius / ZP"),
+        (SHELL.replace("70.0", "40.0"), "hertz_sphere", "", "correction.cell_radius_um"),
         ('type = "dimitriadis_bonded"\nlayer_thickness_um = 2.0', "hertz_sphere", "", "max_ind"),
         ('type = "garcia_bonded"\nlayer_thickness_um = 8.0', "hertz_sphere", "", "correction.type"),
     ],

@@ -7,7 +7,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from afm.corrections import BondedLayer, Correction, ShelledOocyte
+from afm.corrected_batch import BondedLayer, Correction, ShelledOocyte
 from afm.fit_files import FitFilesResult
 from afm.models import get_model
 from oocyte_fe.errors import InputError
