@@ -121,7 +121,11 @@ def experiment(
                     "penalty_factor": penalty_factor,
                     "displacement_um": {"time_s": list(t), "value": list(d * t**2)},
                 },
-                "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 60.0},
+                "dish": {
+                    "type": "holding_pipette",
+                    "side": "bottom",
+                    "half_width_um": min(60.0, 0.9 * cell_um),
+                },
             },
             "time": {"duration_s": 1.0, "frames": frames},
         }
