@@ -11,7 +11,10 @@ ones only when asked; :meth:`afm.batch.BatchResult.stats`) and makes each group'
   group's curves; Prony or standard linear solid, rated good unless ``include_poor``);
 * otherwise elastic, E = the group's mean E (kPa), nu as assumed by the fits.
 
-A creep record wins over a ramp fit when a group has both.
+A creep record wins over a ramp fit when a group has both. With a ``correction``
+(:mod:`afm.corrections`) every fit's modulus is corrected
+(:func:`afm.corrected_batch.apply_correction`) and the
+statistics and elastic materials use the corrected moduli.
 
 Fits of curves with a known modulus give the relative errors |E / E_known - 1|. Nothing is
 written or drawn here: the result goes to a report (the ``afm_fit_files`` case kind's).
@@ -26,6 +29,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from afm.batch import BatchResult, BatchRow, GroupStats, ReadOptions, fit_batch
+from afm.corrected_batch import Correction, apply_correction, corrected_stats
 from afm.creep import CreepFit, fit_creep_tip
 from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
@@ -69,8 +73,10 @@ class FitFilesResult:
 
     ``stats`` holds the mean +- SD of E per group (sorted by group) and ``materials`` one
     entry per group of ``stats``; ``ramps`` the viscoelastic ramp fits (None without the
-    option). ``known_errors`` are |E / E_known - 1| of the fitted curves
-    with a known modulus (None without known moduli), ``n_known`` the curves listed.
+    option); ``corrected`` the corrected E of each row of ``batch`` [kPa] or why not (None
+    without ``correction``). ``known_errors`` are |E / E_known - 1|
+    of the fitted curves with a known modulus (None without known moduli), ``n_known`` the
+    curves listed.
     """
 
     batch: BatchResult
@@ -80,6 +86,8 @@ class FitFilesResult:
     known_errors: tuple[float, ...] | None = None
     n_known: int = 0
     ramps: RampFilesResult | None = None
+    correction: Correction | None = None
+    corrected: tuple[float | str, ...] | None = None
 
     @property
     def fitted(self) -> list[BatchRow]:
@@ -204,6 +212,7 @@ def fit_files(
     include_poor: bool = False,
     known_moduli: Mapping[str, float] | None = None,
     viscoelastic: RampOptions | None = None,
+    correction: Correction | None = None,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
 ) -> FitFilesResult:
@@ -216,7 +225,10 @@ def fit_files(
     the rows (:func:`regroup`); ``creep`` (group -> :class:`CreepRecord`) gives a group its
     viscoelastic material; ``include_poor`` keeps fits rated poor in the statistics;
     ``known_moduli`` (relative path -> E_kPa) is compared with the fits; ``viscoelastic``
-    also fits every ramp in time (:func:`afm.ramp_files.fit_ramp_files`).
+    also fits every ramp in time (:func:`afm.ramp_files.fit_ramp_files`); ``correction``
+    corrects every modulus (:func:`afm.corrected_batch.apply_correction`; checked by the
+    caller against the tip and fit range) and the statistics and materials use the corrected
+    moduli.
 
     Refused (:class:`InputError`): a creep record for a group no fitted curve belongs to, a
     creep record :func:`afm.creep.fit_creep_tip` refuses; with ``viscoelastic``, a file
@@ -245,7 +257,13 @@ def fit_files(
         **(fit_options or {}),
     )
     batch = regroup(batch, relative_to, groups or {})
-    stats = {s.group: s for s in batch.stats(include_poor) if s.quantity == "E_kPa"}
+    corrected = None if correction is None else apply_correction(batch, correction)
+    listed = (
+        batch.stats(include_poor)
+        if corrected is None
+        else corrected_stats(batch, corrected, include_poor)
+    )
+    stats = {s.group: s for s in listed if s.quantity == "E_kPa"}
     creep = creep or {}
     unknown = sorted(set(creep) - set(stats))
     if unknown:
@@ -258,7 +276,7 @@ def fit_files(
         group_material(
             g,
             stats[g],
-            model,
+            model if correction is None else f"{model} ({correction.name}-corrected)",
             nu,
             include_poor,
             creep.get(g),
@@ -266,7 +284,15 @@ def fit_files(
         )
         for g in sorted(stats)
     )
-    result = FitFilesResult(batch, include_poor, stats, materials, ramps=ramps)
+    result = FitFilesResult(
+        batch,
+        include_poor,
+        stats,
+        materials,
+        ramps=ramps,
+        correction=correction,
+        corrected=corrected,
+    )
     if known_moduli is None:
         return result
     errors = tuple(

@@ -9,7 +9,10 @@ showing why), a strip plot and mean +- SD per group over the curves rated good (
 only with ``include_poor``), a modulus map per force-map file, and per group
 ``material_<group>.toml`` with its ANSYS and FEBio blocks. The run ends with "done: N fitted,
 M poor, K refused". With ``viscoelastic`` every ramp is also fitted in time (Ting's method;
-its columns in ``fits.csv``, F(t) figures, a group's material from its joint fit).
+its columns in ``fits.csv``, F(t) figures, a group's material from its joint fit). With
+``correction`` every modulus is also corrected for the sample's shape (shelled oocyte, bonded
+layer; :mod:`~oocyte_fe.kinds.afm_fit_files_correction`): a column beside the apparent one,
+and the groups' statistics and materials from the corrected moduli.
 
 Inputs and what they name: :mod:`~oocyte_fe.kinds.afm_fit_files_inputs`; the fits, groups and
 materials: :func:`afm.fit_files.fit_files`; the outputs:
@@ -28,6 +31,7 @@ from oocyte_fe.kinds.afm_fit_files_args import (
     known_moduli_file,
     read_options,
 )
+from oocyte_fe.kinds.afm_fit_files_correction import add_correction_columns, correction
 from oocyte_fe.kinds.afm_fit_files_inputs import METRICS, FitFilesInputs
 from oocyte_fe.kinds.afm_fit_files_ramps import ramp_metrics
 from oocyte_fe.kinds.afm_fit_files_report import sections, write_fits, write_materials
@@ -45,6 +49,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     files = find_curve_files(case_dir, inp.curves)
     creep = creep_records(inp, case_dir)  # refuses a bad creep tip before fitting
     options = fit_options(inp, case_dir / "case.toml")
+    corrected_by = correction(inp, case_dir / "case.toml")  # refused before fitting
     known_file = known_moduli_file(inp, case_dir)
     known = None if known_file is None else read_known_moduli(known_file)
 
@@ -62,11 +67,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
         include_poor=inp.include_poor,
         known_moduli=known,
         viscoelastic=None if inp.viscoelastic is None else inp.viscoelastic.options(),
+        correction=corrected_by,
         workers=WORKERS,
         progress=lambda done, total: ctx.progress(done, total, "curves fitted"),
     )
     ctx.step("plots")
     figures, plots = write_fits(result, inp, ctx.output, case_dir, WORKERS)
+    add_correction_columns(ctx.output("fits.csv"), result)
     ctx.step("material files")
     material_rows = write_materials(result, ctx.output)
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import Field, ValidationInfo, field_validator, model_validator
+from pydantic import Discriminator, Field, Tag, ValidationInfo, field_validator, model_validator
 
 from afm.models import MODELS
 from afm.ramp_files import RampOptions
@@ -63,6 +63,56 @@ class Viscoelastic(CaseInputs):
         return RampOptions(
             self.relaxation, self.terms, self.t0_s, self.use_retract, self.joint_speeds
         )
+
+
+class ShelledOocyteCorrection(CaseInputs):
+    """E_ZP from each sphere fit through the FE table of afm.corrections (docs/afm.md)."""
+
+    type: Literal["shelled_oocyte"]
+    zona_thickness_um: float = Field(
+        gt=0, le=1e3, description="ZP thickness h", json_schema_extra={"unit": "um"}
+    )
+    cytoplasm_modulus_kPa: float = Field(
+        gt=0,
+        le=1e6,
+        description="the cytoplasm's Young's modulus",
+        json_schema_extra={"unit": "kPa"},
+    )
+    cell_radius_um: float = Field(
+        gt=0, le=1e4, description="the cell's outer radius R", json_schema_extra={"unit": "um"}
+    )
+
+
+class BondedLayerCorrection(CaseInputs):
+    """A layer bonded to a rigid support: Dimitriadis et al. 2002 (sphere), Garcia and Garcia
+    2018 (cone), nu = 0.5 (afm.bottom_effect)."""
+
+    type: Literal["dimitriadis_bonded", "garcia_bonded"]
+    layer_thickness_um: float = Field(
+        gt=0, le=1e4, description="layer thickness h", json_schema_extra={"unit": "um"}
+    )
+
+
+def _correction_type(value: object) -> str | None:
+    kind = value.get("type") if isinstance(value, dict) else getattr(value, "type", None)
+    return {
+        "shelled_oocyte": "shell",
+        "dimitriadis_bonded": "bonded",
+        "garcia_bonded": "bonded",
+    }.get(kind)
+
+
+CorrectionInputs = Annotated[
+    Annotated[ShelledOocyteCorrection, Tag("shell")]
+    | Annotated[BondedLayerCorrection, Tag("bonded")],
+    Discriminator(
+        _correction_type,
+        custom_error_type="correction_type",
+        custom_error_message="a table with type = shelled_oocyte, dimitriadis_bonded or "
+        "garcia_bonded",
+    ),
+]
+"""A correction table, told apart by its ``type``."""
 
 
 class FitFilesInputs(CaseInputs):
@@ -157,6 +207,12 @@ class FitFilesInputs(CaseInputs):
         None,
         description="also fit every ramp (approach and retract) in time with a relaxation "
         "modulus; needs files with the time of every point",
+    )
+    correction: CorrectionInputs | None = Field(
+        None,
+        description="correct every modulus for the sample's shape: type = shelled_oocyte "
+        "(spherical probe on the layered oocyte), dimitriadis_bonded (sphere) or garcia_bonded "
+        "(cone) on a layer bonded to a rigid support; needs max_indentation_um",
     )
     known_moduli: str | None = Field(
         None,

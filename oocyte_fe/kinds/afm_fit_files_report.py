@@ -19,6 +19,7 @@ from afm.fe_export import ansys_prony_block, febio_material
 from afm.fit_files import FitFilesResult, GroupMaterial, tip_text
 from afm.material_file import write_material
 from afm.ramp_files import RAMP_COLUMNS
+from oocyte_fe.kinds.afm_fit_files_correction import CORRECTION_COLUMNS, correction_text
 from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
 from oocyte_fe.kinds.afm_fit_files_ramps import (
     add_ramp_columns,
@@ -146,6 +147,8 @@ def sections(
     the material files, the columns of ``fits.csv`` and links to the curve plots."""
     rows = result.batch.rows
     used = "fits rated good or poor" if inp.include_poor else "fits rated good"
+    if result.correction is not None:
+        used += f", moduli corrected ({result.correction.name})"
     poor_left_out = "are left out (include_poor = true keeps them)"
     table = "\n".join(
         f"| {s.group} | {s.n} | {s.n_poor} | " + (f"{s.mean_sd_text} |" if s.n else "- |")
@@ -179,6 +182,7 @@ def sections(
             "; SD n/a for n = 1. Every row is in `fits.csv`.\n\n"
             "| group | n | n_poor | E [kPa] |\n|---|---|---|---|\n" + table,
         ),
+        ("Correction for the sample's shape", correction_text(result)),
         ("Analysis", analysis),
         ("Curves refused (skipped)", failed or "none"),
         (
@@ -195,7 +199,11 @@ def sections(
             "Columns of fits.csv",
             "\n".join(
                 f"* `{k}`: {text}"
-                for k, text in (COLUMNS | (RAMP_COLUMNS if result.ramps else {})).items()
+                for k, text in (
+                    COLUMNS
+                    | (CORRECTION_COLUMNS if result.correction else {})
+                    | (RAMP_COLUMNS if result.ramps else {})
+                ).items()
             ),
         ),
         ("Curve plots", plot_links or "none"),

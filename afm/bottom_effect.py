@@ -1,0 +1,76 @@
+"""Bottom-effect corrections for a layer of thickness ``h`` bonded to a rigid support, nu = 0.5.
+
+Sphere of radius ``R`` (Dimitriadis et al. 2002, Biophys. J. 82:2798, eq. 12, bonded):
+
+    F = 16/9 E R^(1/2) d^(3/2) [1 + 1.133 x + 1.283 x^2 + 0.769 x^3 + 0.0975 x^4],
+    x = sqrt(R d) / h
+
+(eq. 12's numbers; the first two are -2 alpha0/pi and 4 alpha0^2/pi^2 with their
+alpha0 = -1.7795 at nu = 0.5). Checked against the project's FE in its own limit (docs/afm.md,
+"Bottom-effect corrections").
+
+Cone of half angle ``alpha`` (Garcia and Garcia 2018, Biophys. J. 114:2923, bonded):
+
+    F = 8/(3 pi) E tan(alpha) d^2 [1 + 0.721 y + 0.650 y^2 + 0.491 y^3 + 0.225 y^4],
+    y = d tan(alpha) / h
+
+implemented from the paper and not checked here: the project's FE cone is not verified yet
+(docs/fe.md).
+
+A half-space fit from contact to ``d`` with points uniform in depth (least squares in E) of a
+curve that follows ``F = E s(d') f(d')`` reads ``E_fit = E int s^2 f / int s^2``
+(:func:`fit_factor`); the corrected modulus is ``E = E_fit / fit_factor``. Units: um, kPa.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from afm.models import get_model
+
+DIMITRIADIS_BONDED = (1.133, 1.283, 0.769, 0.0975)
+"""Dimitriadis et al. (2002) eq. 12: bonded, nu = 0.5, coefficients of x = sqrt(R d)/h."""
+GARCIA_CONE = (0.721, 0.650, 0.491, 0.225)
+"""Garcia and Garcia (2018), cone, bonded, nu = 0.5, coefficients of y = d tan(alpha)/h."""
+SPHERE_MODELS = ("hertz_sphere", "hertz_paraboloid")
+CONE_MODELS = ("sneddon_cone",)
+
+
+def _polynomial(coefficients: tuple[float, ...], x: np.ndarray) -> np.ndarray:
+    return 1.0 + sum(c * x ** (k + 1) for k, c in enumerate(coefficients))
+
+
+def dimitriadis_factor(depth_um: np.ndarray, radius_um: float, layer_um: float) -> np.ndarray:
+    """F / F_Hertz of a sphere on a bonded layer, nu = 0.5 (Dimitriadis 2002, eq. 12) [1]."""
+    x = np.sqrt(radius_um * np.asarray(depth_um, dtype=float)) / layer_um
+    return _polynomial(DIMITRIADIS_BONDED, x)
+
+
+def garcia_cone_factor(depth_um: np.ndarray, half_angle_deg: float, layer_um: float) -> np.ndarray:
+    """F / F_Sneddon of a cone on a bonded layer, nu = 0.5 (Garcia and Garcia 2018) [1]."""
+    y = np.asarray(depth_um, dtype=float) * math.tan(math.radians(half_angle_deg)) / layer_um
+    return _polynomial(GARCIA_CONE, y)
+
+
+def factor(
+    model: str, geometry: Mapping[str, float], depth_um: np.ndarray, layer_um: float
+) -> np.ndarray:
+    """F / F_half-space at ``depth_um``: Garcia's for a cone, Dimitriadis' for a sphere."""
+    if model in CONE_MODELS:
+        return garcia_cone_factor(depth_um, geometry["half_angle_deg"], layer_um)
+    return dimitriadis_factor(depth_um, geometry["radius_um"], layer_um)
+
+
+def fit_factor(
+    model: str, geometry: Mapping[str, float], depth_um: float, layer_um: float
+) -> float:
+    """E_fit / E of a half-space fit of ``model`` (hertz_sphere, hertz_paraboloid:
+    ``radius_um``; sneddon_cone: ``half_angle_deg``) from contact to ``depth_um`` (points
+    uniform in depth) on a bonded layer of ``layer_um``: ``int s^2 f / int s^2`` [1]."""
+    x = np.linspace(0.0, depth_um, 2001)
+    shape = get_model(model).shape(x, geometry, 0.5)
+    f = factor(model, geometry, x, layer_um)
+    return float(np.trapezoid(shape**2 * f, x) / np.trapezoid(shape**2, x))
