@@ -21,8 +21,8 @@ model's samples ``F_m = [f_m(n)]``, learned with its own rate ``eta``::
 
 A target grown by ``a^m`` answers at ``n = m``. The peak ``n*`` is refined by a parabola
 through the maximum and its neighbours, less the peak of the model's answer to its own
-samples ``F_m^T w`` (the ridge fit is not exact; its offset would drift the scale of a static
-target), and applied with a gain ``beta``::
+samples ``F_m^T w`` (the ridge fit is not exact; its offset drifted a repeated frame's scale
+to 1.030 in 40 frames), and applied with a gain ``beta``::
 
     c <- c a^{beta n*},   c in [1 / limit, limit]
 

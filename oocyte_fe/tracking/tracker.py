@@ -182,6 +182,12 @@ it) and the reach gate for a largest speed of 20 um/s at the benchmark's 10 fram
 spindle and 15-45 px from it on the 6 tuning cells (docs/tracking.md); ``learn`` = 2 chosen
 among 0.5, 1, 2, 3 on two draws of turning sequences (seeds 101, 102)."""
 
+MFAKCF_SCALE = replace(MFAKCF, scale=ScaleModel())
+"""MFAKCF with the 1-D scale filter of :mod:`.scale` (gain 0.1, learning rate 0.005,
+lambda 0.1, chosen on the tuning draws; 17 scales of step 1.02, region 1.5 boxes); the
+benchmark reports it as ``MFAKCF (scale)``. Not the default: it lowered the success AUC on
+the tuning cells and did not win on the held-out draws (docs/tracking.md, "Scale filter")."""
+
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
 
