@@ -1,7 +1,8 @@
 """Spindle-tracking benchmark (issue 21): MFAKCF against our single-feature KCF (HOG, fixed
 learning rate: the seed's "original KCF") and, when opencv-contrib-python-headless is installed
 (extra ``tracking-opencv``), OpenCV's KCF and CSRT, MFAKCF with KCF's learning rate 0.02
-(``MFAKCF (rate 0.02)``, the previous default), and MFAKCF without its motion
+(``MFAKCF (rate 0.02)``, the previous default), the options ``MFAKCF (signature)`` and
+``MFAKCF (scale)`` (the 1-D scale filter), and MFAKCF without its motion
 prediction (``MFAKCF (no motion)``) and without its anchor check (``MFAKCF (no anchor)``, the
 ablations), on the 24 synthetic polarized-light
 sequences of :func:`oocyte_fe.tracking.synthetic.benchmark_grid` (300 frames each).
@@ -34,6 +35,7 @@ from oocyte_fe.tracking.tracker import (
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
+    MFAKCF_SCALE,
     MFAKCF_SIGNATURE,
     SINGLE_KCF,
 )
@@ -65,10 +67,11 @@ def main() -> None:
     )
     print(f"\n{len(specs)} sequences x {args.frames} frames in {time.perf_counter() - t0:.0f} s")
     print(f"OpenCV: {result.opencv or 'not used'}\n")
-    names = ["MFAKCF", "MFAKCF (signature)", "MFAKCF (rate 0.02)", "OpenCV CSRT"]
+    names = ["MFAKCF", "MFAKCF (signature)", "MFAKCF (scale)", "MFAKCF (rate 0.02)", "OpenCV CSRT"]
     print(bench.draw_table(result, [n for n in names if n in result.trackers]) + "\n")
     csrt = "OpenCV CSRT" if "OpenCV CSRT" in result.trackers else None
-    print(bench.group_table(result, ["MFAKCF", "MFAKCF (signature)"], csrt) + "\n")
+    trackers = ["MFAKCF", "MFAKCF (signature)", "MFAKCF (scale)"]
+    print(bench.group_table(result, trackers, csrt) + "\n")
     if args.model == "heldout":
         print(f"1-min load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
         return
@@ -82,6 +85,7 @@ def main() -> None:
         ("MFAKCF (no anchor)", MFAKCF_NO_ANCHOR),
         ("MFAKCF (no motion)", MFAKCF_HOLD),
         ("MFAKCF (signature)", MFAKCF_SIGNATURE),
+        ("MFAKCF (scale)", MFAKCF_SCALE),
         ("KCF (HOG)", SINGLE_KCF),
     ):
         cpu, wall = bench.fps_at_window(config, 128)

@@ -4,9 +4,10 @@ Trackers: ``MFAKCF`` (:data:`.tracker.MFAKCF`, with the Kalman prediction of
 :mod:`.motion` and the anchor check of :mod:`.anchor`), the benchmark script's ablations
 ``MFAKCF (rate 0.02)`` (:data:`.tracker.MFAKCF_RATE_002`, the previous default),
 ``MFAKCF (no anchor)`` (:data:`.tracker.MFAKCF_NO_ANCHOR`) and ``MFAKCF (no motion)``
-(:data:`.tracker.MFAKCF_HOLD`), ``KCF (HOG)`` (our single-feature KCF with a fixed learning
-rate, the seed's "original KCF", :data:`.tracker.SINGLE_KCF`) and, when opencv-contrib is
-installed,
+(:data:`.tracker.MFAKCF_HOLD`), the options ``MFAKCF (signature)`` and ``MFAKCF (scale)``
+(:data:`.tracker.MFAKCF_SCALE`, the 1-D scale filter of :mod:`.scale`), ``KCF (HOG)`` (our
+single-feature KCF with a fixed learning rate, the seed's "original KCF",
+:data:`.tracker.SINGLE_KCF`) and, when opencv-contrib is installed,
 ``OpenCV KCF`` and ``OpenCV CSRT``. Gains are relative, ``100 (P_MFAKCF - P_KCF) / P_KCF`` %,
 as seed 000 reports its +45.63 % (precision) and +49.89 % (success) over the original KCF
 (Section III.B).
@@ -29,6 +30,7 @@ from oocyte_fe.tracking.tracker import (
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
+    MFAKCF_SCALE,
     MFAKCF_SIGNATURE,
     SINGLE_KCF,
     TrackerConfig,
@@ -48,6 +50,7 @@ ABLATION = {
     "MFAKCF (no anchor)": MFAKCF_NO_ANCHOR,
     "MFAKCF (no motion)": MFAKCF_HOLD,
     "MFAKCF (signature)": MFAKCF_SIGNATURE,
+    "MFAKCF (scale)": MFAKCF_SCALE,
 }
 
 TUNING_SUBSET = (
