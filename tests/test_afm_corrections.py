@@ -171,32 +171,3 @@ def test_option_refuses_what_it_does_not_cover(tmp_path, correction, model, extr
     case = _case(tmp_path, correction, model, extra)
     [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
     assert result.status == "ERROR" and field in result.reason, result.reason
-
-
-OFF_GRID = [(0.3, 0.5, (0.1375, 0.19)), (0.07, 1.0, (0.2125, 0.3875))]
-"""(E_c/E_ZP, Rp/h, d/h) not on the table's nodes (docs/afm.md: measured errors)."""
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize(("e_ratio", "probe_h", "depths"), OFF_GRID)
-def test_table_reproduces_fresh_fe_runs_off_its_nodes(e_ratio, probe_h, depths):
-    from oocyte_fe.afm_corrections.table import column
-
-    depth_h = np.array(depths)
-    fe = column(e_ratio, probe_h, depth_h).e_fit / column(1.0, probe_h, depth_h).e_fit
-    table = [shell_ratio(d, e_ratio, probe_h) for d in depths]
-    assert table == pytest.approx(fe, rel=0.01)
-
-
-@pytest.mark.slow
-def test_dimitriadis_against_the_fe_in_its_own_limit():
-    # a 5 um layer on a 1000x stiffer, 1 mm cell, 5 um probe to 3 um (x up to 0.77)
-    from oocyte_fe.afm_corrections.bottom_check import bonded_layer_check
-
-    # measured: FE/Hertz within 0.7 % of Dimitriadis for 0.16 <= x <= 0.55; below x = 0.16
-    # the contact (a < 0.8 um) spans fewer than 4 elements, beyond 0.55 finite strain (d/R*
-    # > 0.3) takes the FE below the small-strain formula (8 % at x = 0.77; docs/afm.md)
-    check = bonded_layer_check()
-    use = (check["x"] >= 0.16) & (check["x"] <= 0.55)
-    assert use.sum() >= 8
-    assert check["layer"][use] == pytest.approx(check["dimitriadis"][use], rel=0.015)
