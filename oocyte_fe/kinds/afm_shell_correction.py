@@ -33,7 +33,11 @@ class OffNode(CaseInputs):
 class ShellCheckInputs(CaseInputs):
     off_nodes: list[OffNode] = Field(min_length=1, description="points that are not nodes")
     dimitriadis_x: list[float] = Field(
-        [0.16, 0.55], min_length=2, max_length=2, description="the x = sqrt(R* d)/h range"
+        [0.16, 0.55],
+        min_length=2,
+        max_length=2,
+        description="the x = sqrt(R* d)/h range",
+        json_schema_extra={"unit": "1"},
     )
 
 

@@ -38,8 +38,12 @@ class RtdcInputs(CaseInputs):
     channel_width_um: float = Field(
         20.0, gt=1, le=1000, description="square channel width", json_schema_extra={"unit": "um"}
     )
-    flow_rate_uL_s: float = Field(0.04, gt=0, le=10, description="flow rate (uL/s)")
-    viscosity_mPa_s: float = Field(15.0, gt=0.1, le=1e4, description="medium viscosity (mPa s)")
+    flow_rate_uL_s: float = Field(
+        0.04, gt=0, le=10, description="flow rate", json_schema_extra={"unit": "uL/s"}
+    )
+    viscosity_mPa_s: float = Field(
+        15.0, gt=0.1, le=1e4, description="medium viscosity", json_schema_extra={"unit": "mPa s"}
+    )
     radii_um: list[Annotated[float, Field(gt=0.5, le=500)]] = Field(
         min_length=1, description="cell radii", json_schema_extra={"unit": "um"}
     )
