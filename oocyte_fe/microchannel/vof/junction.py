@@ -1,7 +1,9 @@
 """The oocyte at the junction (seed 001, Model II): set up, run and measure one pressure.
 
-Three phases: the culture medium (Newtonian), the zona pellucida (ZP) shell and the cytoplasm
-core (both Carreau, zero-shear viscosity capped, :func:`.rheology.cap_zero_shear`). The
+Two models. ``three_phase_mules`` (the seed's reading, ``multiphaseInterFoam``): the culture
+medium (Newtonian), the zona pellucida (ZP) shell and the cytoplasm core (both Carreau,
+zero-shear viscosity capped, :func:`.rheology.cap_zero_shear`). ``liquid_cell_isoadvector``
+(``interIsoFoam``): the medium and the whole cell as ONE phase of one such curve. The
 driving pressure ``p`` sets the mean velocity of each inlet through the device's calibrated
 hydraulic resistance (:class:`~oocyte_fe.microchannel.channel.Channel`: ``U = p R^2/(8 mu L)``,
 nearly all the resistance is in the tubing, so the box sets the flow rate, not the pressure at
@@ -21,6 +23,7 @@ from pathlib import Path
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetup, write_case
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+from oocyte_fe.microchannel.vof.isoadvector import INTER_ISO_FOAM
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
 from oocyte_fe.microchannel.vof.post import CellHistory, cell_history, time_directories
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
@@ -30,8 +33,6 @@ from oocyte_fe.microchannel.vof.runner import (
     run_solver,
     run_utility,
 )
-
-CELL_PHASES = ("zp", "cytoplasm")
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,22 @@ def junction_setup(
     return VofSetup(layout, (medium, zp, cytoplasm), disks, numerics)
 
 
+def liquid_cell_setup(
+    geometry: JunctionGeometry,
+    dx: float,
+    medium: Phase,
+    cell: Phase,
+    velocity_a: float,
+    velocity_b: float,
+    numerics: Numerics,
+) -> VofSetup:
+    """The two-phase junction case (``interIsoFoam``): the whole cell (its diameter) as ONE
+    phase of one viscosity curve in the medium (:mod:`.isoadvector`)."""
+    layout = geometry.layout(dx, velocity_a, velocity_b)
+    disks = (Disk(cell.name, geometry.cell_centre, 0.5 * geometry.cell_diameter),)
+    return VofSetup(layout, (medium, cell), disks, numerics)
+
+
 def run_junction(
     foam: OpenFoam,
     directory: Path,
@@ -95,10 +112,11 @@ def run_junction(
         num.end_time, num.time_step, layout.dx * 1e-6, u_ref, limits or Limits()
     )
     start = time.perf_counter()
-    run_solver(foam, case, monitor, ranks=ranks, nice=nice, progress=progress)
+    run_solver(foam, case, monitor, ranks=ranks, nice=nice, progress=progress, solver=num.solver)
     wall = time.perf_counter() - start
     names = [p.name for p in setup.phases]
-    history = cell_history(case, layout, CELL_PHASES, names)
+    written = names[1:] if num.solver == INTER_ISO_FOAM else names  # 1 - alpha not written
+    history = cell_history(case, layout, names[1:], written)
     for _, folder in time_directories(case)[1:-1]:  # face fluxes: only t = 0 and the last kept
         (folder / "phi").unlink(missing_ok=True)
     t_j, r_j = history.at_x(0.0)

@@ -138,7 +138,9 @@ def snapshot(
     import matplotlib.pyplot as plt
 
     n = layout.n_cells
-    index = sum(i * read_internal_field(folder / f"alpha.{p}", n) for i, p in enumerate(phases))
+    index = sum(  # the first phase counts 0: its fraction is not needed (interIsoFoam: not written)
+        i * read_internal_field(folder / f"alpha.{p}", n) for i, p in enumerate(phases) if i
+    )
     fig, ax = plt.subplots(figsize=(8, 3.2))
     start = 0
     for b in layout.blocks:

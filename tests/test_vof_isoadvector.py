@@ -1,0 +1,142 @@
+"""The two-phase geometric-VOF path (interIsoFoam, isoAdvector): the case writer's
+dictionaries (no OpenFOAM needed), the case's runs, and (slow) the time-step convergence of the
+liquid cell's deformation."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel.vof.casewriter import (
+    Numerics,
+    Phase,
+    VofSetup,
+    control_dict,
+    solution,
+    write_case,
+)
+from oocyte_fe.microchannel.vof.foamfile import read_internal_field
+from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+from oocyte_fe.microchannel.vof.isoadvector import IsoControls, two_phase_transport
+from oocyte_fe.microchannel.vof.junction import liquid_cell_setup, mean_velocity, seed_phases
+from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, openfoam_available
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+ISO = Numerics(solver="interIsoFoam", correctors=24, pressure_rel_tol=0.05)
+
+
+def _liquid_setup(num: Numerics = ISO, dx: float = 25.0):
+    medium, _, cyto = seed_phases()
+    cell = Phase("cell", cyto.rheology, cyto.density)
+    u = mean_velocity(300.0)
+    return liquid_cell_setup(JunctionGeometry(), dx, medium, cell, u, u, num)
+
+
+def test_interisofoam_dictionaries_hold_the_damBreak_alpha_controls() -> None:
+    """fvSolution's alpha entry carries the tutorial's isoAdvector controls with the stated
+    values, no MULES compression key is needed, and controlDict names the solver."""
+    alpha = solution(ISO)["solvers"]['"alpha.*"']
+    expected = {"isoFaceTol": 1e-6, "surfCellTol": 1e-6, "nAlphaBounds": 3, "snapTol": 1e-12}
+    assert {k: alpha[k] for k in expected} == expected
+    assert alpha["clip"] is True and alpha["nAlphaSubCycles"] == 1
+    assert solution(ISO)["PIMPLE"]["nCorrectors"] == 24
+    assert control_dict(ISO)["application"] == "interIsoFoam"
+    seed = solution(Numerics())["solvers"]['"alpha.*"']
+    assert set(seed) == {"nAlphaSubCycles", "cAlpha"}  # the MULES path is unchanged
+    assert control_dict(Numerics())["application"] == "multiphaseInterFoam"
+    custom = Numerics(solver="interIsoFoam", iso=IsoControls(iso_face_tol=1e-8, clip=False))
+    alpha = solution(custom)["solvers"]['"alpha.*"']
+    assert alpha["isoFaceTol"] == 1e-8 and alpha["clip"] is False
+
+
+def test_two_phase_transport_names_the_cell_first_with_its_carreau_curve() -> None:
+    """phases (cell medium): alpha.cell is solved; nu0 = eta0/rho (46 Pa s / 1020 kg/m^3,
+    the capped cytoplasm), nuInf = 1.368/1020, medium nu = 1.66e-3/1008 (m^2/s)."""
+    setup = _liquid_setup()
+    tp = two_phase_transport(setup.phases, 0.0)
+    assert tp["phases"] == "(cell medium)"
+    coeffs = tp["cell"]["BirdCarreauCoeffs"]
+    assert coeffs["nu0"] == pytest.approx(46.0 / 1020.0, rel=1e-12)
+    assert coeffs["nuInf"] == pytest.approx(1.368 / 1020.0, rel=1e-12)
+    assert tp["cell"]["rho"] == pytest.approx(1020.0, rel=1e-12)
+    assert tp["medium"]["nu"] == pytest.approx(1.66e-3 / 1008.0, rel=1e-12)
+    assert tp["sigma"] == 0.0
+    with pytest.raises(InputError, match="two phases"):
+        two_phase_transport((*setup.phases, setup.phases[1]), 0.0)
+
+
+def test_written_case_has_one_alpha_field_of_the_cell(tmp_path: Path) -> None:
+    """0/alpha.cell holds the sampled disk (area pi 70^2 within 0.3 % on 12.5 um cells); no
+    alpha.medium, no alphas; an unknown solver is an InputError naming the field."""
+    setup = _liquid_setup(dx=12.5)
+    case = write_case(setup, tmp_path / "iso")
+    assert not (case / "0" / "alpha.medium").exists() and not (case / "0" / "alphas").exists()
+    alpha = read_internal_field(case / "0" / "alpha.cell")
+    area = alpha.sum() * 12.5**2
+    assert area == pytest.approx(np.pi * 70.0**2, rel=3e-3)
+    text = (case / "constant" / "transportProperties").read_text()
+    assert "phases (cell medium);" in text and "BirdCarreauCoeffs" in text
+    bad = VofSetup(setup.layout, setup.phases, setup.disks, Numerics(solver="interFoam"))
+    with pytest.raises(InputError, match="solver"):
+        write_case(bad, tmp_path / "bad")
+
+
+def test_table4_case_runs_the_studies_and_the_seed_model_beside() -> None:
+    """The Table 4 case's run list: seven pressures of the liquid cell, then the 6.25 um mesh
+    with its correctors, the cap, the ZP bound, dt/2 and dt/4, and the three-phase MULES model
+    at the seven pressures (its own mesh) with its dt/2 run."""
+    from oocyte_fe.kinds.microchannel_vof_inputs import VofInputs
+    from oocyte_fe.kinds.microchannel_vof_runs import run_specs
+
+    raw = tomllib.loads((CASES / "microchannel_vof_table4" / "case.toml").read_text())
+    folder = CASES / "microchannel_vof_table4"
+    inputs = {k: (str(folder / v) if k.endswith("_data") else v) for k, v in raw["inputs"].items()}
+    inp = VofInputs.model_validate(inputs)
+    specs = run_specs(inp, inp.pressures_hPa)
+    labels = [s.label for s in specs]
+    assert labels[:7] == [f"p{p:g}hPa" for p in inp.pressures_hPa]
+    assert labels[7:12] == [
+        "p300hPa_dx6.25",
+        "p300hPa_cap15",
+        "p300hPa_zp",
+        "p300hPa_dt5e-07",
+        "p300hPa_dt2.5e-07",
+    ]
+    mesh, zp = specs[7], specs[9]
+    assert (mesh.dx, mesh.correctors, mesh.model) == (6.25, 48, "liquid_cell_isoadvector")
+    assert zp.curve == "zp" and specs[0].curve == "cytoplasm"
+    beside = specs[12:]
+    assert [s.model for s in beside] == ["three_phase_mules"] * 8
+    assert {s.dx for s in beside} == {10.0} and beside[-1].dt == 5e-7
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not openfoam_available(), reason=f"OpenFOAM not installed: {INSTALL_HINT}")
+def test_liquid_cell_deformation_converges_in_dt(tmp_path: Path) -> None:
+    """A tiny junction run (dx 12.5 um, 300 hPa, the cell's first 100 um of travel): 1 - b/a
+    at the end changes by less than 3 % from dt = 2e-6 to 1e-6 to 5e-7 s (isoAdvector; the
+    three-phase MULES model moves 25-45 % per halving, docs/microchannel.md)."""
+    from oocyte_fe.microchannel.vof.junction import run_junction
+    from oocyte_fe.microchannel.vof.runner import find_openfoam
+
+    end = 100.0 / mean_velocity(300.0)
+    deformation = []
+    for dt in (2e-6, 1e-6, 5e-7):
+        num = Numerics(
+            time_step=dt,
+            end_time=end,
+            write_interval=end / 2,
+            correctors=24,
+            pressure_rel_tol=0.05,
+            solver="interIsoFoam",
+        )
+        run = run_junction(find_openfoam(), tmp_path / f"dt{dt:g}", _liquid_setup(num, 12.5))
+        deformation.append(1.0 - float(run.history.ratio[-1]))
+        assert max(abs(e).max() for e in run.history.volume_error.values()) < 1e-6
+    changes = np.diff(deformation) / np.array(deformation[:-1])
+    assert deformation[-1] > 1e-3  # a deformation to converge, not round-off
+    assert np.all(np.abs(changes) < 0.03), (deformation, changes)
