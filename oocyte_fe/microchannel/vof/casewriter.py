@@ -79,6 +79,7 @@ class Numerics:
     pressure_rel_tol: float = 0.0  # p_rgh relTol of the correctors before the last
     solver: str = MULTIPHASE  # or "interIsoFoam" (two phases, isoAdvector)
     iso: IsoControls = IsoControls()  # interIsoFoam's alpha controls
+    moments: tuple[str, ...] = ()  # phases whose shape moments are recorded every step
 
 
 @dataclass(frozen=True)
@@ -232,6 +233,7 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
             values,
             {**inflow, outlet: out, "walls": {"type": "zeroGradient"}, **empty},
         )
+    write_moment_fields(d, layout, [*inlets, outlet])
     if two_phase:
         (d / "case.foam").write_text("")
         return d
@@ -243,6 +245,45 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
     )
     (d / "case.foam").write_text("")  # ParaView opens the series through this file
     return d
+
+
+MOMENT_FIELDS = ("mOne", "mX", "mY", "mXX", "mYY", "mXY")  # 1, x, y, x^2, y^2, xy (SI)
+
+
+def write_moment_fields(d: Path, layout: Layout, patches: list[str]) -> None:
+    """The static fields ``1, x, y, x^2, y^2, xy`` (m, m^2) of the cell centres, in ``0/``:
+    their alpha-weighted volume integrals each step give the cell's shape moments
+    (:func:`moment_functions`)."""
+    x, y = (layout.cell_centres() * UM).T
+    boundary = {n: {"type": "calculated", "value": "uniform 0"} for n in [*patches, "walls"]}
+    boundary["frontAndBack"] = {"type": "empty"}
+    values = (np.ones_like(x), x, y, x * x, y * y, x * y)
+    for name, v in zip(MOMENT_FIELDS, values, strict=True):
+        write_field(d / "0" / name, "[0 0 0 0 0 0 0]", v, boundary)
+
+
+def moment_functions(phases: tuple[str, ...]) -> dict:
+    """Function objects: load the moment fields once, and each step write
+    ``sum_k alpha_k V_k f_k`` for f in :data:`MOMENT_FIELDS`, per phase, to
+    ``postProcessing/moments_<phase>/0/volFieldValue.dat`` (read by :func:`.post.moment_trace`)."""
+    lib = '("libfieldFunctionObjects.so")'
+    out: dict = {
+        "loadMoments": {"type": "readFields", "libs": lib, "fields": f"({' '.join(MOMENT_FIELDS)})"}
+    }
+    for phase in phases:
+        out[f"moments_{phase}"] = {
+            "type": "volFieldValue",
+            "libs": lib,
+            "fields": f"({' '.join(MOMENT_FIELDS)})",
+            "operation": "weightedVolIntegrate",
+            "weightField": f"alpha.{phase}",
+            "regionType": "all",
+            "writeFields": "false",
+            "writeControl": "timeStep",
+            "writeInterval": 1,
+            "log": "false",
+        }
+    return out
 
 
 def control_dict(num: Numerics) -> dict:
@@ -275,7 +316,8 @@ def control_dict(num: Numerics) -> dict:
                 "mode": "magnitude",
                 "log": "true",
                 "writeToFile": "false",
-            }
+            },
+            **(moment_functions(num.moments) if num.moments else {}),
         },
     }
 

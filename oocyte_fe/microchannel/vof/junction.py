@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from oocyte_fe.microchannel.viscosity import Rheology
@@ -25,7 +25,12 @@ from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetu
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.isoadvector import INTER_ISO_FOAM
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
-from oocyte_fe.microchannel.vof.post import CellHistory, cell_history, time_directories
+from oocyte_fe.microchannel.vof.post import (
+    CellHistory,
+    cell_history,
+    moment_trace,
+    time_directories,
+)
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
     OpenFoam,
@@ -73,7 +78,8 @@ def junction_setup(
         Disk(zp.name, centre, 0.5 * geometry.cell_diameter),
         Disk(cytoplasm.name, centre, 0.5 * geometry.cytoplasm_diameter),
     )
-    return VofSetup(layout, (medium, zp, cytoplasm), disks, numerics)
+    num = replace(numerics, moments=(zp.name, cytoplasm.name))
+    return VofSetup(layout, (medium, zp, cytoplasm), disks, num)
 
 
 def liquid_cell_setup(
@@ -89,7 +95,7 @@ def liquid_cell_setup(
     phase of one viscosity curve in the medium (:mod:`.isoadvector`)."""
     layout = geometry.layout(dx, velocity_a, velocity_b)
     disks = (Disk(cell.name, geometry.cell_centre, 0.5 * geometry.cell_diameter),)
-    return VofSetup(layout, (medium, cell), disks, numerics)
+    return VofSetup(layout, (medium, cell), disks, replace(numerics, moments=(cell.name,)))
 
 
 def run_junction(
@@ -119,7 +125,8 @@ def run_junction(
     history = cell_history(case, layout, names[1:], written)
     for _, folder in time_directories(case)[1:-1]:  # face fluxes: only t = 0 and the last kept
         (folder / "phi").unlink(missing_ok=True)
-    t_j, r_j = history.at_x(0.0)
+    trace = moment_trace(case, num.moments) if num.moments else history
+    t_j, r_j = trace.at_x(0.0)
     return JunctionRun(
         case,
         inlets[0].velocity,
@@ -130,7 +137,7 @@ def run_junction(
         history,
         r_j,
         t_j,
-        float(history.ratio.min()),
+        float(min(trace.ratio.min(), history.ratio.min())),
     )
 
 

@@ -99,6 +99,43 @@ def cell_history(
     return CellHistory(time, centroid, speed, np.array(ratios), errors)
 
 
+def moment_trace(case: Path, cell_phases: Sequence[str]) -> CellHistory:
+    """The cell's centroid (um) and axis ratio at every time step, from the integrals
+    ``sum_k alpha_k V_k f_k`` (f = 1, x, y, x^2, y^2, xy) the solver wrote per phase
+    (:func:`.casewriter.moment_functions`), summed over ``cell_phases``::
+
+        x_c = S_x / S_1,   M = [[S_xx, S_xy], [S_xy, S_yy]] / S_1 - x_c x_c^T
+
+    the same moments as :func:`shape_moments` on the written fields (no volume errors)."""
+    sums = None
+    for phase in cell_phases:
+        folder = Path(case) / "postProcessing" / f"moments_{phase}"
+        files = sorted(folder.glob("*/volFieldValue*.dat"))
+        if not files:
+            raise InputError(folder, "volFieldValue.dat", "the solver's per-step cell moments")
+        rows = np.vstack([np.loadtxt(f, comments="#", ndmin=2) for f in files])
+        rows = rows[np.unique(rows[:, 0], return_index=True)[1]]
+        sums = rows if sums is None else _add_moments(sums, rows)
+    assert sums is not None
+    t, one, x, y, xx, yy, xy = sums.T
+    cx, cy = x / one, y / one
+    mxx, myy, mxy = xx / one - cx**2, yy / one - cy**2, xy / one - cx * cy
+    half = 0.5 * (mxx + myy)
+    root = np.sqrt((0.5 * (mxx - myy)) ** 2 + mxy**2)
+    ratio = np.sqrt(np.clip(half - root, 0.0, None) / (half + root))
+    centroid = np.column_stack([cx, cy]) * 1e6
+    speed = np.gradient(centroid[:, 0], t) if len(t) > 1 else np.zeros(len(t))
+    return CellHistory(t, centroid, speed, ratio, {})
+
+
+def _add_moments(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise sum of two phases' moment tables over their common times."""
+    common, ia, ib = np.intersect1d(a[:, 0], b[:, 0], return_indices=True)
+    out = a[ia].copy()
+    out[:, 1:] += b[ib, 1:]
+    return out
+
+
 def centreline_gradient(
     folder: Path, layout: Layout, x_range: tuple[float, float], field: str = "p"
 ) -> float:

@@ -146,6 +146,7 @@ def project_initial_flow(foam: OpenFoam, case: Path, numerics: Numerics, nice: i
     for name in ("U", "phi"):
         shutil.copy(step / name, case / "0" / name)
     shutil.rmtree(step)
+    shutil.rmtree(case / "postProcessing", ignore_errors=True)  # the real run starts its own
     write_dictionary(case / "system" / "controlDict", control_dict(numerics))
 
 
