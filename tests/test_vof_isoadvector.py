@@ -173,3 +173,40 @@ def test_moment_trace_gives_the_shape_moments_of_the_fields(tmp_path: Path) -> N
     assert np.allclose(trace.centroid, centre, atol=1e-9)
     assert np.allclose(trace.ratio, ratio, rtol=1e-12)
     assert ratio == pytest.approx(6.0 / 7.0, abs=1e-3)
+
+
+def test_traction_of_closed_forms_on_a_disk(tmp_path: Path) -> None:
+    """Synthetic fields on the junction lattice (dx 5 um), a disk r = 70 um at the junction:
+    (1) p = G x, U = 0: the net force of a linear pressure on the contour whose pressure is
+    read h = 1 cell outside is -G pi r (r + h) (divergence theorem, plus the offset ring),
+    within 1 %; the traction at the top is -p n; (2) p = 0, U = (gamma y, 0): simple shear,
+    t = mu gamma (n_y, n_x) at every edge (1e-9) and the net force vanishes; CSV columns."""
+    from oocyte_fe.microchannel.vof.foamfile import write_field
+    from oocyte_fe.microchannel.vof.geometry import disk_fraction
+    from oocyte_fe.microchannel.vof.traction import CSV_HEADER, surface_traction
+
+    layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
+    c = layout.cell_centres()
+    alpha = disk_fraction(c, layout.dx, (0.0, 0.0), 70.0)
+    g, gamma, mu = 2.0, 1e3, 1e-6  # Pa/um, 1/s, kPa s
+    folder = tmp_path / "0.001"
+    write_field(folder / "alpha.cell", "[0 0 0 0 0 0 0]", alpha, {})
+    write_field(folder / "p", "[1 -1 -2 0 0 0 0]", g * c[:, 0], {})
+    write_field(folder / "U", "[0 1 -1 0 0 0 0]", np.zeros((len(c), 3)), {})
+    t = surface_traction(folder, layout, "cell", mu, 2.0, 1.0)
+    r_contour = np.sqrt(abs(t.lengths @ np.einsum("ij,ij->i", t.points, t.normals)) / 2 / np.pi)
+    h = 1.0 * layout.dx
+    expected = -g * 1e-3 * np.pi * r_contour * (r_contour + h)  # kPa um
+    assert t.force[0] == pytest.approx(expected, rel=0.01)
+    assert abs(t.force[1]) < 1e-3 * abs(expected)
+    u = np.zeros((len(c), 3))
+    u[:, 0] = gamma * c[:, 1] * 1e-6  # m/s
+    write_field(folder / "p", "[1 -1 -2 0 0 0 0]", np.zeros(len(c)), {})
+    write_field(folder / "U", "[0 1 -1 0 0 0 0]", u, {})
+    t = surface_traction(folder, layout, "cell", mu, 2.0, 1.0)
+    assert np.allclose(t.traction, mu * gamma * t.normals[:, ::-1], rtol=0, atol=1e-9)
+    assert np.linalg.norm(t.force) < 1e-9
+    csv = t.write_csv(tmp_path / "t.csv")
+    assert csv.read_text().splitlines()[0] == CSV_HEADER
+    rows = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert rows.shape == (len(t.angle), 5) and np.all(np.diff(rows[:, 0]) >= 0)

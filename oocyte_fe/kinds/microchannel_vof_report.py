@@ -8,9 +8,9 @@ import math
 
 import numpy as np
 
-from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
+from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
-from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes
+from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes, traction_study
 from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
@@ -130,6 +130,17 @@ def report_outcome(
         metrics.update(study.metrics())
         metrics["dt_change_max_pct"] = worst
     beside_text = _beside(inp, table, beside, extra, metrics)
+    traction_text = "not computed (the liquid-cell model only)"
+    if inp.model == LIQUID_CELL:
+        ph = inp.cytoplasm if inp.cell_curve == "cytoplasm" else inp.zp
+        traction_text, more = traction_study(
+            runs[0],
+            _layout(inp, runs[0]),
+            inp.channel.viscosity_Pa_s * PA_S,
+            ph.density_kg_m3 * KG_M3,
+            ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
+        )
+        metrics.update(more)
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(
         time_directories(runs[0].case)[-1][1],
@@ -164,6 +175,7 @@ def report_outcome(
         ("Mesh, viscosity-cap and ZP sensitivity (first pressure)", "\n".join(notes) or "not run"),
         (f"Time-step convergence of {inp.model} (first pressure)", dt_text),
         (f"Beside: {inp.beside_model or 'no second model'}", beside_text),
+        (f"Traction on the cell at the junction ({pressures[0] / HPA:g} hPa)", traction_text),
         (
             "Files",
             "Each run's OpenFOAM case is in `openfoam/<run>/` (open `case.foam` in ParaView for "

@@ -1,5 +1,6 @@
 """The study sections of the ``microchannel_vof`` report: time step, mesh, viscosity cap, the
-ZP bound, and the beside model (labels of :mod:`.microchannel_vof_runs`).
+ZP bound, the beside model (labels of :mod:`.microchannel_vof_runs`), and the traction on the
+liquid cell.
 
 Every comparison reads the deformation ``1 - b/a`` at the junction (the centroid at x = 0;
 at the end of the runs when one does not reach it) and its change in per cent::
@@ -10,12 +11,20 @@ at the end of the runs when one does not reach it) and its change in per cent::
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
 from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
+from oocyte_fe.microchannel.vof.foamfile import read_internal_field
+from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.junction import JunctionRun
+from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
+from oocyte_fe.microchannel.vof.traction import momentum_balance, surface_traction
+
+TRACTION_OFFSET = 2.0  # cells: the velocity gradient's central stencil lies in the medium
+PRESSURE_OFFSET = 1.0  # cells: just outside the smeared interface (the inner pressure differs)
 
 
 def _pair(run: JunctionRun, base: JunctionRun) -> tuple[str, float, float]:
@@ -110,3 +119,47 @@ def _dt_section(study: TimeStepStudy, runs: list[JunctionRun]) -> str:
             f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
         )
     return "\n".join(lines)
+
+
+def traction_study(
+    run: JunctionRun, layout: Layout, mu_medium: float, density: float, csv: Path
+) -> tuple[str, dict[str, float]]:
+    """The traction of the flow on the liquid cell at the written time nearest its junction
+    crossing (:mod:`oocyte_fe.microchannel.vof.traction`), written to ``csv``, and its
+    momentum check: the section text and the metrics ``traction_imbalance_pct``,
+    ``traction_force_x``, ``traction_force_y`` (nN/um), ``traction_at_x_um``."""
+    folders = time_directories(run.case)[1:]
+    t_j = run.time_at_junction if math.isfinite(run.time_at_junction) else folders[-1][0]
+    t, folder = min(folders, key=lambda tf: abs(tf[0] - t_j))
+    trace = moment_trace(run.case, ["cell"])
+    traction = surface_traction(folder, layout, "cell", mu_medium, TRACTION_OFFSET, PRESSURE_OFFSET)
+    traction.write_csv(csv)
+    area = _cell_area(folder, layout)
+    window = 30.0 * float(np.median(np.diff(trace.time)))
+    balance = momentum_balance(traction, trace, area, density, window)
+    x_at = float(np.interp(t, trace.time, trace.centroid[:, 0]))
+    f, ma = balance.force, balance.momentum_rate
+    text = (
+        f"`{csv.name}`: {len(traction.angle)} edges of the alpha = 0.5 contour at t = {t:.4g} s "
+        f"(centroid x = {x_at:.1f} um); columns arc_angle_deg (about the centroid, from +x, "
+        "counter-clockwise), x_um, y_um (edge midpoint), t_x_kPa, t_y_kPa (traction of the "
+        f"medium on the cell, outward normal; pressure {PRESSURE_OFFSET:g} and velocity "
+        f"gradient {TRACTION_OFFSET:g} cells outside the contour). Net force (per unit depth) "
+        f"F = ({f[0]:.2f}, {f[1]:.2f}) nN/um against the cell's momentum rate M a = "
+        f"({ma[0]:.2f}, {ma[1]:.2f}) nN/um (M = rho x area {area:.0f} um^2, a from the per-step "
+        f"centroid over {window * 1e6:.0f} us): |F - M a| = **{balance.imbalance_pct:.1f} %** "
+        f"of the load sum |t + p_mean n| ds = {balance.gross:.1f} nN/um."
+    )
+    metrics = {
+        "traction_imbalance_pct": balance.imbalance_pct,
+        "traction_force_x": float(f[0]),
+        "traction_force_y": float(f[1]),
+        "traction_at_x_um": x_at,
+    }
+    return text, metrics
+
+
+def _cell_area(folder: Path, layout: Layout) -> float:
+    """The cell's area (um^2, per unit depth): sum alpha dx^2."""
+    alpha = read_internal_field(folder / "alpha.cell", layout.n_cells)
+    return float(alpha.sum() * layout.dx**2)
