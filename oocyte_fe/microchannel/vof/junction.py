@@ -9,8 +9,10 @@ hydraulic resistance (:class:`~oocyte_fe.microchannel.channel.Channel`: ``U = p 
 nearly all the resistance is in the tubing, so the box sets the flow rate, not the pressure at
 the junction): inlet A carries ``U(p)``, inlet B ``b_ratio U(p)``, both as plane-Poiseuille
 profiles. The cell starts at rest-shape 500 um before the junction centre. The measured axis
-ratio is the one when the cell's centroid crosses the junction centre (x = 0), and the
-smallest one over the run.
+ratio is the one when the cell's centroid crosses the junction centre (x = 0): from the
+solver's per-step moments, the value at x = 0 of a line fitted over the centroid positions
+within +-``READ_WINDOW_UM`` (:meth:`.post.CellHistory.near_x`); and the smallest one over
+the run.
 """
 
 from __future__ import annotations
@@ -127,6 +129,8 @@ def run_junction(
         (folder / "phi").unlink(missing_ok=True)
     trace = moment_trace(case, num.moments) if num.moments else history
     t_j, r_j = trace.at_x(0.0)
+    if num.moments:
+        r_j = trace.near_x(0.0, READ_WINDOW_UM)
     return JunctionRun(
         case,
         inlets[0].velocity,
@@ -141,6 +145,7 @@ def run_junction(
     )
 
 
+READ_WINDOW_UM = 25.0  # b/a at x = 0: line through the per-step ratios within +-25 um
 PA_S, KG_M3 = 1e-3, 1e-15  # Pa s -> kPa s, kg/m^3 -> nN s^2/um^4
 VELOCITY_300_HPA = 0.7015e6  # um/s: mean velocity of the calibrated device at 300 hPa
 

@@ -73,6 +73,18 @@ class CellHistory:
             float(self.ratio[i - 1] + f * (self.ratio[i] - self.ratio[i - 1])),
         )
 
+    def near_x(self, x: float, half_window: float) -> float:
+        """The ratio at centroid position ``x`` (um) from a straight line fitted to the ratio
+        against the centroid's x over ``|x_c - x| <= half_window``: the per-step ratio jitters
+        by several per cent as the interface crosses the grid, a least-squares line through
+        the window averages that out. nan when fewer than 3 points lie in the window."""
+        cx = self.centroid[:, 0]
+        sel = np.abs(cx - x) <= half_window
+        if sel.sum() < 3:
+            return float("nan")
+        slope, intercept = np.polyfit(cx[sel] - x, self.ratio[sel], 1)
+        return float(intercept)
+
 
 def cell_history(
     case: Path, layout: Layout, cell_phases: Sequence[str], all_phases: Sequence[str]
