@@ -210,3 +210,16 @@ def test_traction_of_closed_forms_on_a_disk(tmp_path: Path) -> None:
     assert csv.read_text().splitlines()[0] == CSV_HEADER
     rows = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert rows.shape == (len(t.angle), 5) and np.all(np.diff(rows[:, 0]) >= 0)
+
+
+def test_ratio_near_x_averages_the_grid_jitter() -> None:
+    """A ratio falling linearly along the path (1 - 2e-4 x/um) with a +-0.005 jitter of
+    period 5 um (the interface crossing the grid): the line through +-25 um gives the trend
+    at x = 0 within 2e-4, where a single step's value is up to 0.005 off."""
+    from oocyte_fe.microchannel.vof.post import CellHistory
+
+    x = np.arange(-100.0, 100.0, 0.7)
+    ratio = 0.98 - 2e-4 * x + 0.005 * np.sin(2 * np.pi * x / 5.0)
+    history = CellHistory(x, np.column_stack([x, 0 * x]), 0 * x, ratio, {})
+    assert history.near_x(0.0, 25.0) == pytest.approx(0.98, abs=2e-4)
+    assert np.isnan(history.near_x(500.0, 25.0))
