@@ -25,6 +25,7 @@ from oocyte_fe.microchannel.vof.traction import momentum_balance, surface_tracti
 
 TRACTION_OFFSET = 2.0  # cells: the velocity gradient's central stencil lies in the medium
 PRESSURE_OFFSET = 1.0  # cells: just outside the smeared interface (the inner pressure differs)
+ACCELERATION_WINDOW_S = 4e-5  # the centroid's acceleration: a parabola over +-20 us
 
 
 def _pair(run: JunctionRun, base: JunctionRun) -> tuple[str, float, float]:
@@ -135,7 +136,7 @@ def traction_study(
     traction = surface_traction(folder, layout, "cell", mu_medium, TRACTION_OFFSET, PRESSURE_OFFSET)
     traction.write_csv(csv)
     area = _cell_area(folder, layout)
-    window = 30.0 * float(np.median(np.diff(trace.time)))
+    window = ACCELERATION_WINDOW_S
     balance = momentum_balance(traction, trace, area, density, window)
     x_at = float(np.interp(t, trace.time, trace.centroid[:, 0]))
     f, ma = balance.force, balance.momentum_rate
