@@ -233,7 +233,8 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
             values,
             {**inflow, outlet: out, "walls": {"type": "zeroGradient"}, **empty},
         )
-    write_moment_fields(d, layout, [*inlets, outlet])
+    if num.moments:
+        write_moment_fields(d, layout, [*inlets, outlet])
     if two_phase:
         (d / "case.foam").write_text("")
         return d
