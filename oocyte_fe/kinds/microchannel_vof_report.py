@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
 from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes, traction_study
@@ -133,14 +134,17 @@ def report_outcome(
     traction_text = "not computed (the liquid-cell model only)"
     if inp.model == LIQUID_CELL:
         ph = inp.cytoplasm if inp.cell_curve == "cytoplasm" else inp.zp
-        traction_text, more = traction_study(
-            runs[0],
-            _layout(inp, runs[0]),
-            inp.channel.viscosity_Pa_s * PA_S,
-            ph.density_kg_m3 * KG_M3,
-            ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
-        )
-        metrics.update(more)
+        try:
+            traction_text, more = traction_study(
+                runs[0],
+                _layout(inp, runs[0]),
+                inp.channel.viscosity_Pa_s * PA_S,
+                ph.density_kg_m3 * KG_M3,
+                ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
+            )
+            metrics.update(more)
+        except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
+            traction_text = f"not computed: {exc}"
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(
         time_directories(runs[0].case)[-1][1],
