@@ -112,6 +112,7 @@ LOG_OK = """Courant Number mean: 0.01 max: 0.2
 deltaT = 1e-06
 Time = 1e-06
 medium volume fraction, min, max = 0.9 0 1
+Phase-1 volume fraction = 0.0246875  Min(alpha.cell) = 0  Max(alpha.cell) = 1
     max(mag(U)) = 1.05 in cell 3 at location (0 0 0)
 """
 
@@ -124,6 +125,7 @@ medium volume fraction, min, max = 0.9 0 1
         ("    max(mag(U)) = 150 in cell 3 at location (0 0 0)", "velocity"),
         ("zp volume fraction, min, max = 0.01 -0.3 1", "alpha"),
         ("Phase-sum volume fraction, min, max = 1 0.5 1.4", "alpha"),
+        ("Phase-1 volume fraction = 0.02  Min(alpha.cell) = -0.05  Max(alpha.cell) = 1", "alpha"),
         ("Courant Number mean: nan max: nan", "Courant"),
     ],
 )

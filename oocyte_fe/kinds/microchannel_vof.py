@@ -1,10 +1,13 @@
-"""Case kind ``microchannel_vof``: three-phase VOF of the oocyte at the junction (OpenFOAM).
+"""Case kind ``microchannel_vof``: VOF of the oocyte at the junction (OpenFOAM).
 
-Runs :func:`oocyte_fe.microchannel.vof.junction.run_junction` for each pressure (on Dask,
-:mod:`oocyte_fe.microchannel.vof.pool`: ``concurrent`` at a time locally or on the workers of
-a scheduler: the CLI's ``--scheduler``, else the ``scheduler`` input; each with ``ranks`` MPI
-ranks), one extra run at a second mesh and one at a second viscosity cap (first pressure), and
-the reduced Kelvin-Voigt model beside it.
+The ``model`` input picks the flow model: ``liquid_cell_isoadvector`` (two phases, the cell
+as one liquid, ``interIsoFoam``) or ``three_phase_mules`` (medium, ZP, cytoplasm,
+``multiphaseInterFoam``: the seed's reading). Runs
+:func:`oocyte_fe.microchannel.vof.junction.run_junction` for each pressure and the studies of
+:func:`.microchannel_vof_runs.run_specs` (on Dask, :mod:`oocyte_fe.microchannel.vof.pool`:
+``concurrent`` at a time locally or on the workers of a scheduler: the CLI's ``--scheduler``,
+else the ``scheduler`` input; each with ``ranks`` MPI ranks), and the reduced Kelvin-Voigt
+model beside it.
 Without OpenFOAM the case is SKIPPED (not a failure) with the install line as its reason; the
 reduced model still runs and its table is in the report.
 """
@@ -17,12 +20,14 @@ import numpy as np
 
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, METRICS, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_report import report_outcome, skipped_outcome
+from oocyte_fe.kinds.microchannel_vof_runs import RunSpec, run_specs
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
-from oocyte_fe.microchannel.vof.junction import junction_setup, run_junction
+from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
+from oocyte_fe.microchannel.vof.junction import junction_setup, liquid_cell_setup, run_junction
 from oocyte_fe.microchannel.vof.pool import run_concurrently
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
@@ -32,21 +37,29 @@ from oocyte_fe.microchannel.vof.runner import (
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
 
 
-def _phases(inp: VofInputs, cap: float) -> tuple[Phase, Phase, Phase]:
+def _cell_fit(inp: VofInputs) -> Rheology:
+    """The Table 2 Carreau fit (eta_inf fixed at the cytoplasm's): lambda and n of both
+    cell curves."""
     curve = read_flow_curve(inp.viscosity_data)
-    fit = fit_viscosity(
+    return fit_viscosity(
         "carreau",
         curve.shear_rate,
         curve.viscosity,
         fixed={"eta_inf": inp.cytoplasm.eta_inf_Pa_s * PA_S},
         source=str(inp.viscosity_data),
     ).rheology
+
+
+def _phases(inp: VofInputs, cap: float, model: str, curve: str) -> tuple[Phase, ...]:
+    """(medium, zp, cytoplasm) for ``three_phase_mules``; (medium, cell) for
+    ``liquid_cell_isoadvector``, the cell of the ``curve`` phase's Carreau curve and density."""
+    fit = _cell_fit(inp)
     medium = Phase(
         "medium",
         Rheology.of("newtonian", mu=inp.channel.viscosity_Pa_s * PA_S),
         inp.channel.density_kg_m3 * KG_M3,
     )
-    cell = []
+    cell = {}
     for name, ph in (("zp", inp.zp), ("cytoplasm", inp.cytoplasm)):
         rheology = Rheology.of(
             "carreau",
@@ -56,22 +69,16 @@ def _phases(inp: VofInputs, cap: float) -> tuple[Phase, Phase, Phase]:
             time_constant=fit.params["time_constant"],
             n=fit.params["n"],
         )
-        cell.append(Phase(name, cap_zero_shear(rheology, cap * PA_S), ph.density_kg_m3 * KG_M3))
-    return medium, cell[0], cell[1]
+        cell[name] = Phase(name, cap_zero_shear(rheology, cap * PA_S), ph.density_kg_m3 * KG_M3)
+    if model == LIQUID_CELL:
+        return medium, Phase("cell", cell[curve].rheology, cell[curve].density)
+    return medium, cell["zp"], cell["cytoplasm"]
 
 
 def _kelvin_voigt(inp: VofInputs, source: str) -> tuple[np.ndarray, np.ndarray]:
     table = read_deformation_table(inp.deformation_data)
     channel = inp.channel.to_internal()
-    curve = read_flow_curve(inp.viscosity_data)
-    rheology = fit_viscosity(
-        "carreau",
-        curve.shear_rate,
-        curve.viscosity,
-        fixed={"eta_inf": inp.cytoplasm.eta_inf_Pa_s * PA_S},
-        source=str(inp.viscosity_data),
-    ).rheology
-    cell = JunctionCell(inp.geometry.cell_diameter_um, inp.modulus_kPa, rheology)
+    cell = JunctionCell(inp.geometry.cell_diameter_um, inp.modulus_kPa, _cell_fit(inp))
     fit = fit_junction_model(
         channel,
         cell,
@@ -83,34 +90,28 @@ def _kelvin_voigt(inp: VofInputs, source: str) -> tuple[np.ndarray, np.ndarray]:
     return table.pressure, fit.ratio
 
 
-def _job(
-    ctx: CaseContext,
-    inp: VofInputs,
-    label: str,
-    p_hpa: float,
-    dx: float,
-    cap: float,
-    dt: float,
-) -> tuple:
+def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
     """Arguments of :func:`run_junction` for one run (plain data: they may go to a remote
     Dask worker)."""
     channel = inp.channel.to_internal()
-    u = float(channel.mean_velocity(p_hpa * HPA))
+    u = float(channel.mean_velocity(spec.pressure_hPa * HPA))
     end = inp.travel_um / u
     numerics = Numerics(
-        time_step=dt,
+        time_step=spec.dt,
         end_time=end,
         write_interval=end / inp.writes,
         outer_correctors=inp.outer_correctors,
-        correctors=inp.correctors,
+        correctors=spec.correctors,
         pressure_rel_tol=inp.pressure_rel_tol,
+        solver=MODEL_SOLVER[spec.model],
+        iso=inp.isoadvector.to_controls(),
     )
-    setup = junction_setup(
-        inp.geometry.to_geometry(), dx, *_phases(inp, cap), u, inp.b_ratio * u, numerics
-    )
+    phases = _phases(inp, spec.cap, spec.model, spec.curve)
+    build = liquid_cell_setup if spec.model == LIQUID_CELL else junction_setup
+    setup = build(inp.geometry.to_geometry(), spec.dx, *phases, u, inp.b_ratio * u, numerics)
     foam = find_openfoam(inp.openfoam)
-    ctx.step(f"{label}: {setup.layout.n_cells} cells, {end * 1e3:.3g} ms")
-    return (foam, ctx.output(f"openfoam/{label}"), setup, inp.ranks, inp.nice)
+    ctx.step(f"{spec.label}: {spec.model}, {setup.layout.n_cells} cells, {end * 1e3:.3g} ms")
+    return (foam, ctx.output(f"openfoam/{spec.label}"), setup, inp.ranks, inp.nice)
 
 
 def run_scheduler(ctx: CaseContext, inp: VofInputs) -> str | None:
@@ -125,7 +126,7 @@ def _progress(ctx: CaseContext, label: str) -> Callable[[str], None]:
 
 @case_kind("microchannel_vof", inputs=VofInputs, metrics=METRICS)
 def run(ctx: CaseContext) -> CaseOutcome:
-    """Three-phase VOF (OpenFOAM) of the oocyte at the junction against Table 4."""
+    """VOF (OpenFOAM) of the oocyte at the junction against Table 4."""
     inp: VofInputs = ctx.inputs  # type: ignore[assignment]
     source = str(ctx.case_dir / "case.toml")
     table = read_deformation_table(inp.deformation_data)
@@ -140,33 +141,17 @@ def run(ctx: CaseContext) -> CaseOutcome:
     except OpenFoamMissing:
         return skipped_outcome(inp, table, kv_p, kv_ratio)
 
-    dt, cap = inp.time_step_s, inp.zero_shear_cap_Pa_s
-    jobs = [(f"p{p / HPA:g}hPa", p / HPA, inp.dx_um, cap, dt) for p in pressures]
-    first = pressures[0] / HPA
-    if inp.mesh_check_dx_um:
-        dx = inp.mesh_check_dx_um
-        jobs.append((f"p{first:g}hPa_dx{dx:g}", first, dx, cap, dt))
-    if inp.cap_sensitivity_Pa_s:
-        jobs.append(
-            (
-                f"p{first:g}hPa_cap{inp.cap_sensitivity_Pa_s:g}",
-                first,
-                inp.dx_um,
-                inp.cap_sensitivity_Pa_s,
-                dt,
-            )
-        )
-    for k in range(1, inp.dt_refinements + 1):
-        jobs.append((f"p{first:g}hPa_dt{dt / 2**k:g}", first, inp.dx_um, cap, dt / 2**k))
+    specs = run_specs(inp, [p / HPA for p in pressures])
     scheduler = run_scheduler(ctx, inp)
-    ctx.step(f"{len(jobs)} runs on " + (scheduler or f"a local cluster of {inp.concurrent}"))
+    ctx.step(f"{len(specs)} runs on " + (scheduler or f"a local cluster of {inp.concurrent}"))
     runs = run_concurrently(
         run_junction,
-        [_job(ctx, inp, *job) for job in jobs],
+        [_job(ctx, inp, spec) for spec in specs],
         inp.concurrent,
         scheduler,
-        [_progress(ctx, job[0]) for job in jobs],
+        [_progress(ctx, spec.label) for spec in specs],
     )
     main = runs[: len(pressures)]
-    extra = dict(zip([j[0] for j in jobs[len(pressures) :]], runs[len(pressures) :], strict=True))
+    n = len(pressures)
+    extra = {s.label: r for s, r in zip(specs[n:], runs[n:], strict=True)}
     return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra)

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import Field
 
 from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+from oocyte_fe.microchannel.vof.isoadvector import IsoControls
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.schema import CaseInputs, Relation
 
@@ -70,6 +73,26 @@ class GeometryInputs(CaseInputs):
         )
 
 
+class IsoAdvectorInputs(CaseInputs):
+    """isoAdvector's alpha controls (``interIsoFoam``; defaults: v1912's damBreak tutorial)."""
+
+    iso_face_tol: float = _f(1e-6, "isoFaceTol: tolerance of the isoface's position", "1", gt=0)
+    surf_cell_tol: float = _f(
+        1e-6, "surfCellTol: alpha within this of 0 or 1 is not an interface cell", "1", gt=0
+    )
+    n_alpha_bounds: int = _f(3, "nAlphaBounds: passes of the local bounding", "1", ge=0)
+    snap_tol: float = _f(1e-12, "snapTol: alpha within this of 0 or 1 is snapped", "1", ge=0)
+    clip: bool = _f(True, "clip alpha to [0, 1] after the bounding", "1")
+
+    def to_controls(self) -> IsoControls:
+        return IsoControls(
+            self.iso_face_tol, self.surf_cell_tol, self.n_alpha_bounds, self.snap_tol, self.clip
+        )
+
+
+Model = Literal["liquid_cell_isoadvector", "three_phase_mules"]
+
+
 class VofInputs(CaseInputs):
     deformation_data: DataFile = Field(
         description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
@@ -85,6 +108,32 @@ class VofInputs(CaseInputs):
     geometry: GeometryInputs = Field(
         default_factory=GeometryInputs, description="junction dimensions (defaults: the reading)"
     )
+    model: Model = _f(
+        "liquid_cell_isoadvector",
+        "flow model: the cell as one liquid on interIsoFoam (isoAdvector), or medium, ZP and "
+        "cytoplasm on multiphaseInterFoam (MULES, the seed's reading)",
+        "name",
+    )
+    cell_curve: Literal["cytoplasm", "zp"] = _f(
+        "cytoplasm", "liquid cell: whose Carreau curve and density the whole cell takes", "name"
+    )
+    isoadvector: IsoAdvectorInputs = Field(
+        default_factory=IsoAdvectorInputs, description="interIsoFoam's alpha controls"
+    )
+    zp_bound: bool = _f(
+        False, "liquid cell: one more run with the ZP's curve for the whole cell", "1"
+    )
+    beside_model: Model | None = _f(
+        None, "a second model run beside the first (reported, not the headline)", "name"
+    )
+    beside_pressures_hPa: list[float] = _f([], "pressures of the beside model", "hPa")
+    beside_dx_um: float | None = _f(None, "cell size of the beside model (none: dx_um)", "um", gt=0)
+    beside_correctors: int | None = _f(
+        None, "pressure correctors of the beside model (none: correctors)", "1", ge=1
+    )
+    beside_dt_refinements: int = _f(
+        0, "beside model: extra runs at dt/2, ... (its first pressure)", "1", ge=0, le=3
+    )
     pressures_hPa: list[float] = _f(
         [300.0], "driving pressures run by the VOF", "hPa", min_length=1
     )
@@ -95,6 +144,9 @@ class VofInputs(CaseInputs):
     b_ratio: float = _f(1.0, "mean velocity of inlet B over that of inlet A", "1", gt=0)
     dx_um: float = _f(10.0, "cell size", "um", gt=0)
     mesh_check_dx_um: float | None = _f(None, "second mesh, first pressure", "um", gt=0)
+    mesh_check_correctors: int | None = _f(
+        None, "pressure correctors on the second mesh (none: correctors)", "1", ge=1
+    )
     time_step_s: float = _f(1e-6, "time step (fixed)", "s", gt=0)
     dt_refinements: int = _f(
         0,
@@ -128,6 +180,11 @@ class VofInputs(CaseInputs):
     max_volume_error: float = _f(1e-3, "check: |phase volume change| of the cell phases", "1", gt=0)
     max_mesh_change_pct: float = _f(2.0, "check: ratio change between the two meshes", "%", gt=0)
 
+    @property
+    def mesh_correctors(self) -> int:
+        """Pressure correctors of the second-mesh run."""
+        return self.mesh_check_correctors or self.correctors
+
 
 METRICS = {
     "ratio_at_junction": "axis ratio b/a when the centroid crosses x = 0, per pressure",
@@ -140,6 +197,16 @@ METRICS = {
     "cap_change_pct": "ratio change between the two caps at x = 0 (else at the end), %",
     "seconds_per_ms": "wall seconds per simulated ms (first pressure, one run)",
     "dt_change_pct": "change of 1 - b/a at x = 0 from dt to dt/2 (first pressure), %",
+    "dt_change_max_pct": "largest change of 1 - b/a between successive dt halvings, %",
+    "mesh_deformation_change_pct": "change of 1 - b/a at x = 0 between the two meshes, %",
+    "zp_change_pct": "change of 1 - b/a at x = 0, the ZP's curve for the whole cell, %",
+    "beside_ratio_at_junction": "the beside model's b/a at x = 0, per beside pressure",
+    "beside_mean_error_experiment_pct": "the beside model against the experiment, mean %",
+    "beside_dt_change_pct": "the beside model: change of 1 - b/a from dt to dt/2, %",
+    "traction_imbalance_pct": "|net traction force - cell momentum rate| / load on the cell, %",
+    "traction_force_x": "net traction force on the cell per unit depth, x (nN/um)",
+    "traction_force_y": "net traction force on the cell per unit depth, y (nN/um)",
+    "traction_at_x_um": "centroid x of the written time the traction is taken at (um)",
     "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
     "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
     "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",

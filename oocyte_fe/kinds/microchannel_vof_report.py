@@ -1,5 +1,6 @@
-"""The report of the case kind ``microchannel_vof``: Table 4 beside the VOF runs, the mesh,
-cap and time-step studies, figures (the kind's run only solves)."""
+"""The report of the case kind ``microchannel_vof``: Table 4 headlined by the case's model,
+the beside model, the studies (:mod:`.microchannel_vof_studies`) and figures (the kind's run
+only solves)."""
 
 from __future__ import annotations
 
@@ -7,8 +8,11 @@ import math
 
 import numpy as np
 
-from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
-from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
+from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
+from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
+from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes, traction_study
+from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
 from oocyte_fe.microchannel.vof.post import snapshot, time_directories
@@ -56,29 +60,33 @@ def report_outcome(
     runs: list[JunctionRun],
     extra: dict[str, JunctionRun],
 ) -> CaseOutcome:
+    beside = {k: v for k, v in extra.items() if k.startswith(BESIDE) and "_dt" not in k}
+    beside_at = {round(float(r.velocity_a), 3): r for r in beside.values()}
     rows = [
-        "| p (hPa) | U_A (m/s) | ratio exp | ratio paper VOF | ratio VOF here (x = 0) "
-        "| min ratio | ratio at end | err vs exp (%) | Kelvin-Voigt | cells | steps | wall (s) "
-        "| s per sim. ms | max vol. err |",
-        "|" + "---|" * 14,
+        "| p (hPa) | U_A (m/s) | ratio exp | ratio paper VOF | **ratio here (x = 0)** "
+        f"| 1 - b/a | err vs exp (%) | beside: {inp.beside_model or '-'} (x = 0) "
+        "| Kelvin-Voigt | min ratio | ratio at end | cells | steps | wall (s) | max vol. err |",
+        "|" + "---|" * 15,
     ]
     errs, paper_errs, kv_errs, vol = [], [], [], []
     for p, r in zip(pressures, runs, strict=True):
         exp = _lookup(table.pressure, table.ratio_experiment, p)
         paper = _lookup(table.pressure, table.ratio_simulation, p)
         kv = _lookup(kv_p, kv_ratio, p)
-        v = max(float(np.max(np.abs(r.history.volume_error[k]))) for k in ("zp", "cytoplasm"))
+        v = max(float(np.max(np.abs(e))) for e in r.history.volume_error.values())
         vol.append(v)
         err = _pct(r.ratio_at_junction, exp)
         if math.isfinite(err):
             errs.append(err)
             paper_errs.append(_pct(r.ratio_at_junction, paper))
         kv_errs.append(_pct(kv, exp))
+        other = beside_at.get(round(float(r.velocity_a), 3))
+        other_text = f"{other.ratio_at_junction:.4f}" if other else "-"
         rows.append(
             f"| {p / HPA:g} | {r.velocity_a * 1e-6:.3f} | {exp:.3f} | {paper:.3f} "
-            f"| {r.ratio_at_junction:.4f} | {r.min_ratio:.4f} | {r.history.ratio[-1]:.4f} "
-            f"| {err:.2f} | {kv:.3f} | {r.n_cells} | {r.steps} | {r.wall_seconds:.0f} "
-            f"| {r.seconds_per_ms:.0f} | {v:.1e} |"
+            f"| **{r.ratio_at_junction:.4f}** | {1 - r.ratio_at_junction:.4f} | {err:.2f} "
+            f"| {other_text} | {kv:.3f} | {r.min_ratio:.4f} | {r.history.ratio[-1]:.4f} "
+            f"| {r.n_cells} | {r.steps} | {r.wall_seconds:.0f} | {v:.1e} |"
         )
     metrics: dict[str, float | list[float]] = {
         "ratio_at_junction": [r.ratio_at_junction for r in runs],
@@ -89,26 +97,9 @@ def report_outcome(
         "max_volume_error": max(vol),
         "seconds_per_ms": runs[0].seconds_per_ms,
     }
-    notes = []
-    dt_runs = [r for label, r in extra.items() if "_dt" in label]
-    for label, r in ((k, v) for k, v in extra.items() if "_dt" not in k):
-        # at the junction when both runs reach it, else at the end of the (equal) window
-        where = "x = 0" if math.isfinite(r.ratio_at_junction * runs[0].ratio_at_junction) else "end"
-        ours, base = (
-            (r.ratio_at_junction, runs[0].ratio_at_junction)
-            if where == "x = 0"
-            else (float(r.history.ratio[-1]), float(runs[0].history.ratio[-1]))
-        )
-        change = _pct(ours, base)
-        key = "mesh_change_pct" if "_dx" in label else "cap_change_pct"
-        metrics[key] = change
-        notes.append(
-            f"- {label}: ratio at {where} {ours:.4f} against {base:.4f} ({change:.2f} %; "
-            f"deformation 1 - b/a {1 - ours:.4f} against {1 - base:.4f}); ratio at end "
-            f"{r.history.ratio[-1]:.4f} against {runs[0].history.ratio[-1]:.4f} (x = "
-            f"{r.history.centroid[-1, 0]:.0f} against {runs[0].history.centroid[-1, 0]:.0f} um); "
-            f"{r.n_cells} cells, {r.wall_seconds:.0f} s wall"
-        )
+    correctors = {label: n for label, n in _correctors(inp, pressures).items()}
+    notes, sens = sensitivity_notes(extra, runs[0], correctors)
+    metrics.update(sens)
     checks = [
         Check(
             "max_volume_error",
@@ -133,21 +124,32 @@ def report_outcome(
                 f"<= {inp.max_mesh_change_pct:g} %",
             )
         )
+    dt_runs = [r for k, r in extra.items() if "_dt" in k and not k.startswith(BESIDE)]
     dt_text = "not run"
     if dt_runs:
-        study_runs = [runs[0], *dt_runs]
-        study = time_step_study(
-            inp.time_step_s,
-            [r.ratio_at_junction for r in study_runs],
-            [float(r.history.ratio[-1]) for r in study_runs],
-        )
-        dt_text = _dt_section(study, study_runs)
+        dt_text, study, worst = dt_study(inp.time_step_s, [runs[0], *dt_runs])
         metrics.update(study.metrics())
-    folders = time_directories(runs[0].case)
+        metrics["dt_change_max_pct"] = worst
+    beside_text = _beside(inp, table, beside, extra, metrics)
+    traction_text = "not computed (the liquid-cell model only)"
+    if inp.model == LIQUID_CELL:
+        ph = inp.cytoplasm if inp.cell_curve == "cytoplasm" else inp.zp
+        try:
+            traction_text, more = traction_study(
+                runs[0],
+                _layout(inp, runs[0]),
+                inp.channel.viscosity_Pa_s * PA_S,
+                ph.density_kg_m3 * KG_M3,
+                ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
+            )
+            metrics.update(more)
+        except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
+            traction_text = f"not computed: {exc}"
+    names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(
-        folders[-1][1],
+        time_directories(runs[0].case)[-1][1],
         _layout(inp, runs[0]),
-        ("medium", "zp", "cytoplasm"),
+        names,
         ctx.output("snapshot_end.png"),
     )
     fig1 = plot_ratio_histories(
@@ -171,10 +173,13 @@ def report_outcome(
             ctx.output("vof_ratio.png"),
         )
         figures.append(Figure(fig2.name, "Axis ratio against pressure: experiment, paper, ours"))
+    solver = MODEL_SOLVER[inp.model]
     sections = [
-        ("Per-pressure comparison", "\n".join(rows)),
-        ("Mesh and viscosity-cap sensitivity (first pressure)", "\n".join(notes) or "not run"),
-        ("Time-step convergence (first pressure)", dt_text),
+        (f"Table 4: {inp.model} ({solver}), {_cell_text(inp)}", "\n".join(rows)),
+        ("Mesh, viscosity-cap and ZP sensitivity (first pressure)", "\n".join(notes) or "not run"),
+        (f"Time-step convergence of {inp.model} (first pressure)", dt_text),
+        (f"Beside: {inp.beside_model or 'no second model'}", beside_text),
+        (f"Traction on the cell at the junction ({pressures[0] / HPA:g} hPa)", traction_text),
         (
             "Files",
             "Each run's OpenFOAM case is in `openfoam/<run>/` (open `case.foam` in ParaView for "
@@ -184,45 +189,53 @@ def report_outcome(
     return CaseOutcome(metrics=metrics, figures=figures, sections=sections, checks=checks)
 
 
-def _dt_section(study: TimeStepStudy, runs: list[JunctionRun]) -> str:
-    """The report's time-step table and the sentence on its dt -> 0 limit."""
-    ratios, where, dt = study.ratios, study.where, study.dt_s
-    rows = [
-        f"| dt (s) | b/a at {where} | 1 - b/a | 1 - b/a against the previous dt | steps "
-        "| wall (s) |",
-        "|---|---|---|---|---|---|",
-    ]
-    for k, r in enumerate(runs):
-        change = f"{100 * ((1 - ratios[k]) / (1 - ratios[k - 1]) - 1):+.1f} %" if k else ""
+def _cell_text(inp: VofInputs) -> str:
+    """The cell's viscosity model, as the report states it."""
+    if inp.model != LIQUID_CELL:
+        return (
+            f"ZP and cytoplasm as two Carreau phases, eta0 capped at "
+            f"{inp.zero_shear_cap_Pa_s:g} Pa s"
+        )
+    ph = inp.cytoplasm if inp.cell_curve == "cytoplasm" else inp.zp
+    return (
+        f"the whole cell one liquid of the {inp.cell_curve}'s Carreau curve (eta0 "
+        f"{ph.eta0_Pa_s:g} Pa s capped at {inp.zero_shear_cap_Pa_s:g}, eta_inf "
+        f"{ph.eta_inf_Pa_s:g} Pa s, lambda and n of the Table 2 fit, rho {ph.density_kg_m3:g} "
+        "kg/m^3)"
+    )
+
+
+def _correctors(inp: VofInputs, pressures: np.ndarray) -> dict[str, int]:
+    return {s.label: s.correctors for s in run_specs(inp, [p / HPA for p in pressures])}
+
+
+def _beside(inp: VofInputs, table, beside: dict, extra: dict, metrics: dict) -> str:
+    """The beside model's table against the experiment and its dt dependence; fills its
+    metrics."""
+    if not beside:
+        return "not run"
+    rows = ["| p (hPa) | ratio exp | ratio beside (x = 0) | 1 - b/a | err vs exp (%) |"]
+    rows.append("|---|---|---|---|---|")
+    errs = []
+    for label, r in beside.items():
+        p = float(label[len(BESIDE) + 1 :].removesuffix("hPa")) * HPA
+        exp = _lookup(table.pressure, table.ratio_experiment, p)
+        err = _pct(r.ratio_at_junction, exp)
+        if math.isfinite(err):
+            errs.append(err)
         rows.append(
-            f"| {dt / 2**k:g} | {ratios[k]:.5f} | {1 - ratios[k]:.5f} | {change} "
-            f"| {r.steps} | {r.wall_seconds:.0f} |"
+            f"| {p / HPA:g} | {exp:.3f} | {r.ratio_at_junction:.4f} "
+            f"| {1 - r.ratio_at_junction:.4f} | {err:.2f} |"
         )
-    lines = ["\n".join(rows), ""]
-    ex = study.extrapolation
-    if ex is None:
-        lines.append("Two time steps: no observed order, no dt -> 0 estimate (set 2 refinements).")
-    elif not ex.converging:
-        lines.append(
-            f"The differences of b/a do not shrink over the finest three time steps (factor "
-            f"{ex.factor:.2f} per halving): no dt -> 0 estimate."
-        )
-    else:
-        base = ratios[0]
-        how = (
-            f"Richardson over the finest three, observed order p = {ex.order:.2f}"
-            if ex.monotone
-            else f"the differences alternate, factor q = {ex.factor:.2f} per halving: no "
-            "observed order; the geometric (Aitken) limit, which lies between the two "
-            "finest values, is an estimate only"
-        )
-        lines.append(
-            f"**dt -> 0 at {where} ({how}): b/a = {ex.limit:.5f}, 1 - b/a = "
-            f"{1 - ex.limit:.5f}**, against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the "
-            f"case's dt = {dt:g} s: its dt error is {100 * (base / ex.limit - 1):+.2f} % in "
-            f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
-        )
-    return "\n".join(lines)
+    metrics["beside_ratio_at_junction"] = [r.ratio_at_junction for r in beside.values()]
+    metrics["beside_mean_error_experiment_pct"] = float(np.mean(errs)) if errs else math.nan
+    text = "\n".join(rows)
+    dt_runs = [r for k, r in extra.items() if k.startswith(BESIDE) and "_dt" in k]
+    if dt_runs:
+        dt_text, study, _ = dt_study(inp.time_step_s, [next(iter(beside.values())), *dt_runs])
+        metrics["beside_dt_change_pct"] = study.change_pct
+        text += f"\n\nIts time step (first beside pressure):\n\n{dt_text}"
+    return text
 
 
 def _layout(inp: VofInputs, run: JunctionRun):

@@ -1,4 +1,4 @@
-"""Writing a complete ``multiphaseInterFoam`` case (OpenFOAM v1912) from Python.
+"""Writing a complete ``multiphaseInterFoam`` or ``interIsoFoam`` case (OpenFOAM v1912).
 
 The solver advances, for N immiscible phases with volume fractions alpha_i (sum 1), one
 velocity and one pressure for the mixture::
@@ -13,7 +13,9 @@ at the file boundary. The initial volume fractions are sampled per cell from the
 cell and its cytoplasm (:func:`.geometry.disk_fraction`); the velocity starts at the fully
 developed profile of each arm (inlet A's upstream, their sum downstream, B's in the branch), so
 the first pressure solve only repairs the junction; cells of the non-background phases start
-in rigid translation at their mean velocity.
+in rigid translation at their mean velocity. With ``Numerics.solver = "interIsoFoam"`` the
+case has two phases (medium, cell) and the alpha equation is isoAdvector's geometric
+advection instead of MULES (:mod:`.isoadvector`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,14 @@ import numpy as np
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.foamfile import field_values, write_dictionary, write_field
 from oocyte_fe.microchannel.vof.geometry import Layout, disk_fraction
+from oocyte_fe.microchannel.vof.isoadvector import (
+    INTER_ISO_FOAM,
+    MULTIPHASE,
+    IsoControls,
+    alpha_controls,
+    check_solver,
+    two_phase_transport,
+)
 from oocyte_fe.microchannel.vof.rheology import foam_viscosity
 
 UM = 1e-6  # um -> m
@@ -67,6 +77,9 @@ class Numerics:
     momentum_predictor: bool = False
     ddt: str = "Euler"  # fvSchemes ddtSchemes default, e.g. "CrankNicolson 0.9"
     pressure_rel_tol: float = 0.0  # p_rgh relTol of the correctors before the last
+    solver: str = MULTIPHASE  # or "interIsoFoam" (two phases, isoAdvector)
+    iso: IsoControls = IsoControls()  # interIsoFoam's alpha controls
+    moments: tuple[str, ...] = ()  # phases whose shape moments are recorded every step
 
 
 @dataclass(frozen=True)
@@ -158,13 +171,20 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
     )
     write_dictionary(d / "constant" / "turbulenceProperties", {"simulationType": "laminar"})
     names = [p.name for p in setup.phases]
-    sigmas = [
-        f"({a} {b}) {num.surface_tension:.10g}" for i, a in enumerate(names) for b in names[i + 1 :]
-    ]
-    write_dictionary(
-        d / "constant" / "transportProperties",
-        {"phases": phases_text(setup.phases), "sigmas": "(\n" + "\n".join(sigmas) + "\n)"},
-    )
+    two_phase = check_solver(num.solver) == INTER_ISO_FOAM
+    if two_phase:
+        transport = two_phase_transport(setup.phases, num.surface_tension)
+    else:
+        sigmas = [
+            f"({a} {b}) {num.surface_tension:.10g}"
+            for i, a in enumerate(names)
+            for b in names[i + 1 :]
+        ]
+        transport = {
+            "phases": phases_text(setup.phases),
+            "sigmas": "(\n" + "\n".join(sigmas) + "\n)",
+        }
+    write_dictionary(d / "constant" / "transportProperties", transport)
     inlets = list(layout.inlets)
     outlet = layout.outlet_name
     empty = {"frontAndBack": {"type": "empty"}}
@@ -196,6 +216,8 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
         },
     )
     for name, values in alpha.items():
+        if two_phase and name == names[0]:
+            continue  # interIsoFoam solves the cell's fraction; the medium's is 1 - alpha
         inflow = {
             n: {"type": "fixedValue", "value": f"uniform {float(layout.inlets[n].phase == name):g}"}
             for n in inlets
@@ -211,6 +233,11 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
             values,
             {**inflow, outlet: out, "walls": {"type": "zeroGradient"}, **empty},
         )
+    if num.moments:
+        write_moment_fields(d, layout, [*inlets, outlet])
+    if two_phase:
+        (d / "case.foam").write_text("")
+        return d
     write_field(
         d / "0" / "alphas",
         "[0 0 0 0 0 0 0]",
@@ -221,10 +248,49 @@ def write_case(setup: VofSetup, directory: Path, ranks: int = 1) -> Path:
     return d
 
 
+MOMENT_FIELDS = ("mOne", "mX", "mY", "mXX", "mYY", "mXY")  # 1, x, y, x^2, y^2, xy (SI)
+
+
+def write_moment_fields(d: Path, layout: Layout, patches: list[str]) -> None:
+    """The static fields ``1, x, y, x^2, y^2, xy`` (m, m^2) of the cell centres, in ``0/``:
+    their alpha-weighted volume integrals each step give the cell's shape moments
+    (:func:`moment_functions`)."""
+    x, y = (layout.cell_centres() * UM).T
+    boundary = {n: {"type": "calculated", "value": "uniform 0"} for n in [*patches, "walls"]}
+    boundary["frontAndBack"] = {"type": "empty"}
+    values = (np.ones_like(x), x, y, x * x, y * y, x * y)
+    for name, v in zip(MOMENT_FIELDS, values, strict=True):
+        write_field(d / "0" / name, "[0 0 0 0 0 0 0]", v, boundary)
+
+
+def moment_functions(phases: tuple[str, ...]) -> dict:
+    """Function objects: load the moment fields once, and each step write
+    ``sum_k alpha_k V_k f_k`` for f in :data:`MOMENT_FIELDS`, per phase, to
+    ``postProcessing/moments_<phase>/0/volFieldValue.dat`` (read by :func:`.post.moment_trace`)."""
+    lib = '("libfieldFunctionObjects.so")'
+    out: dict = {
+        "loadMoments": {"type": "readFields", "libs": lib, "fields": f"({' '.join(MOMENT_FIELDS)})"}
+    }
+    for phase in phases:
+        out[f"moments_{phase}"] = {
+            "type": "volFieldValue",
+            "libs": lib,
+            "fields": f"({' '.join(MOMENT_FIELDS)})",
+            "operation": "weightedVolIntegrate",
+            "weightField": f"alpha.{phase}",
+            "regionType": "all",
+            "writeFields": "false",
+            "writeControl": "timeStep",
+            "writeInterval": 1,
+            "log": "false",
+        }
+    return out
+
+
 def control_dict(num: Numerics) -> dict:
     """``system/controlDict``: fixed or adaptive step, ASCII writes, |U| logged each step."""
     return {
-        "application": "multiphaseInterFoam",
+        "application": num.solver,
         "startFrom": "startTime",
         "startTime": 0,
         "stopAt": "endTime",
@@ -251,7 +317,8 @@ def control_dict(num: Numerics) -> dict:
                 "mode": "magnitude",
                 "log": "true",
                 "writeToFile": "false",
-            }
+            },
+            **(moment_functions(num.moments) if num.moments else {}),
         },
     }
 
@@ -274,11 +341,18 @@ def schemes(ddt: str = "Euler") -> dict:
 
 
 def solution(num: Numerics) -> dict:
-    """``system/fvSolution``: GAMG pressure, PIMPLE correctors from ``num``."""
+    """``system/fvSolution``: GAMG pressure, PIMPLE correctors from ``num``; the alpha
+    controls of MULES (sub-cycles, cAlpha) or of isoAdvector
+    (:func:`.isoadvector.alpha_controls`)."""
     gamg = {"solver": "GAMG", "smoother": "GaussSeidel", "tolerance": 1e-8, "relTol": 0.01}
+    alpha = (
+        alpha_controls(num.iso, num.alpha_subcycles)
+        if num.solver == INTER_ISO_FOAM
+        else {"nAlphaSubCycles": num.alpha_subcycles, "cAlpha": num.compression}
+    )
     return {
         "solvers": {
-            '"alpha.*"': {"nAlphaSubCycles": num.alpha_subcycles, "cAlpha": num.compression},
+            '"alpha.*"': alpha,
             '"pcorr.*"': {**gamg, "tolerance": 1e-6, "relTol": 0},
             "p_rgh": {**gamg, "relTol": num.pressure_rel_tol},
             "p_rghFinal": {**gamg, "relTol": 0},

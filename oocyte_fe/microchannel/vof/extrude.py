@@ -14,6 +14,7 @@ start at rest (the first pressure solve starts the flow).
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -89,7 +90,8 @@ def sphere_fraction(
 def write_extruded_case(setup: VofSetup, directory: Path, depth: float, ranks: int = 1) -> Path:
     """The planar case of ``setup`` written, then its mesh and fields replaced by the 3-D ones
     (spheres for the disks, the fluid at rest); :func:`set_inlet_profiles` after blockMesh."""
-    d = write_case(setup, directory, ranks)
+    planar = replace(setup, numerics=replace(setup.numerics, moments=()))  # 2-D moments only
+    d = write_case(planar, directory, ranks)
     layout = setup.layout
     write_dictionary(d / "system" / "blockMeshDict", extruded_mesh_dict(layout, depth))
     centres = extruded_centres(layout, depth)

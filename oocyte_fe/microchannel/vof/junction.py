@@ -1,28 +1,38 @@
 """The oocyte at the junction (seed 001, Model II): set up, run and measure one pressure.
 
-Three phases: the culture medium (Newtonian), the zona pellucida (ZP) shell and the cytoplasm
-core (both Carreau, zero-shear viscosity capped, :func:`.rheology.cap_zero_shear`). The
+Two models. ``three_phase_mules`` (the seed's reading, ``multiphaseInterFoam``): the culture
+medium (Newtonian), the zona pellucida (ZP) shell and the cytoplasm core (both Carreau,
+zero-shear viscosity capped, :func:`.rheology.cap_zero_shear`). ``liquid_cell_isoadvector``
+(``interIsoFoam``): the medium and the whole cell as ONE phase of one such curve. The
 driving pressure ``p`` sets the mean velocity of each inlet through the device's calibrated
 hydraulic resistance (:class:`~oocyte_fe.microchannel.channel.Channel`: ``U = p R^2/(8 mu L)``,
 nearly all the resistance is in the tubing, so the box sets the flow rate, not the pressure at
 the junction): inlet A carries ``U(p)``, inlet B ``b_ratio U(p)``, both as plane-Poiseuille
 profiles. The cell starts at rest-shape 500 um before the junction centre. The measured axis
-ratio is the one when the cell's centroid crosses the junction centre (x = 0), and the
-smallest one over the run.
+ratio is the one when the cell's centroid crosses the junction centre (x = 0): from the
+solver's per-step moments, the value at x = 0 of a line fitted over the centroid positions
+within +-``READ_WINDOW_UM`` (:meth:`.post.CellHistory.near_x`); and the smallest one over
+the run.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetup, write_case
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+from oocyte_fe.microchannel.vof.isoadvector import INTER_ISO_FOAM
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
-from oocyte_fe.microchannel.vof.post import CellHistory, cell_history, time_directories
+from oocyte_fe.microchannel.vof.post import (
+    CellHistory,
+    cell_history,
+    moment_trace,
+    time_directories,
+)
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
     OpenFoam,
@@ -30,8 +40,6 @@ from oocyte_fe.microchannel.vof.runner import (
     run_solver,
     run_utility,
 )
-
-CELL_PHASES = ("zp", "cytoplasm")
 
 
 @dataclass(frozen=True)
@@ -72,7 +80,24 @@ def junction_setup(
         Disk(zp.name, centre, 0.5 * geometry.cell_diameter),
         Disk(cytoplasm.name, centre, 0.5 * geometry.cytoplasm_diameter),
     )
-    return VofSetup(layout, (medium, zp, cytoplasm), disks, numerics)
+    num = replace(numerics, moments=(zp.name, cytoplasm.name))
+    return VofSetup(layout, (medium, zp, cytoplasm), disks, num)
+
+
+def liquid_cell_setup(
+    geometry: JunctionGeometry,
+    dx: float,
+    medium: Phase,
+    cell: Phase,
+    velocity_a: float,
+    velocity_b: float,
+    numerics: Numerics,
+) -> VofSetup:
+    """The two-phase junction case (``interIsoFoam``): the whole cell (its diameter) as ONE
+    phase of one viscosity curve in the medium (:mod:`.isoadvector`)."""
+    layout = geometry.layout(dx, velocity_a, velocity_b)
+    disks = (Disk(cell.name, geometry.cell_centre, 0.5 * geometry.cell_diameter),)
+    return VofSetup(layout, (medium, cell), disks, replace(numerics, moments=(cell.name,)))
 
 
 def run_junction(
@@ -95,13 +120,17 @@ def run_junction(
         num.end_time, num.time_step, layout.dx * 1e-6, u_ref, limits or Limits()
     )
     start = time.perf_counter()
-    run_solver(foam, case, monitor, ranks=ranks, nice=nice, progress=progress)
+    run_solver(foam, case, monitor, ranks=ranks, nice=nice, progress=progress, solver=num.solver)
     wall = time.perf_counter() - start
     names = [p.name for p in setup.phases]
-    history = cell_history(case, layout, CELL_PHASES, names)
+    written = names[1:] if num.solver == INTER_ISO_FOAM else names  # 1 - alpha not written
+    history = cell_history(case, layout, names[1:], written)
     for _, folder in time_directories(case)[1:-1]:  # face fluxes: only t = 0 and the last kept
         (folder / "phi").unlink(missing_ok=True)
-    t_j, r_j = history.at_x(0.0)
+    trace = moment_trace(case, num.moments) if num.moments else history
+    t_j, r_j = trace.at_x(0.0)
+    if num.moments:
+        r_j = trace.near_x(0.0, READ_WINDOW_UM)
     return JunctionRun(
         case,
         inlets[0].velocity,
@@ -112,10 +141,11 @@ def run_junction(
         history,
         r_j,
         t_j,
-        float(history.ratio.min()),
+        float(min(trace.ratio.min(), history.ratio.min())),
     )
 
 
+READ_WINDOW_UM = 25.0  # b/a at x = 0: line through the per-step ratios within +-25 um
 PA_S, KG_M3 = 1e-3, 1e-15  # Pa s -> kPa s, kg/m^3 -> nN s^2/um^4
 VELOCITY_300_HPA = 0.7015e6  # um/s: mean velocity of the calibrated device at 300 hPa
 

@@ -1,4 +1,5 @@
-"""Reading a ``multiphaseInterFoam`` log as it is written: progress, and the silent failures.
+"""Reading a ``multiphaseInterFoam`` or ``interIsoFoam`` log as it is written: progress, and
+the silent failures.
 
 The solver does not stop by itself when a VOF run goes wrong; on the oocyte case it keeps
 stepping with garbage. :class:`SolverMonitor` is fed the log line by line and reports the
@@ -26,7 +27,13 @@ _NUM = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|-?nan|-?inf)"
 _TIME = re.compile(rf"^Time = {_NUM}")
 _DT = re.compile(rf"^deltaT = {_NUM}")
 _CO = re.compile(rf"^Courant Number mean: {_NUM} max: {_NUM}")
-_ALPHA = re.compile(rf"^([\w.-]+) volume fraction, min, max = {_NUM} {_NUM} {_NUM}")
+_LO, _HI = _NUM.replace("(", "(?P<lo>", 1), _NUM.replace("(", "(?P<hi>", 1)
+_ALPHA = re.compile(rf"^(?P<name>[\w.-]+) volume fraction, min, max = {_NUM} {_LO} {_HI}")
+# interIsoFoam: "Phase-1 volume fraction = v  Min(alpha.x) = a  Max(alpha.x) = b"
+_ALPHA1 = re.compile(
+    rf"^Phase-1 volume fraction = {_NUM}\s+Min\((?P<name>[\w.-]+)\) = {_LO}"
+    rf"\s+Max\([\w.-]+\) = {_HI}"
+)
 _UMAX = re.compile(rf"max\(mag\(U\)\) = {_NUM}")
 
 
@@ -101,13 +108,13 @@ class SolverMonitor:
                     f"max Courant number {self.courant:.3g} > {self.courant_bound:.3g} "
                     f"({self.limits.courant_factor:g} x the physical U dt/dx)",
                 )
-        elif m := _ALPHA.match(line):
-            lo, hi = float(m.group(3)), float(m.group(4))
+        elif m := _ALPHA.match(line) or _ALPHA1.match(line):
+            lo, hi = float(m.group("lo")), float(m.group("hi"))
             tol = self.limits.alpha_tolerance
             if not (lo >= -tol and hi <= 1.0 + tol):
                 return self._fail(
                     "alpha",
-                    f"{m.group(1)} min {lo:.3g}, max {hi:.3g} outside [-{tol:g}, 1+{tol:g}]",
+                    f"{m.group('name')} min {lo:.3g}, max {hi:.3g} outside [-{tol:g}, 1+{tol:g}]",
                 )
         elif m := _UMAX.search(line):
             self.max_velocity = float(m.group(1))

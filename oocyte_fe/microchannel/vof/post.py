@@ -73,6 +73,18 @@ class CellHistory:
             float(self.ratio[i - 1] + f * (self.ratio[i] - self.ratio[i - 1])),
         )
 
+    def near_x(self, x: float, half_window: float) -> float:
+        """The ratio at centroid position ``x`` (um) from a straight line fitted to the ratio
+        against the centroid's x over ``|x_c - x| <= half_window``: the per-step ratio jitters
+        by several per cent as the interface crosses the grid, a least-squares line through
+        the window averages that out. nan when fewer than 3 points lie in the window."""
+        cx = self.centroid[:, 0]
+        sel = np.abs(cx - x) <= half_window
+        if sel.sum() < 3:
+            return float("nan")
+        slope, intercept = np.polyfit(cx[sel] - x, self.ratio[sel], 1)
+        return float(intercept)
+
 
 def cell_history(
     case: Path, layout: Layout, cell_phases: Sequence[str], all_phases: Sequence[str]
@@ -97,6 +109,43 @@ def cell_history(
     speed = np.gradient(centroid[:, 0], time) if len(time) > 1 else np.zeros(len(time))
     errors = {p: np.array(v) / v[0] - 1.0 for p, v in volumes.items() if v[0] > 0}
     return CellHistory(time, centroid, speed, np.array(ratios), errors)
+
+
+def moment_trace(case: Path, cell_phases: Sequence[str]) -> CellHistory:
+    """The cell's centroid (um) and axis ratio at every time step, from the integrals
+    ``sum_k alpha_k V_k f_k`` (f = 1, x, y, x^2, y^2, xy) the solver wrote per phase
+    (:func:`.casewriter.moment_functions`), summed over ``cell_phases``::
+
+        x_c = S_x / S_1,   M = [[S_xx, S_xy], [S_xy, S_yy]] / S_1 - x_c x_c^T
+
+    the same moments as :func:`shape_moments` on the written fields (no volume errors)."""
+    sums = None
+    for phase in cell_phases:
+        folder = Path(case) / "postProcessing" / f"moments_{phase}"
+        files = sorted(folder.glob("*/volFieldValue*.dat"))
+        if not files:
+            raise InputError(folder, "volFieldValue.dat", "the solver's per-step cell moments")
+        rows = np.vstack([np.loadtxt(f, comments="#", ndmin=2) for f in files])
+        rows = rows[np.unique(rows[:, 0], return_index=True)[1]]
+        sums = rows if sums is None else _add_moments(sums, rows)
+    assert sums is not None
+    t, one, x, y, xx, yy, xy = sums.T
+    cx, cy = x / one, y / one
+    mxx, myy, mxy = xx / one - cx**2, yy / one - cy**2, xy / one - cx * cy
+    half = 0.5 * (mxx + myy)
+    root = np.sqrt((0.5 * (mxx - myy)) ** 2 + mxy**2)
+    ratio = np.sqrt(np.clip(half - root, 0.0, None) / (half + root))
+    centroid = np.column_stack([cx, cy]) * 1e6
+    speed = np.gradient(centroid[:, 0], t) if len(t) > 1 else np.zeros(len(t))
+    return CellHistory(t, centroid, speed, ratio, {})
+
+
+def _add_moments(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise sum of two phases' moment tables over their common times."""
+    common, ia, ib = np.intersect1d(a[:, 0], b[:, 0], return_indices=True)
+    out = a[ia].copy()
+    out[:, 1:] += b[ib, 1:]
+    return out
 
 
 def centreline_gradient(
@@ -138,7 +187,9 @@ def snapshot(
     import matplotlib.pyplot as plt
 
     n = layout.n_cells
-    index = sum(i * read_internal_field(folder / f"alpha.{p}", n) for i, p in enumerate(phases))
+    index = sum(  # the first phase counts 0: its fraction is not needed (interIsoFoam: not written)
+        i * read_internal_field(folder / f"alpha.{p}", n) for i, p in enumerate(phases) if i
+    )
     fig, ax = plt.subplots(figsize=(8, 3.2))
     start = 0
     for b in layout.blocks:

@@ -138,7 +138,7 @@ def project_initial_flow(foam: OpenFoam, case: Path, numerics: Numerics, nice: i
     short = replace(numerics, time_step=dt, end_time=dt, write_interval=dt, adjustable=False)
     write_dictionary(case / "system" / "controlDict", control_dict(short))
     monitor = SolverMonitor(dt, dt, 1.0, 1e9)
-    run_solver(foam, case, monitor, nice=nice)
+    run_solver(foam, case, monitor, nice=nice, solver=numerics.solver)
     written = [
         d for d in case.iterdir() if d.is_dir() and d.name not in ("0", "constant", "system")
     ]
@@ -146,6 +146,7 @@ def project_initial_flow(foam: OpenFoam, case: Path, numerics: Numerics, nice: i
     for name in ("U", "phi"):
         shutil.copy(step / name, case / "0" / name)
     shutil.rmtree(step)
+    shutil.rmtree(case / "postProcessing", ignore_errors=True)  # the real run starts its own
     write_dictionary(case / "system" / "controlDict", control_dict(numerics))
 
 
@@ -157,20 +158,21 @@ def run_solver(
     nice: int = 0,
     progress: Callable[[str], None] | None = None,
     every: int = 50,
+    solver: str = SOLVER,
 ) -> SolverMonitor:
-    """Run ``multiphaseInterFoam`` in ``case`` (``ranks`` > 1: decomposed, under mpirun) and
-    watch its log; stop it at the first failure (:class:`VofFailure`). ``progress`` gets the
-    monitor's line every ``every`` steps."""
+    """Run ``solver`` (``multiphaseInterFoam`` or ``interIsoFoam``) in ``case`` (``ranks`` > 1:
+    decomposed, under mpirun) and watch its log; stop it at the first failure
+    (:class:`VofFailure`). ``progress`` gets the monitor's line every ``every`` steps."""
     if ranks > 1:
         run_utility(foam, case, ["decomposePar", "-force"], nice)
         mpirun = shutil.which("mpirun", path=foam.env()["PATH"])
         if mpirun is None:
             raise OpenFoamMissing(f"mpirun not found; install it with: {INSTALL_HINT}")
-        args = [mpirun, "-np", str(ranks), foam.executable(SOLVER), "-parallel"]
+        args = [mpirun, "-np", str(ranks), foam.executable(solver), "-parallel"]
         cmd = ["nice", "-n", str(nice), *args] if nice else args
     else:
-        cmd = _command(foam, [SOLVER], nice)
-    log = case / f"log.{SOLVER}"
+        cmd = _command(foam, [solver], nice)
+    log = case / f"log.{solver}"
     with log.open("w") as fh:
         proc = subprocess.Popen(
             cmd,
@@ -204,7 +206,7 @@ def run_solver(
         raise VofFailure(monitor.failure, log)
     if code != 0:
         tail = "\n".join(log.read_text().splitlines()[-15:])
-        raise SolverError(f"{SOLVER} failed (exit {code}) in {case}:\n{tail}")
+        raise SolverError(f"{solver} failed (exit {code}) in {case}:\n{tail}")
     if ranks > 1:
         run_utility(foam, case, ["reconstructPar"], nice)
     return monitor

@@ -1,0 +1,166 @@
+"""The study sections of the ``microchannel_vof`` report: time step, mesh, viscosity cap, the
+ZP bound, the beside model (labels of :mod:`.microchannel_vof_runs`), and the traction on the
+liquid cell.
+
+Every comparison reads the deformation ``1 - b/a`` at the junction (the centroid at x = 0;
+at the end of the runs when one does not reach it) and its change in per cent::
+
+    change = 100 ((1 - b/a)_run / (1 - b/a)_reference - 1)
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
+from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
+from oocyte_fe.microchannel.vof.foamfile import read_internal_field
+from oocyte_fe.microchannel.vof.geometry import Layout
+from oocyte_fe.microchannel.vof.junction import JunctionRun
+from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
+from oocyte_fe.microchannel.vof.traction import momentum_balance, surface_traction
+
+TRACTION_OFFSET = 2.0  # cells: the velocity gradient's central stencil lies in the medium
+PRESSURE_OFFSET = 1.0  # cells: just outside the smeared interface (the inner pressure differs)
+ACCELERATION_WINDOW_S = 4e-5  # the centroid's acceleration: a parabola over +-20 us
+
+
+def _pair(run: JunctionRun, base: JunctionRun) -> tuple[str, float, float]:
+    """Where both are read (x = 0 when both reach it, else the end) and their b/a there."""
+    if math.isfinite(run.ratio_at_junction * base.ratio_at_junction):
+        return "x = 0", run.ratio_at_junction, base.ratio_at_junction
+    return "end", float(run.history.ratio[-1]), float(base.history.ratio[-1])
+
+
+def deformation_change_pct(run: JunctionRun, base: JunctionRun) -> float:
+    """Signed change of 1 - b/a of ``run`` against ``base`` (module docstring), %."""
+    _, ours, theirs = _pair(run, base)
+    return 100.0 * ((1.0 - ours) / (1.0 - theirs) - 1.0)
+
+
+def sensitivity_notes(
+    extra: dict[str, JunctionRun], base: JunctionRun, correctors: dict[str, int]
+) -> tuple[list[str], dict[str, float]]:
+    """One line per mesh / cap / ZP run against ``base`` (the first pressure), and their
+    metrics: ``mesh_change_pct`` (b/a, %), ``mesh_deformation_change_pct``,
+    ``cap_change_pct`` (b/a), ``zp_change_pct`` (1 - b/a)."""
+    notes, metrics = [], {}
+    for label, r in extra.items():
+        if label.startswith(BESIDE) or "_dt" in label:
+            continue
+        where, ours, theirs = _pair(r, base)
+        ratio_change = 100.0 * abs(ours / theirs - 1.0)
+        deformation = deformation_change_pct(r, base)
+        if "_dx" in label:
+            metrics["mesh_change_pct"] = ratio_change
+            metrics["mesh_deformation_change_pct"] = deformation
+        elif "_cap" in label:
+            metrics["cap_change_pct"] = ratio_change
+        else:
+            metrics["zp_change_pct"] = deformation
+        notes.append(
+            f"- {label}: b/a at {where} {ours:.5f} against {theirs:.5f} ({ratio_change:.2f} %); "
+            f"1 - b/a {1 - ours:.5f} against {1 - theirs:.5f} (**{deformation:+.1f} %**); "
+            f"{r.n_cells} cells, {correctors.get(label, 0)} pressure correctors, "
+            f"{r.steps} steps, {r.wall_seconds:.0f} s wall"
+        )
+    return notes, metrics
+
+
+def dt_study(dt: float, runs: list[JunctionRun]) -> tuple[str, TimeStepStudy, float]:
+    """The time-step section for ``runs`` at dt, dt/2, ...: its text, the study, and the
+    largest change of 1 - b/a between successive halvings (%)."""
+    study = time_step_study(
+        dt, [r.ratio_at_junction for r in runs], [float(r.history.ratio[-1]) for r in runs]
+    )
+    d = 1.0 - np.array(study.ratios)
+    changes = 100.0 * (d[1:] / d[:-1] - 1.0)
+    return _dt_section(study, runs), study, float(np.max(np.abs(changes)))
+
+
+def _dt_section(study: TimeStepStudy, runs: list[JunctionRun]) -> str:
+    """The report's time-step table and the sentence on its dt -> 0 limit."""
+    ratios, where, dt = study.ratios, study.where, study.dt_s
+    rows = [
+        f"| dt (s) | b/a at {where} | 1 - b/a | 1 - b/a against the previous dt | steps "
+        "| wall (s) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for k, r in enumerate(runs):
+        change = f"{100 * ((1 - ratios[k]) / (1 - ratios[k - 1]) - 1):+.1f} %" if k else ""
+        rows.append(
+            f"| {dt / 2**k:g} | {ratios[k]:.5f} | {1 - ratios[k]:.5f} | {change} "
+            f"| {r.steps} | {r.wall_seconds:.0f} |"
+        )
+    lines = ["\n".join(rows), ""]
+    ex = study.extrapolation
+    if ex is None:
+        lines.append("Two time steps: no observed order, no dt -> 0 estimate (set 2 refinements).")
+    elif not ex.converging:
+        lines.append(
+            f"The differences of b/a do not shrink over the finest three time steps (factor "
+            f"{ex.factor:.2f} per halving): no dt -> 0 estimate."
+        )
+    else:
+        base = ratios[0]
+        how = (
+            f"Richardson over the finest three, observed order p = {ex.order:.2f}"
+            if ex.monotone
+            else f"the differences alternate, factor q = {ex.factor:.2f} per halving: no "
+            "observed order; the geometric (Aitken) limit, which lies between the two "
+            "finest values, is an estimate only"
+        )
+        lines.append(
+            f"**dt -> 0 at {where} ({how}): b/a = {ex.limit:.5f}, 1 - b/a = "
+            f"{1 - ex.limit:.5f}**, against b/a = {base:.5f}, 1 - b/a = {1 - base:.5f} at the "
+            f"case's dt = {dt:g} s: its dt error is {100 * (base / ex.limit - 1):+.2f} % in "
+            f"b/a and {100 * ((1 - base) / (1 - ex.limit) - 1):+.0f} % in 1 - b/a."
+        )
+    return "\n".join(lines)
+
+
+def traction_study(
+    run: JunctionRun, layout: Layout, mu_medium: float, density: float, csv: Path
+) -> tuple[str, dict[str, float]]:
+    """The traction of the flow on the liquid cell at the written time nearest its junction
+    crossing (:mod:`oocyte_fe.microchannel.vof.traction`), written to ``csv``, and its
+    momentum check: the section text and the metrics ``traction_imbalance_pct``,
+    ``traction_force_x``, ``traction_force_y`` (nN/um), ``traction_at_x_um``."""
+    folders = time_directories(run.case)[1:]
+    t_j = run.time_at_junction if math.isfinite(run.time_at_junction) else folders[-1][0]
+    t, folder = min(folders, key=lambda tf: abs(tf[0] - t_j))
+    trace = moment_trace(run.case, ["cell"])
+    traction = surface_traction(folder, layout, "cell", mu_medium, TRACTION_OFFSET, PRESSURE_OFFSET)
+    traction.write_csv(csv)
+    area = _cell_area(folder, layout)
+    window = ACCELERATION_WINDOW_S
+    balance = momentum_balance(traction, trace, area, density, window)
+    x_at = float(np.interp(t, trace.time, trace.centroid[:, 0]))
+    f, ma = balance.force, balance.momentum_rate
+    text = (
+        f"`{csv.name}`: {len(traction.angle)} edges of the alpha = 0.5 contour at t = {t:.4g} s "
+        f"(centroid x = {x_at:.1f} um); columns arc_angle_deg (about the centroid, from +x, "
+        "counter-clockwise), x_um, y_um (edge midpoint), t_x_kPa, t_y_kPa (traction of the "
+        f"medium on the cell, outward normal; pressure {PRESSURE_OFFSET:g} and velocity "
+        f"gradient {TRACTION_OFFSET:g} cells outside the contour). Net force (per unit depth) "
+        f"F = ({f[0]:.2f}, {f[1]:.2f}) nN/um against the cell's momentum rate M a = "
+        f"({ma[0]:.2f}, {ma[1]:.2f}) nN/um (M = rho x area {area:.0f} um^2, a from the per-step "
+        f"centroid over {window * 1e6:.0f} us): |F - M a| = **{balance.imbalance_pct:.1f} %** "
+        f"of the load sum |t + p_mean n| ds = {balance.gross:.1f} nN/um."
+    )
+    metrics = {
+        "traction_imbalance_pct": balance.imbalance_pct,
+        "traction_force_x": float(f[0]),
+        "traction_force_y": float(f[1]),
+        "traction_at_x_um": x_at,
+    }
+    return text, metrics
+
+
+def _cell_area(folder: Path, layout: Layout) -> float:
+    """The cell's area (um^2, per unit depth): sum alpha dx^2."""
+    alpha = read_internal_field(folder / "alpha.cell", layout.n_cells)
+    return float(alpha.sum() * layout.dx**2)

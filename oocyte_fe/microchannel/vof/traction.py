@@ -1,0 +1,191 @@
+"""The traction of the flow on the cell's surface, from one written time of a VOF run.
+
+The surface is the ``alpha = 0.5`` contour of the cell's fraction (alpha = 1 inside), a
+closed polygon on the cell-centre lattice (contourpy). On each edge (midpoint x_e, length
+ds_e, outward unit normal n_e) the traction of the OUTER phase (the medium, Newtonian mu)::
+
+    t = sigma n,     sigma = -p I + mu (grad U + grad U^T)
+
+with p and grad U (central differences on the lattice) interpolated bilinearly at
+``x_e + offset n_e``, ``offset`` (default 1.5 dx) outside the contour, where the fraction has
+fallen to the medium's (a VOF interface is about two cells wide). g = 0, so p = p_rgh. A
+closed polygon has ``sum n_e ds_e = 0`` exactly, so the pressure's reference level drops out
+of the net force ``F = sum t_e ds_e`` (per unit depth, kPa um = nN/um).
+
+**Momentum check.** The cell is a material volume of one liquid: the net force on it is the
+rate of change of its momentum, ``F = M d^2 x_c/dt^2`` (M = rho_cell x area, per unit depth;
+x_c its centroid from the per-step moments, :func:`.post.moment_trace`, the acceleration of a
+quadratic fitted over a window around the written time). :func:`momentum_balance` returns
+both and their difference relative to ``sum |t_e| ds_e`` (the gross load).
+
+Internal units: um, kPa, s; the OpenFOAM fields are SI (p in Pa for ``interIsoFoam``,
+kinematic in ``nu`` only, so the medium's dynamic viscosity is passed in).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import contourpy
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel.vof.foamfile import read_internal_field
+from oocyte_fe.microchannel.vof.geometry import Layout
+from oocyte_fe.microchannel.vof.post import CellHistory
+
+CSV_HEADER = "arc_angle_deg,x_um,y_um,t_x_kPa,t_y_kPa"
+
+
+@dataclass(frozen=True)
+class Traction:
+    """The traction on the cell's surface at one time: per edge of the contour."""
+
+    time: float  # s
+    angle: np.ndarray  # deg, of the edge midpoint about the centroid, from +x, counter-clockwise
+    points: np.ndarray  # (n, 2) edge midpoints, um
+    normals: np.ndarray  # (n, 2) outward unit normals
+    lengths: np.ndarray  # (n,) edge lengths, um
+    traction: np.ndarray  # (n, 2) kPa
+    centroid: np.ndarray  # (2,) um
+
+    @property
+    def force(self) -> np.ndarray:
+        """Net force per unit depth ``sum t ds`` (kPa um = nN/um)."""
+        return (self.traction * self.lengths[:, None]).sum(axis=0)
+
+    @property
+    def gross(self) -> float:
+        """``sum |t + p_m n| ds`` (kPa um), p_m the mean pressure on the contour (the
+        reference level, which exerts no net force): the scale of the load."""
+        ds = self.lengths
+        p_mean = -float(np.sum(np.einsum("ij,ij->i", self.traction, self.normals) * ds) / ds.sum())
+        load = self.traction + p_mean * self.normals
+        return float((np.linalg.norm(load, axis=1) * ds).sum())
+
+    def write_csv(self, path: Path) -> Path:
+        """CSV, one row per edge in angle order: arc_angle_deg, x_um, y_um, t_x_kPa, t_y_kPa."""
+        order = np.argsort(self.angle)
+        rows = np.column_stack([self.angle, self.points, self.traction])[order]
+        np.savetxt(path, rows, delimiter=",", header=CSV_HEADER, comments="", fmt="%.9g")
+        return path
+
+
+def lattice(layout: Layout) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The cell-centre lattice covering the layout: x (nx,), y (ny,) in um, and the lattice
+    index (i, j) of every OpenFOAM cell (blocks share one square spacing dx)."""
+    c = layout.cell_centres()
+    dx = layout.dx
+    x0, y0 = c[:, 0].min(), c[:, 1].min()
+    i = np.rint((c[:, 0] - x0) / dx).astype(int)
+    j = np.rint((c[:, 1] - y0) / dx).astype(int)
+    x = x0 + dx * np.arange(i.max() + 1)
+    y = y0 + dx * np.arange(j.max() + 1)
+    return x, y, i, j
+
+
+def _on_lattice(values: np.ndarray, i: np.ndarray, j: np.ndarray, shape: tuple) -> np.ndarray:
+    grid = np.full(shape, np.nan)
+    grid[j, i] = values
+    return grid
+
+
+def surface_traction(
+    folder: Path,
+    layout: Layout,
+    cell: str,
+    mu_medium: float,
+    offset_cells: float = 1.5,
+    pressure_offset_cells: float = 0.0,
+) -> Traction:
+    """The traction on the cell (module docstring) from the fields of the time ``folder``;
+    ``mu_medium`` the medium's viscosity (kPa s)."""
+    x, y, i, j = lattice(layout)
+    n, shape = layout.n_cells, (len(y), len(x))
+    alpha = _on_lattice(read_internal_field(folder / f"alpha.{cell}", n), i, j, shape)
+    p = _on_lattice(read_internal_field(folder / "p", n) * 1e-3, i, j, shape)  # Pa -> kPa
+    u = read_internal_field(folder / "U", n) * 1e6  # m/s -> um/s
+    ux, uy = (_on_lattice(u[:, k], i, j, shape) for k in (0, 1))
+    lines = contourpy.contour_generator(x, y, np.nan_to_num(alpha, nan=0.0)).lines(0.5)
+    closed = [ln for ln in lines if len(ln) > 3 and np.allclose(ln[0], ln[-1])]
+    if not closed:
+        raise InputError(folder, f"alpha.{cell}", "a closed alpha = 0.5 contour of the cell")
+    ring = max(closed, key=len)
+    if _signed_area(ring) < 0:
+        ring = ring[::-1]  # counter-clockwise: the outward normal is (dy, -dx)/ds
+    edge = np.diff(ring, axis=0)
+    lengths = np.linalg.norm(edge, axis=1)
+    normals = np.column_stack([edge[:, 1], -edge[:, 0]]) / lengths[:, None]
+    mids = 0.5 * (ring[1:] + ring[:-1])
+
+    def at(field: np.ndarray, offset: float) -> np.ndarray:
+        f = RegularGridInterpolator((y, x), field, bounds_error=False, fill_value=np.nan)
+        return f((mids + offset * layout.dx * normals)[:, ::-1])
+
+    pp = at(p, pressure_offset_cells)
+    # gradients on the lattice (1/s), central differences, taken in the medium
+    dux_dy, dux_dx = np.gradient(ux, layout.dx)
+    duy_dy, duy_dx = np.gradient(uy, layout.dx)
+    gxx, gxy, gyx, gyy = (at(g, offset_cells) for g in (dux_dx, dux_dy, duy_dx, duy_dy))
+    if not np.all(np.isfinite(np.concatenate([pp, gxx, gxy, gyx, gyy]))):
+        raise InputError(folder, "U, p", "the fluid all around the cell (probe off the mesh)")
+    sxx = -pp + 2.0 * mu_medium * gxx
+    syy = -pp + 2.0 * mu_medium * gyy
+    sxy = mu_medium * (gxy + gyx)
+    t = np.column_stack(
+        [sxx * normals[:, 0] + sxy * normals[:, 1], sxy * normals[:, 0] + syy * normals[:, 1]]
+    )
+    area = _signed_area(ring)
+    centroid = _polygon_centroid(ring, area)
+    d = mids - centroid
+    angle = np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 360.0
+    return Traction(float(folder.name), angle, mids, normals, lengths, t, centroid)
+
+
+def _signed_area(ring: np.ndarray) -> float:
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.sum(x[:-1] * y[1:] - x[1:] * y[:-1]))
+
+
+def _polygon_centroid(ring: np.ndarray, area: float) -> np.ndarray:
+    x, y = ring[:, 0], ring[:, 1]
+    cross = x[:-1] * y[1:] - x[1:] * y[:-1]
+    return np.array([np.sum((x[:-1] + x[1:]) * cross), np.sum((y[:-1] + y[1:]) * cross)]) / (
+        6.0 * area
+    )
+
+
+@dataclass(frozen=True)
+class MomentumBalance:
+    """Net traction force against the cell's momentum rate (per unit depth, kPa um)."""
+
+    force: np.ndarray
+    momentum_rate: np.ndarray
+    gross: float
+
+    @property
+    def imbalance_pct(self) -> float:
+        """``|F - M a| / sum |t| ds`` in per cent."""
+        return 100.0 * float(np.linalg.norm(self.force - self.momentum_rate)) / self.gross
+
+
+def momentum_balance(
+    traction: Traction,
+    trace: CellHistory,
+    cell_volume: float,
+    density: float,
+    window: float,
+) -> MomentumBalance:
+    """:class:`MomentumBalance` at the traction's time: M = ``density`` (nN s^2/um^4) x
+    ``cell_volume`` (um^2 per unit depth), the centroid's acceleration (um/s^2) from a
+    quadratic fitted to the per-step ``trace`` over ``window`` (s) centred there."""
+    t0 = traction.time
+    sel = np.abs(trace.time - t0) <= 0.5 * window
+    if sel.sum() < 5:
+        raise InputError("momentum_balance", "window", "at least 5 steps of the trace", window)
+    acc = np.array(
+        [2.0 * np.polyfit(trace.time[sel] - t0, trace.centroid[sel, k], 2)[0] for k in (0, 1)]
+    )
+    return MomentumBalance(traction.force, density * cell_volume * acc, traction.gross)
