@@ -207,6 +207,7 @@ METRICS = {
     "traction_force_x": "net traction force on the cell per unit depth, x (nN/um)",
     "traction_force_y": "net traction force on the cell per unit depth, y (nN/um)",
     "traction_at_x_um": "centroid x of the written time the traction is taken at (um)",
+    "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction (one-way)",
     "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
     "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
     "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",

@@ -143,6 +143,9 @@ def report_outcome(
                 ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
             )
             metrics.update(more)
+            experiment = _lookup(table.pressure, table.ratio_experiment, pressures[0])
+            csv = ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv")
+            traction_text += "\n\n" + _elastic_cell(csv, ctx, metrics, experiment)
         except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
             traction_text = f"not computed: {exc}"
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
@@ -240,3 +243,20 @@ def _beside(inp: VofInputs, table, beside: dict, extra: dict, metrics: dict) -> 
 
 def _layout(inp: VofInputs, run: JunctionRun):
     return inp.geometry.to_geometry().layout(inp.dx_um, run.velocity_a, run.velocity_b)
+
+
+def _elastic_cell(csv, ctx, metrics: dict, experiment: float) -> str:
+    """The AFM-elastic cell under this traction (one-way; :mod:`..elastic_junction`)."""
+    from oocyte_fe.microchannel.elastic_junction import elastic_cell_at_junction
+
+    cell = elastic_cell_at_junction(csv, ctx.output("."))
+    metrics["elastic_cell_b_over_a"] = cell.b_over_a
+    return (
+        "**The AFM-elastic cell under this traction** (one-way, issue 30 part 2: the layered "
+        "plane-strain FE cell, ZP 7.0 and cytoplasm 1.55 kPa, free, loaded on its undeformed "
+        f"outline; `elastic_cell_traction.csv`): b/a = **{cell.b_over_a:.4f}** (1 - b/a "
+        f"{1 - cell.b_over_a:.4f}), against the experiment's {experiment:.3f}. A deformation "
+        "this large changes the flow around the cell, which one-way coupling does not "
+        "recompute, and the traction comes from the liquid VOF cell whose momentum check "
+        "misses (above): an order of magnitude, not a converged answer."
+    )
