@@ -48,6 +48,62 @@ def bonded_layer_check(
     return out
 
 
+def cone_layer_check(
+    half_angle_deg: float = 70.0, layer_um: float = 5.0, depth_um: float = 1.8, frames: int = 6
+) -> dict[str, np.ndarray]:
+    """Garcia and Garcia's cone factor against the FE (docs/fe.md: cones of 55 deg and blunter
+    are verified): the FE force of a cone on a layer ``layer_um`` thick bonded to a 1000 times
+    stiffer 1 mm cell, over the same FE with a homogeneous cell (the FE's own finite-strain
+    deficit against Sneddon removed), per frame: depth, y = d tan(alpha)/h, that ratio and
+    Garcia's factor. Contact elements a tenth of the final contact radius."""
+    from afm.bottom_effect import garcia_cone_factor
+    from oocyte_fe.experiment import Experiment, run_experiment
+    from oocyte_fe.experiment.analysis import depth_um as depth_of
+    from oocyte_fe.experiment.analysis import push_force_nN
+
+    tan = float(np.tan(np.radians(half_angle_deg)))
+    a = 2.0 / np.pi * depth_um * tan
+    t = np.linspace(0.0, 1.0, frames + 1)
+    forces = {}
+    for key, ratio in (("layer", STIFF), ("homogeneous", 1.0)):
+        exp = Experiment.model_validate(
+            {
+                "cell": {
+                    "outer_diameter_um": 2 * CELL_UM,
+                    "zona_thickness_um": layer_um,
+                    "mesh_size_um": CELL_UM / 8,
+                    "refine_size_um": 0.1 * a,
+                    "refine_half_angle_deg": float(np.degrees(3 * a / CELL_UM)),
+                    "refine_depth_um": max(3 * a, 1.5 * layer_um),
+                    "curved_edges": False,
+                    "materials": {
+                        "zona": {"E_kPa": 1.0, "nu": 0.5},
+                        "cytoplasm": {"E_kPa": ratio, "nu": 0.5},
+                    },
+                },
+                "tools": {
+                    "tip": {
+                        "type": "cone",
+                        "half_angle_deg": half_angle_deg,
+                        "penalty_factor": 100.0 / ratio,  # 100 E_layer / h either way
+                        "displacement_um": {"time_s": list(t), "value": list(depth_um * t**2)},
+                    },
+                    "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 500.0},
+                },
+                "time": {"duration_s": 1.0, "frames": frames},
+            }
+        )
+        result = run_experiment(exp)
+        forces[key] = push_force_nN(result, "tip")[1:]
+        d = depth_of(result, "tip")[1:]
+    return {
+        "depth_um": d,
+        "y": d * tan / layer_um,
+        "layer_over_homogeneous": forces["layer"] / forces["homogeneous"],
+        "garcia": garcia_cone_factor(d, half_angle_deg, layer_um),
+    }
+
+
 if __name__ == "__main__":
     check = bonded_layer_check()
     print("d_um  x  FE/Hertz  FE/FE_hom  Dimitriadis  (FE/FE_hom)/Dimitriadis")

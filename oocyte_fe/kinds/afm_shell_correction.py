@@ -21,6 +21,7 @@ from oocyte_fe.runner.schema import CaseInputs
 METRICS = {
     "table_vs_fe_max_error": "largest |table / fresh FE - 1| at the off-node points",
     "dimitriadis_vs_fe_max_error": "largest |FE / Dimitriadis - 1| for x_min <= x <= x_max",
+    "garcia_vs_fe_max_error": "largest |(FE layer / FE homogeneous) / Garcia - 1|, y range",
 }
 
 
@@ -39,12 +40,19 @@ class ShellCheckInputs(CaseInputs):
         description="the x = sqrt(R* d)/h range",
         json_schema_extra={"unit": "1"},
     )
+    garcia_y: list[float] = Field(
+        [0.1, 1.0],
+        min_length=2,
+        max_length=2,
+        description="the y = d tan(alpha)/h range of the cone check (70 deg)",
+        json_schema_extra={"unit": "1"},
+    )
 
 
 @case_kind("afm_shell_correction", inputs=ShellCheckInputs, metrics=METRICS)
 def run(ctx: CaseContext) -> CaseOutcome:
     """Fresh FE runs against the shipped table and against Dimitriadis."""
-    from oocyte_fe.afm_corrections.bottom_check import bonded_layer_check
+    from oocyte_fe.afm_corrections.bottom_check import bonded_layer_check, cone_layer_check
     from oocyte_fe.afm_corrections.table import column
 
     inp: ShellCheckInputs = ctx.inputs  # type: ignore[assignment]
@@ -73,8 +81,19 @@ def run(ctx: CaseContext) -> CaseOutcome:
         f"| {x:.3f} | {f:.4f} | {d:.4f} | {f / d:.4f} |"
         for x, f, d in zip(check["x"], check["layer"], check["dimitriadis"], strict=True)
     ]
+    ctx.step("Garcia's cone factor against the FE of a layer on a stiff support")
+    cone = cone_layer_check()
+    ylo, yhi = inp.garcia_y
+    in_y = (cone["y"] >= ylo) & (cone["y"] <= yhi)
+    cone_rel = cone["layer_over_homogeneous"][in_y] / cone["garcia"][in_y]
+    cone_lines = ["| y | FE layer / homogeneous | Garcia | ratio |", "|---|---|---|---|"]
+    cone_lines += [
+        f"| {y:.3f} | {f:.4f} | {g:.4f} | {f / g:.4f} |"
+        for y, f, g in zip(cone["y"], cone["layer_over_homogeneous"], cone["garcia"], strict=True)
+    ]
     return CaseOutcome(
         metrics={
+            "garcia_vs_fe_max_error": float(np.max(np.abs(cone_rel - 1))) if in_y.any() else np.nan,
             "table_vs_fe_max_error": max(errors),
             "dimitriadis_vs_fe_max_error": float(np.max(np.abs(rel - 1))) if use.any() else np.nan,
         },
@@ -85,6 +104,14 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 "\n".join(lines)
                 + f"\n\nChecked over {lo:g} <= x <= {hi:g}: below, the contact spans fewer than "
                 "4 elements; above, finite strain takes the FE below the small-strain formula.",
+            ),
+            (
+                "Garcia (cone, bonded layer) against the FE",
+                "\n".join(cone_lines)
+                + f"\n\nA 70 deg cone on a 5 um layer bonded to a 1000 times stiffer 1 mm cell, "
+                "over the same FE with a homogeneous cell (the finite-strain deficit against "
+                f"Sneddon removed); checked over {ylo:g} <= y <= {yhi:g} (below, the contact "
+                "spans fewer than 4 elements).",
             ),
         ],
     )
