@@ -62,15 +62,17 @@ NO_CASE = {
     "analytic_linear": "the closed-form test kind of the sweep tests; it draws nothing",
     "nmsd_spindle_offset_resampled": "the sweep kind of sweep_spindle_offset; draws nothing "
     "per sample (its figures are the sweep's, rendered below)",
+    "afm_shell_correction": "a heavy case only (fresh FE runs, minutes); it draws no figures",
 }
 
 
 def _case_dirs() -> dict[str, Path]:
-    """One case folder per kind (the first in name order); sweep cases are kept apart."""
+    """One case folder per kind (the first in name order); sweep cases are kept apart, heavy
+    cases (``--full`` only) left out."""
     found: dict[str, Path] = {}
     for file in sorted(CASES.glob("*/case.toml")):
         spec = read_toml(file)
-        if "sweep" not in spec:
+        if "sweep" not in spec and not spec.get("heavy", False):
             found.setdefault(spec["kind"], file.parent)
     return found
 

@@ -143,7 +143,7 @@ def plot_rtdc_moduli(rows: Sequence[tuple[float, float, float, float]], file: Pa
         pts = sorted((d, lut / E) for aa, E, d, lut in rows if aa == a and np.isfinite(lut))
         if pts:
             ax.semilogx(*zip(*pts, strict=True), "o-", label=f"a = {a:g} um")
-    ax.axhline(1.0, color="k", lw=0.8)
+    ax.axhline(1.0, color="k", lw=0.8, label="E put in")
     ax.set_xlabel("deformation 1 - circularity")
     ax.set_ylabel("E from LE-2D-FEM-19 / E put in")
     return _finish(fig, ax, file, which="both")
