@@ -164,13 +164,7 @@ QUANTITY_FIELDS = [
     if isinstance(info.json_schema_extra, dict) and "quantity" in info.json_schema_extra
 ]
 CONE_FIELDS = [
-    pytest.param(
-        kind,
-        name,
-        marks=[pytest.mark.xfail(strict=True, reason="owned by the afm_fit_files work")]
-        if kind == "afm_fit_files"
-        else [],
-    )
+    pytest.param(kind, name)
     for kind, spec in kinds().items()
     for name, info in spec.inputs.model_fields.items()
     if "cone half angle" in (info.description or "").lower()

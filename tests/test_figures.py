@@ -57,6 +57,7 @@ CHEAPER: dict[str, dict] = {
     },
     "nmsd_calibration_tableII": {"n_starts": 1, "max_evaluations": 8},
     "nmsd_spindle_offset": {"n_starts": 1, "max_evaluations": 8},
+    "rtdc_elastic_cell": {"flow_size_um": 2.0, "mesh_fraction": 0.2},
 }
 NO_CASE = {
     "analytic_linear": "the closed-form test kind of the sweep tests; it draws nothing",

@@ -187,11 +187,9 @@ class FitFilesInputs(CaseInputs):
     )
     half_angle_deg_creep: float | None = Field(
         None,
-        gt=0,
-        lt=90,
         description="cone half angle of the creep probe when it differs from the curves' tip "
         "(default: the creep fit uses the curves' model and geometry)",
-        json_schema_extra={"unit": "deg"},
+        json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
     )
     include_poor: bool = Field(
         False,
