@@ -25,7 +25,6 @@ change of direction, reported as ``hold_reaction_nN``.
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -33,9 +32,9 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import Discriminator, Field, Tag, model_validator
 
-from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment.paths import PathSpec
+from oocyte_fe.microchannel.tables import read_columns
 from oocyte_fe.runner.schema import CaseInputs, DataFile
 
 COLUMNS = ("x_um", "y_um", "tx_Pa", "ty_Pa")
@@ -97,17 +96,10 @@ def polar_deg(x: NDArray) -> NDArray:
 def read_traction_table(path: Path, radius_um: float, axisymmetric: bool) -> NDArray:
     """The table's rows (theta_deg, tx_kPa, ty_kPa), sorted by angle; checked to lie on the
     outline (within 2 % of the radius) and to cover it with gaps of at most 45 deg."""
-    lines = [ln for ln in checks.read_text(path, "table").splitlines() if not ln.startswith("#")]
-    try:
-        data = np.genfromtxt(io.StringIO("\n".join(lines)), delimiter=",", names=True)
-    except ValueError as exc:
-        raise InputError(path, "table", f"a CSV with the columns {', '.join(COLUMNS)}") from exc
-    names = data.dtype.names or ()
-    if any(c not in names for c in COLUMNS):
-        raise InputError(path, "columns", ", ".join(COLUMNS), got=", ".join(names))
-    rows = np.atleast_1d(data)
-    cols = {c: checks.float_array(path, c, rows[c]) for c in COLUMNS}
-    if rows.size < 8 or not all(np.all(np.isfinite(v)) for v in cols.values()):
+    cols = read_columns(path)  # finite numbers, every fault named with its line
+    if any(c not in cols for c in COLUMNS):
+        raise InputError(path, "columns", ", ".join(COLUMNS), got=", ".join(cols))
+    if cols["x_um"].size < 8:
         raise InputError(path, "rows", "at least 8 rows of finite numbers")
     xy = np.array([cols["x_um"], cols["y_um"]])
     r = np.hypot(*xy)
@@ -136,6 +128,15 @@ def read_traction_table(path: Path, radius_um: float, axisymmetric: bool) -> NDA
         )
     tx, ty = cols["tx_Pa"][order], cols["ty_Pa"][order]
     return np.array([theta, 1e-3 * tx, 1e-3 * ty]).T  # Pa -> kPa
+
+
+def write_traction_table(path: Path, points_um: NDArray, traction_kPa: NDArray, about: str) -> Path:
+    """A traction table ``path`` for a ``traction`` load: points (n, 2) [um] on the outline
+    and tractions (n, 2) [kPa, written in Pa], with the comment ``about``."""
+    rows = np.column_stack([points_um, 1e3 * np.asarray(traction_kPa)])  # kPa -> Pa
+    body = "\n".join(",".join(f"{v:.10g}" for v in row) for row in rows)
+    path.write_text(f"# {about}\n" + ",".join(COLUMNS) + "\n" + body + "\n")
+    return path
 
 
 class TractionField:

@@ -15,7 +15,6 @@ from pydantic import Field, model_validator
 
 from oocyte_fe.microchannel.plotting import plot_rtdc_moduli
 from oocyte_fe.microchannel.rtdc import (
-    EQUIVALENT_RADIUS,
     CellInChannel,
     RtdcSetting,
     cell_in_channel,
@@ -63,7 +62,7 @@ class RtdcInputs(CaseInputs):
 
     @model_validator(mode="after")
     def _fits(self) -> RtdcInputs:
-        R = EQUIVALENT_RADIUS * self.channel_width_um / 2
+        R = RtdcSetting(channel_width_um=self.channel_width_um).channel_radius_um
         if max(self.radii_um) >= 0.95 * R:
             raise ValueError(f"radii_um below 0.95 of the equivalent channel radius ({R:.3g} um)")
         if self.flow_size_um > min(self.radii_um) / 2:

@@ -23,11 +23,12 @@ from pathlib import Path
 
 import numpy as np
 
-from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.analysis import outline_extents_um
 from oocyte_fe.experiment.driver import ExperimentResult
+from oocyte_fe.experiment.loads import write_traction_table
+from oocyte_fe.microchannel.tables import read_columns
 
 COLUMNS = ("arc_angle_deg", "x_um", "y_um", "t_x_kPa", "t_y_kPa")
 
@@ -43,17 +44,12 @@ class ElasticCellAtJunction:
 
 def read_vof_traction(path: Path) -> np.ndarray:
     """The VOF traction CSV as rows (angle deg, x um, y um, t_x kPa, t_y kPa); checked."""
-    text = checks.read_text(path, "traction")
-    lines = text.strip().splitlines()
-    if not lines or tuple(c.strip() for c in lines[0].split(",")) != COLUMNS:
-        raise InputError(path, "header", ", ".join(COLUMNS), got=lines[0] if lines else "")
-    try:
-        rows = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    except ValueError as exc:
-        raise InputError(path, "rows", "five numbers per row") from exc
-    if rows.ndim != 2 or rows.shape[0] < 8 or rows.shape[1] != 5 or not np.isfinite(rows).all():
-        raise InputError(path, "rows", "at least 8 rows of five finite numbers")
-    return rows
+    cols = read_columns(path)  # finite numbers, every fault named with its line
+    if any(c not in cols for c in COLUMNS):
+        raise InputError(path, "columns", ", ".join(COLUMNS), got=", ".join(cols))
+    if cols["x_um"].size < 8:
+        raise InputError(path, "rows", "at least 8 rows")
+    return np.column_stack([cols[c] for c in COLUMNS])
 
 
 def fe_traction_table(rows: np.ndarray, radius_um: float, path: Path) -> Path:
@@ -68,12 +64,7 @@ def fe_traction_table(rows: np.ndarray, radius_um: float, path: Path) -> Path:
     n = d / np.linalg.norm(d, axis=1)[:, None]
     p_mean = -np.sum(np.einsum("ij,ij->i", t, n) * ds) / ds.sum()
     t = t + p_mean * n  # the mean pressure removed
-    points = radius_um * n
-    body = "\n".join(
-        f"{a:.9g},{b:.9g},{c:.9g},{e:.9g}" for (a, b), (c, e) in zip(points, 1e3 * t, strict=True)
-    )
-    path.write_text("# VOF traction, mean pressure removed\nx_um,y_um,tx_Pa,ty_Pa\n" + body + "\n")
-    return path
+    return write_traction_table(path, radius_um * n, t, "VOF traction, mean pressure removed")
 
 
 def elastic_cell_at_junction(

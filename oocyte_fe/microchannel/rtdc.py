@@ -28,6 +28,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.analysis import contour_deformation
 from oocyte_fe.experiment.driver import ExperimentResult
+from oocyte_fe.experiment.loads import write_traction_table
 from oocyte_fe.microchannel.sphere_in_tube import FlowPastCell, SphereInTube, flow_past_cell
 
 EQUIVALENT_RADIUS = 1.094
@@ -72,14 +73,6 @@ class CellInChannel:
         return self.flow.geometry.sphere_radius_um
 
 
-def write_traction_table(flow: FlowPastCell, path: Path) -> Path:
-    """The traction on the cell as the FE's traction table (x = r, y = z; Pa at the file)."""
-    x, t = flow.points_um, flow.traction_kPa * 1e3  # kPa -> Pa
-    rows = [f"{a:.10g},{b:.10g},{c:.10g},{d:.10g}" for a, b, c, d in zip(*x, *t, strict=True)]
-    path.write_text("# traction of the flow on the cell\nx_um,y_um,tx_Pa,ty_Pa\n" + "\n".join(rows))
-    return path
-
-
 def flow_in_channel(
     radius_um: float, setting: RtdcSetting = RtdcSetting(), size_um: float = 1.0
 ) -> FlowPastCell:
@@ -101,7 +94,12 @@ def cell_in_channel(
     """The FE cell of modulus ``E_kPa`` (elements ``mesh_fraction`` of its radius) loaded by
     ``flow``'s traction (a table written into ``folder``)."""
     a = flow.geometry.sphere_radius_um
-    table = write_traction_table(flow, Path(folder) / f"traction_a{a:g}um.csv")
+    table = write_traction_table(
+        Path(folder) / f"traction_a{a:g}um.csv",
+        flow.points_um.T,
+        flow.traction_kPa.T,
+        "traction of the flow on the cell (x = r, y = z)",
+    )
     exp = Experiment.model_validate(
         {
             "cell": {
