@@ -31,6 +31,7 @@ import pytest
 from matplotlib.figure import Figure as MplFigure
 from PIL import Image
 
+from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, openfoam_available
 from oocyte_fe.runner.casefile import load_case, read_toml
 from oocyte_fe.runner.registry import CaseContext, kinds
 
@@ -58,6 +59,8 @@ CHEAPER: dict[str, dict] = {
     "nmsd_calibration_tableII": {"n_starts": 1, "max_evaluations": 8},
     "nmsd_spindle_offset": {"n_starts": 1, "max_evaluations": 8},
     "rtdc_elastic_cell": {"flow_size_um": 2.0, "mesh_fraction": 0.2},
+    # one run (no dt/2 check): its run and checks are tests/test_vof_openfoam.py's
+    "microchannel_vof_quick": {"dt_refinements": 0},
 }
 NO_CASE = {
     "analytic_linear": "the closed-form test kind of the sweep tests; it draws nothing",
@@ -168,6 +171,8 @@ def test_kind_figures(
     out = tmp_path / "out"
     out.mkdir()
     ctx = CaseContext(case.name, folder, out, inputs, True, logging.getLogger(f"figures.{kind}"))
+    if kind == "microchannel_vof" and not openfoam_available():
+        pytest.skip(f"OpenFOAM not installed: {INSTALL_HINT}")
     outcome = case.kind.run(ctx)
     for figure in outcome.figures:
         assert (out / figure.file).is_file(), f"{figure.file} listed but not written"
