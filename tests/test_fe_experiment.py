@@ -7,6 +7,8 @@ Tolerances: Theret's wall factor is 2.0-2.1 (5 % around 2.1); Hertz at d/R = 0.0
 from __future__ import annotations
 
 import copy
+import fcntl
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +18,7 @@ import tomli_w
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.analysis import closed_form_metrics, push_force_nN
-from oocyte_fe.experiment.cache import cached_arrays
+from oocyte_fe.experiment.cache import cached_arrays, cached_arrays_all, result_path
 from oocyte_fe.experiment.templates import TEMPLATES
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import get_kind
@@ -181,6 +183,40 @@ def test_results_are_cached_by_their_inputs(tmp_path: Path, monkeypatch):
     other = Experiment.model_validate({**_aspiration(), "mesh_scale": 1.0})  # another input
     changed, hit3 = cached_arrays(other, "test", solve)
     assert not hit3 and len(calls) == 2 and changed["force"][1] == 2.0
+
+
+def test_a_result_another_process_is_solving_is_taken_after_the_free_ones(
+    tmp_path: Path, monkeypatch
+):
+    # two cases pressing the same model at two speeds solve one each instead of one waiting
+    monkeypatch.setenv("OOCYTE_FE_CACHE", str(tmp_path))
+    busy = Experiment.model_validate(_aspiration())
+    free = Experiment.model_validate({**_aspiration(), "mesh_scale": 1.0})
+    order: list[str] = []
+    solved = threading.Event()
+
+    def solve(name: str) -> dict:
+        order.append(name)
+        solved.set()
+        return {"force": np.array([len(order)], dtype=float)}
+
+    holder = open(result_path(busy, "t").with_suffix(".lock"), "w")
+    fcntl.flock(holder, fcntl.LOCK_EX)  # another process solves `busy`
+    found: list = []
+    worker = threading.Thread(
+        target=lambda: found.extend(
+            cached_arrays_all(
+                [(busy, "t", lambda: solve("busy")), (free, "t", lambda: solve("free"))]
+            )
+        )
+    )
+    worker.start()
+    assert solved.wait(30)  # the free key is solved while the busy one is held
+    holder.close()  # the other process is done (here: with nothing stored, so it is solved)
+    worker.join(30)
+    assert order == ["free", "busy"]
+    assert [hit for _, hit in found] == [False, False]
+    assert [float(a["force"][0]) for a, _ in found] == [2.0, 1.0]  # returned in the given order
 
 
 @pytest.mark.parametrize(

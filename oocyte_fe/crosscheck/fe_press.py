@@ -17,6 +17,7 @@ reference points are interpolated in the P2 field (:meth:`skfem.Basis.probes`).
 
 from __future__ import annotations
 
+import functools
 import logging
 from dataclasses import dataclass
 
@@ -26,7 +27,7 @@ import skfem
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.experiment import Experiment, run_experiment
-from oocyte_fe.experiment.cache import cached_arrays
+from oocyte_fe.experiment.cache import cached_arrays_all
 from oocyte_fe.experiment.description import inline_table
 from oocyte_fe.experiment.driver import cell_mesh
 from oocyte_fe.experiment.layers import LayerMaterials
@@ -219,10 +220,33 @@ def run_fe_press(
 
     The result is cached by its inputs (:mod:`oocyte_fe.experiment.cache`): a second case with
     the same FE inputs reads it instead of solving again (``seconds`` is the solve's own)."""
-    exp = press_experiment(scenario, materials, settings, travel_um, points_um)
-    arrays, hit = cached_arrays(exp, "press", lambda: _solve(exp, log))
-    if hit and log is not None:
-        log.info("FE press read from the cache (equal FE inputs solved before)")
+    return run_fe_presses([scenario], materials, settings, travel_um, points_um, log)[0]
+
+
+def run_fe_presses(
+    scenarios: list[PressScenario],
+    materials: LayerMaterials,
+    settings: FeSettings,
+    travel_um: float,
+    points_um: np.ndarray,
+    log: logging.Logger | None = None,
+) -> list[FePress]:
+    """:func:`run_fe_press` of each scenario (speeds, say); presses another process is solving
+    are read after this one has solved the others (:func:`cached_arrays_all`)."""
+    exps = [press_experiment(s, materials, settings, travel_um, points_um) for s in scenarios]
+    found = cached_arrays_all([(exp, "press", functools.partial(_solve, exp, log)) for exp in exps])
+    presses = []
+    for exp, (arrays, hit) in zip(exps, found, strict=True):
+        if hit and log is not None:
+            log.info("FE press read from the cache (equal FE inputs solved before)")
+        presses.append(_press(exp, arrays, travel_um, points_um))
+    return presses
+
+
+def _press(
+    exp: Experiment, arrays: dict[str, np.ndarray], travel_um: float, points_um: np.ndarray
+) -> FePress:
+    """The :class:`FePress` of ``exp`` from its stored arrays."""
     steps, cutbacks, iterations = (int(n) for n in arrays["counts"])
     return FePress(
         mesh=cell_mesh(exp),

@@ -8,7 +8,9 @@ versions of numpy, scipy, scikit-fem and gmsh. A change of any of these is a new
 stale result. Results are stored as ``.npz`` (arrays) next to the mesh cache
 (``$OOCYTE_FE_CACHE`` or ``~/.cache/oocyte-fe/meshes``; deleting it is always safe), written to
 a temporary name and renamed into place. A lock file makes a second process that asks for the
-same key while the first is solving wait and read the result instead of solving again.
+same key while the first is solving wait and read the result instead of solving again;
+:func:`cached_arrays_all` asks for several keys and solves first those no other process holds,
+so that two cases needing the same two results solve one each instead of one waiting.
 """
 
 from __future__ import annotations
@@ -53,25 +55,53 @@ def result_path(exp: Experiment, tag: str) -> Path:
     return cache_dir() / f"result-{tag}-{hashlib.sha256(record.encode()).hexdigest()[:24]}.npz"
 
 
+def _fetch_or_solve(path: Path, compute: Callable[[], dict[str, np.ndarray]]):
+    """Under the caller's lock: the cached arrays of ``path``, or ``compute()`` stored there."""
+    if path.exists():
+        with np.load(path) as data:
+            return {k: data[k] for k in data.files}, True
+    arrays = compute()
+    fd, tmp = tempfile.mkstemp(suffix=".npz", prefix=".tmp-", dir=path.parent)
+    os.close(fd)
+    try:
+        np.savez(tmp, **arrays)
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+    return arrays, False
+
+
 def cached_arrays(
     exp: Experiment, tag: str, compute: Callable[[], dict[str, np.ndarray]]
 ) -> tuple[dict[str, np.ndarray], bool]:
     """The arrays ``compute()`` returns for ``exp``, from the cache when present; and whether
     they came from it."""
-    path = result_path(exp, tag)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path.with_suffix(".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)  # a second process waits for the first's result
-        if path.exists():
-            with np.load(path) as data:
-                return {k: data[k] for k in data.files}, True
-        arrays = compute()
-        fd, tmp = tempfile.mkstemp(suffix=".npz", prefix=".tmp-", dir=path.parent)
-        os.close(fd)
-        try:
-            np.savez(tmp, **arrays)
-            os.replace(tmp, path)
-        finally:
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(tmp)
-        return arrays, False
+    return cached_arrays_all([(exp, tag, compute)])[0]
+
+
+def cached_arrays_all(
+    jobs: list[tuple[Experiment, str, Callable[[], dict[str, np.ndarray]]]],
+) -> list[tuple[dict[str, np.ndarray], bool]]:
+    """:func:`cached_arrays` of each ``(exp, tag, compute)``, in the given order; a key another
+    process is solving is taken after the free ones (then waited for, and read)."""
+    paths = [result_path(exp, tag) for exp, tag, _ in jobs]
+    results: list[tuple[dict[str, np.ndarray], bool] | None] = [None] * len(jobs)
+    pending = list(range(len(jobs)))
+    while pending:
+        for wait in (False, True):  # first any key that is free, else wait for the first
+            taken = None
+            for i in pending:
+                paths[i].parent.mkdir(parents=True, exist_ok=True)
+                with open(paths[i].with_suffix(".lock"), "w") as lock:
+                    try:
+                        fcntl.flock(lock, fcntl.LOCK_EX | (0 if wait else fcntl.LOCK_NB))
+                    except BlockingIOError:
+                        continue
+                    results[i] = _fetch_or_solve(paths[i], jobs[i][2])
+                taken = i
+                break
+            if taken is not None:
+                pending.remove(taken)
+                break
+    return results  # type: ignore[return-value]

@@ -25,7 +25,7 @@ from oocyte_fe.crosscheck.comparison import (
     rate_check,
     zona_ring_ratio,
 )
-from oocyte_fe.crosscheck.fe_press import FeSettings, run_fe_press
+from oocyte_fe.crosscheck.fe_press import FePress, FeSettings, run_fe_presses
 from oocyte_fe.crosscheck.report import (
     crosscheck_figures,
     crosscheck_sections,
@@ -95,23 +95,28 @@ def nmsd_setup(ctx: CaseContext, zona_ratio: float) -> tuple[PressSetup, NmsdPar
     return setup, params
 
 
-def _fe_check_press(
+def _fe_presses(
     ctx: CaseContext,
     scenario: PressScenario,
     materials: LayerMaterials,
     settings: FeSettings,
     points: np.ndarray,
-) -> tuple[ForceDisplacement, np.ndarray] | None:
-    """The FE press at ``check_speed_um_s``: its force curve (nN) and point displacements
-    (k, p, 2) um, or None when the rate check is off."""
+) -> tuple[FePress, tuple[ForceDisplacement, np.ndarray] | None]:
+    """The FE press at the scenario's speed and, unless the rate check is off, at
+    ``check_speed_um_s``: its force curve (nN) and point displacements (k, p, 2) um. Both are
+    asked for at once, so that a case pressing the same model solves the other one meanwhile."""
     inp = ctx.inputs
-    if inp.check_speed_um_s == 0:
-        return None
-    ctx.step(f"FE press at the check speed, {inp.check_speed_um_s:g} um/s")
-    slow = replace(scenario, speed_um_s=inp.check_speed_um_s)
-    fe = run_fe_press(slow, materials, settings, inp.travel_um, points, ctx.log)
-    curve = ForceDisplacement(fe.advance_um, fe.force_nN_per_um * inp.thickness_um, source="FE")
-    return curve, fe.point_displacement_um
+    speeds = [scenario] + (
+        [replace(scenario, speed_um_s=inp.check_speed_um_s)] if inp.check_speed_um_s else []
+    )
+    ctx.step(f"FE presses (plane strain) at {', '.join(f'{s.speed_um_s:g}' for s in speeds)} um/s")
+    fe, *slow = run_fe_presses(speeds, materials, settings, inp.travel_um, points, ctx.log)
+    if not slow:
+        return fe, None
+    curve = ForceDisplacement(
+        slow[0].advance_um, slow[0].force_nN_per_um * inp.thickness_um, source="FE"
+    )
+    return fe, (curve, slow[0].point_displacement_um)
 
 
 @case_kind("nmsd_vs_fe", inputs=CrosscheckInputs, metrics=METRICS)
@@ -126,8 +131,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     grid = interior_grid(scenario.radius_um, inp.grid_spacing_um, inp.grid_margin_um)
     points = np.vstack([scenario.spindle_world_um, grid])
 
-    ctx.step("FE press (plane strain)")
-    fe = run_fe_press(scenario, materials, settings, inp.travel_um, points, log=ctx.log)
+    fe, check = _fe_presses(ctx, scenario, materials, settings, points)
     fe_nN = fe.force_nN_per_um * inp.thickness_um
     table = read_force_displacement(inp.table2_data)
     within = table.displacement_um <= fe.advance_um[-1] + 1e-9
@@ -138,7 +142,6 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("NMSD calibrated to the FE force curve")
     setup, base = nmsd_setup(ctx, zona_ring_ratio(inp.nmsd_zona_stiffness_ratio, materials))
     fe_curve = ForceDisplacement(fe.advance_um, fe_nN, source="FE press")
-    check = _fe_check_press(ctx, scenario, materials, settings, points)
     also = []
     if check is not None and inp.calibrate_both_speeds:
         also = [(replace(setup, speed_um_s=inp.check_speed_um_s), check[0])]
