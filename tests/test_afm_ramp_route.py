@@ -151,3 +151,26 @@ def test_instrument_record_without_times_is_refused_in_one_line():
     assert ramp.n_approach == n and ramp.time_s.size == 2 * n
     assert ramp.speed_um_per_s == pytest.approx(2.0 / (99 / 199 * 2.0), rel=1e-9)
     np.testing.assert_allclose(ramp.piezo_um[:n], -height[:n] * 1e6)
+
+
+def test_a_real_approach_is_elastic_to_the_ramp_fit_and_the_fit_says_so():
+    # afmformats' JPK curve (30 deg cone): the approach alone shows no relaxation, so the power
+    # law reduces to the elastic Sneddon fit (beta at its bound 0, flagged) and E0 equals
+    # fit_indentation's modulus within 5 % (the contact point is found two ways); with the
+    # retract the hysteresis gives a positive exponent (measured 0.093) and a lower E0
+    from afm.curve_io import read_curve
+    from afm.fit import fit_indentation
+    from afm.ramp_io import ramp_curve
+    from afm.viscoelastic import fit_ramp
+
+    path = Path(__file__).parent / "data" / "instrument" / "fmt-jpk-fd_spot3-0192.jpk-force"
+    tip = {"half_angle_deg": 30.0}
+    elastic = fit_indentation(read_curve(path), "sneddon_cone", tip, nu=0.5)
+    ramp = ramp_curve(read_ramps(path)[0])
+    approach = fit_ramp(ramp, "sneddon_cone", tip, 0.5, "power_law", use_retract=False)
+    assert approach.theta[0] == pytest.approx(0.0, abs=1e-6)
+    assert any("beta" in why and "bound" in why for why in approach.undetermined)
+    assert approach.amplitudes_kPa[0] == pytest.approx(elastic.E_kPa, rel=0.05)
+    both = fit_ramp(ramp, "sneddon_cone", tip, 0.5, "power_law", use_retract=True)
+    assert 0.05 < both.theta[0] < 0.15 and not both.undetermined
+    assert both.amplitudes_kPa[0] < approach.amplitudes_kPa[0]
