@@ -268,11 +268,18 @@ class Problem:
 
     def assemble(self, x: NDArray, t: float, dt: float):
         """Residual ``r`` and tangent ``K`` at ``x`` for the step ending at ``t``."""
+        r, tangent, f_scale = self.residual(x, t, dt)
+        return r, tangent(), f_scale
+
+    def residual(self, x: NDArray, t: float, dt: float):
+        """Residual ``r`` at ``x`` for the step ending at ``t``, a function that builds the
+        tangent ``K`` there (Newton builds it only when it takes another step: the evaluation
+        that converges, or a rejected line-search trial, does not), and the force scale."""
         body = self.body
         a = body.axisym
         r = np.zeros(body.n_dofs)
-        blocks_uu = []
-        rows, cols, vals = [], [], []
+        deferred = []  # (k, A5, JFinvT5) of each region: the tangent's material parts
+        blocks_uu = []  # the loads' and contacts' blocks (cheap: made here)
         f_int_norm2 = 0.0
         f_ext = np.zeros(body.n_u)
         for k, region in enumerate(body.regions):
@@ -284,21 +291,12 @@ class Problem:
             fi = ops.internal_force(res.P5)
             f_int_norm2 += float(fi @ fi)
             r[: body.n_u] += fi
-            blocks_uu.append(ops.stiffness(res.A5))
+            deferred.append((k, res.A5, res.JFinvT5))
             inv_k = region.material.inv_kappa
             o, n_p = region.p_offset, region.pbasis.N
             r[o : o + n_p] = asm(
                 volume_constraint, region.pbasis, Jm1=kin.J - 1.0, p=pq, inv_kappa=inv_k, axisym=a
             )
-            up_rows, up_cols, up_vals = ops.coupling(res.JFinvT5)
-            rows += [up_rows, up_cols + o]
-            cols += [up_cols + o, up_rows]
-            vals += [up_vals, up_vals]
-            if inv_k > 0:
-                Kpp = asm(compliance_pp, region.pbasis, inv_kappa=inv_k, axisym=a).tocoo()
-                rows.append(Kpp.row + o)
-                cols.append(Kpp.col + o)
-                vals.append(Kpp.data)
         u = body.displacement(x)
         for k, ops in enumerate(self._pressure_ops):
             pn = np.full(ops.dS.shape, self._load_value(k, t))
@@ -315,15 +313,34 @@ class Problem:
         for load, vec in self.dead_loads:
             f_ext += load.scale(t) * vec
         r[: body.n_u] -= f_ext
-        Kuu = sum(blocks_uu[1:], blocks_uu[0]).tocoo()
-        rows.append(Kuu.row)
-        cols.append(Kuu.col)
-        vals.append(Kuu.data)
-        K = sp.csr_matrix(
-            (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-            shape=(body.n_dofs, body.n_dofs),
-        )
-        return r, K, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
+
+        def tangent() -> sp.csr_matrix:
+            rows, cols, vals = [], [], []
+            uu = list(blocks_uu)
+            for k, A5, JFinvT5 in deferred:
+                region, ops = body.regions[k], self._ops[k]
+                uu.insert(k, ops.stiffness(A5))
+                o = region.p_offset
+                up_rows, up_cols, up_vals = ops.coupling(JFinvT5)
+                rows += [up_rows, up_cols + o]
+                cols += [up_cols + o, up_rows]
+                vals += [up_vals, up_vals]
+                inv_k = region.material.inv_kappa
+                if inv_k > 0:
+                    Kpp = asm(compliance_pp, region.pbasis, inv_kappa=inv_k, axisym=a).tocoo()
+                    rows.append(Kpp.row + o)
+                    cols.append(Kpp.col + o)
+                    vals.append(Kpp.data)
+            Kuu = sum(uu[1:], uu[0]).tocoo()
+            rows.append(Kuu.row)
+            cols.append(Kuu.col)
+            vals.append(Kuu.data)
+            return sp.csr_matrix(
+                (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                shape=(body.n_dofs, body.n_dofs),
+            )
+
+        return r, tangent, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
 
     def _load_value(self, k: int, t: float) -> float:
         """Pressure [kPa] of load ``k``: the controlled unknown or the load's ``pressure(t)``."""
@@ -373,7 +390,7 @@ class Problem:
         target = self._targets(t)
 
         def evaluate(xx: NDArray) -> tuple[NDArray, object, float, float, float]:
-            r, K, f_scale = self.assemble(xx, t, dt)
+            r, K, f_scale = self.residual(xx, t, dt)  # K: builds the tangent when called
             ru, rp = np.linalg.norm(r[free_u]), np.linalg.norm(r[free_p])
             if self._control_active(xx):  # the reaction's mismatch counts as a force residual
                 ru = float(np.hypot(ru, self.reaction(r) - self.control.target_nN))
@@ -405,6 +422,7 @@ class Problem:
                 break
             dx = np.zeros_like(x)
             dx[D] = target[D] - x[D]
+            K = K()
             A, b, _, I = condense(K, -r, x=dx, D=D)
             try:
                 lu = self._linear.factorize(A)
