@@ -87,7 +87,7 @@ class RotationModel:
     """
 
     step: float = 15.0
-    hold: float = 0.6
+    hold: float = 0.5
     relearn: float = 0.1
     refind: float = 0.1
     reach: int = 3
