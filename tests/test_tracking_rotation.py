@@ -85,13 +85,12 @@ def test_bank_knows_a_turned_spindle_and_refuses_a_droplet_pair() -> None:
         assert max(s.relative for s in scores) < 0.6, line
 
 
-@pytest.mark.slow
 def test_a_droplet_pair_is_not_taken_back_for_a_lost_spindle() -> None:
     """A still spindle is tracked for 40 frames, then it is gone and a pair of bright
     droplets 18 px apart sits 18 px below where it was (inside the search grid and the
     motion gate) for 25 frames. With the orientation bank as without it, the tracker stays
-    lost: no frame is re-detected, and the box never comes within 6 px of the pair (3-9 s:
-    the lost frames search up to 25 windows each)."""
+    lost: no frame is re-detected, and the box never comes within 6 px of the pair (1 s at
+    load 2; the lost frames search up to 25 windows each)."""
     rng = np.random.default_rng(4)
     shape, c0, pair = (120, 140), (70.0, 55.0), (70.0, 73.0)
     base = cytoplasm(rng, shape)
@@ -117,7 +116,7 @@ def test_a_turning_spindle_stays_tracked_with_the_bank(turn: float) -> None:
     on 2 and 8 frames, confidence <= the loss threshold 0.42 on 1.7 % of the frames after
     the push starts). Asserted: with the bank precision >= 0.95, error < 25 px, lost on
     < 10 % and confidence <= 0.42 on < 5 % of the frames; without it precision < 0.8 and
-    lost on > 25 % of them (3-10 s)."""
+    lost on > 25 % of them (8 s at load 2)."""
     spec = next(s for s in turning_grid(102) if s.turn_deg == turn and s.growth == 0.0)
     seq = generate(spec)
     frames, truth = seq.frames[:150], seq.boxes[:150]  # the turn ends at frame 130
