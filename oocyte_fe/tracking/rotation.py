@@ -3,39 +3,46 @@ anchor check and the re-detection of a spindle that turns (issue 29, item 2).
 
 The frozen anchor of :mod:`.anchor` is the target as it looked in its first reliable
 frames; a spindle pushed by the pipette turns by 60 deg or more, the anchor then scores it
-like clutter and the adaptive template (learning rate 0.01, a time constant of 100 frames)
-lags the turn until the reliability ``r`` falls below the loss threshold while the box is
-still on the spindle (docs/tracking.md). The bank keeps, besides the anchor's frames, the
-mean image crop ``C`` (a square of the search window's diagonal, about the tracked centre)
-over the same first ``n`` reliable frames. When the anchor is complete, ``C`` is turned by
-each angle ``phi_j = j step`` (``j = 1 .. 180 / step - 1``; a spindle is symmetric under a
-half turn) about its centre (bilinear), the search window is cut from its middle, and one
-kernel correlation filter per feature is fitted to it (:mod:`.kcf`, the tracker's own
-labels, features and cosine window). ``phi = 0`` is the anchor itself. A window ``z`` is
-scored by the best orientation::
+like clutter (0.24-0.36 of its reference at 60-90 deg), and the adaptive template (learning
+rate 0.01, a time constant of 100 frames) lags the turn until the reliability ``r`` falls
+below the loss threshold while the box is still near the spindle (docs/tracking.md).
 
-    B(z)   = max_j max_{|d| <= D} (1/K) sum_k f_j,k(z)[d]
-    j*, d* = its argmax   (the orientation and the shift, cells)
+The bank keeps square crops ``C_i`` (side: the search window's diagonal) about the tracked
+centre on every ``crop_every``-th of the anchor's first ``n`` reliable frames. When the
+anchor is complete, every crop is flattened to its median ``m_i`` outside the target's
+ellipse (``w`` of :func:`ellipse_weight`: the static cytoplasm around the target does not
+turn with it), turned by each angle ``phi_j = j step`` (``j = 0 .. 180 / step - 1``; a
+spindle is symmetric under a half turn) about its centre (bilinear) and cut to the search
+window; the orientation's filter is the anchor's mean over those windows (the tracker's own
+features, ``features``: the grayscale channel; cosine window and labels, :mod:`.kcf`)::
 
-with ``D = 1`` cell for the anchor check (the candidate is where it is) and ``D`` = ``reach``
-cells for the hold (below). Its reference ``<B>`` is the mean of ``B`` (``D = 1``) on the
-tracked frames with ``r >= 1`` (every 4th, as the anchor's). How the tracker
-(:mod:`.tracker`, ``TrackerConfig.rotation``) uses it:
+    C_i'    = m_i + w (C_i - m_i)
+    x_hat_j = mean_i F(R_phi_j C_i'),   alpha_hat_j = mean_i y_hat / (k_hat^{x_i x_i} + lambda)
+    B(z)    = max_j max_{|d| <= D} (1/K) sum_k f_j,k(z)[d],   j*, d* its argmax
 
-- anchor check: a re-detected candidate needs ``B(z) >= verify <B>`` (instead of the
-  anchor's 0-deg score), so the same spindle turned passes;
-- hold: a peak of the adaptive filter with ``r < r_stop`` (doubtful or lost), if ``B`` at
-  the window of the prediction is ``>= hold <B>`` with a turned orientation
-  (``j* != 0``) and its peak lies in the motion gate, the peak of the bank is taken as
-  the measurement, and the adaptive filters learn that window at ``relearn`` (the template
-  catches up with the turn instead of the target being declared lost);
-- re-detection: a lost target whose window at the prediction or where it was lost passes the
-  same test is taken back there (the adaptive filter, trained on the unturned spindle, does
-  not score a turned one high enough to be a candidate).
+(``B_0`` the 0-deg member's best; ``D = 1`` cell for a candidate, ``reach`` cells for a
+hold). Turning each crop, not their mean, keeps the anchor's noise statistics (a filter of
+the noise-free mean crop scored the spindle's own noisy frames at 0.6-0.7). The reference
+``<B>`` is the mean of ``B`` (``D = 1``) on every ``note_every``-th of the anchor's
+reference frames. A window is *turned* if ``B >= hold <B>``, its best orientation is at
+least ``min_turn`` from 0 deg and ``B >= (1 + margin) B_0`` (an occluded or blurred target
+lowers every orientation alike). How the tracker (:mod:`.tracker`,
+``TrackerConfig.rotation``) uses it:
 
-Cost: ``2 (180 / step)`` kernel correlations per score (24 at 15 deg, about 1-2 ms on a
-28 x 14-cell window), on the reference frames, doubtful frames and lost frames only.
-Assumption, as the anchor's: the first ``n`` reliable frames show the target.
+- hold: on a frame with ``r < 1`` (not lost) whose window at the prediction is turned, with
+  the bank's peak in the motion gate, the target is kept (at the adaptive peak if
+  ``r >= r_stop``, else at the bank's) and the adaptive filters learn at ``relearn``;
+- anchor check: a re-detected candidate in the gate that the anchor refuses is taken at the
+  bank's peak if its window is turned (the filters learn it at ``refind``);
+- re-detection: a lost target whose window at the prediction or where it was lost is turned
+  is taken back there (the adaptive filter, trained on the unturned spindle, does not score
+  a turned one high enough to be a candidate).
+
+Cost: 180 / ``step`` kernel correlations of the grayscale channel per score (12 at 15 deg),
+on frames with ``r < 1``, lost frames and every 16th reference frame; building the bank
+(12 orientations x 10 crops) about 0.13 CPU s once. Assumption, as the anchor's: the
+first ``n`` reliable frames show the target. Settings chosen on the choice draws, and the
+held-out figures: docs/tracking.md, "Rotation".
 """
 
 from __future__ import annotations

@@ -23,8 +23,9 @@ Options of issue 29 (docs/tracking.md): a reach gate from the largest push speed
 (``max_step_px``: a lost target is searched for and taken back only where it could have got
 to), a rotation-free signature check (:mod:`.evidence`, ``MFAKCF_SIGNATURE``), a box size
 from the spindle's moments (:mod:`.extent`) or from a DSST-style 1-D scale filter
-(:mod:`.scale`, ``MFAKCF_SCALE``); each frame's confidence is ``r`` times the box's
-contrast-to-noise factor.
+(:mod:`.scale`, ``MFAKCF_SCALE``), an anchor bank over orientations for a spindle that turns
+(:mod:`.rotation`, ``MFAKCF_ROTATION``); each frame's confidence is ``r`` times the box's
+contrast-to-noise factor (on a frame the bank keeps, ``max(r, B / <B>)`` times it).
 
 With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
 seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
@@ -88,11 +89,12 @@ class TrackerConfig:
         first box's size throughout). Run after the translation estimate on frames with
         ``r >= scale.min_r`` that are not a re-detection; only the reported box changes.
     rotation: the anchor bank over orientations of :mod:`.rotation` (None: the anchor alone).
-        The anchor check scores a candidate by its best orientation; a doubtful or lost peak
-        whose window the bank recognises turned (``B >= hold <B>``, best orientation not 0
-        deg, peak in the motion gate) is held at the bank's peak and the adaptive filters
-        relearn it at ``rotation.relearn``; a lost target is re-found the same way at the
-        prediction or where it was lost.
+        A frame with ``r < 1`` whose window the bank finds turned (``B >= hold <B>``, best
+        orientation >= ``min_turn`` from 0 deg and ``margin`` above the 0-deg member, peak
+        in the motion gate) is kept and the adaptive filters relearn it at
+        ``rotation.relearn``; a candidate in the gate that the anchor refuses is taken if
+        the bank finds it turned, and a lost target is re-found the same way at the
+        prediction or where it was lost (learnt at ``rotation.refind``).
     max_step_px: the farthest the target can move in one frame, px (the largest push speed
         over the frame rate and the pixel size, :func:`max_step_px`; 0: no limit). While
         lost for ``n`` frames only candidates within ``n max_step_px`` + half the box's
