@@ -2,7 +2,8 @@
 learning rate: the seed's "original KCF") and, when opencv-contrib-python-headless is installed
 (extra ``tracking-opencv``), OpenCV's KCF and CSRT, MFAKCF with KCF's learning rate 0.02
 (``MFAKCF (rate 0.02)``, the previous default), the options ``MFAKCF (signature)`` and
-``MFAKCF (scale)`` (the 1-D scale filter), and MFAKCF without its motion
+``MFAKCF (scale)`` (the 1-D scale filter) and ``MFAKCF (rotation)`` (the anchor bank over
+orientations), and MFAKCF without its motion
 prediction (``MFAKCF (no motion)``) and without its anchor check (``MFAKCF (no anchor)``, the
 ablations), on the 24 synthetic polarized-light
 sequences of :func:`oocyte_fe.tracking.synthetic.benchmark_grid` (300 frames each).
@@ -12,13 +13,15 @@ frames to recover after occlusion, fps), the gains over KCF (HOG) next to the se
 (precision) and +49.89 % (success), and frames per second for a 128 x 128 search window on one
 core (goal >= 200). Several minutes (CSRT is slow); run it niced:
 ``nice -n 10 python3 benchmarks/tracking.py [--frames 300] [--no-opencv] [--only NAME ...]
-[--seed-offset N ...] [--model heldout --seed0 N ...]`` (``--seed-offset 1000 2000``: the
-same 24 sequences drawn anew, :func:`oocyte_fe.tracking.benchmark.reseeded`; ``--model
+[--seed-offset N ...] [--model heldout|turn --seed0 N ...]`` (``--seed-offset 1000 2000``:
+the same 24 sequences drawn anew, :func:`oocyte_fe.tracking.benchmark.reseeded`; ``--model
 heldout``: the 12 conditions of the second, independent video model of
-:mod:`oocyte_fe.tracking.heldout`, one draw per ``--seed0``). With several draws it also
-prints each draw's pooled figures and their spread, and the figures per condition group
-against OpenCV CSRT: the protocol of docs/tracking.md (settings picked on some draws,
-reported on the others once; adopted only if the held-out win exceeds the spread).
+:mod:`oocyte_fe.tracking.heldout`, one draw per ``--seed0``; ``--model turn``: the four
+turning spindles of :func:`oocyte_fe.tracking.synthetic.turning_grid` per ``--seed0``).
+With several draws it also prints each draw's pooled figures and their spread, and the
+figures per condition group against OpenCV CSRT: the protocol of docs/tracking.md
+(settings picked on some draws, reported on the others once; adopted only if the held-out
+win exceeds the spread).
 """
 
 from __future__ import annotations
@@ -29,12 +32,13 @@ import time
 
 from oocyte_fe.tracking import benchmark as bench
 from oocyte_fe.tracking.heldout import generate_heldout, heldout_grid
-from oocyte_fe.tracking.synthetic import benchmark_grid, generate
+from oocyte_fe.tracking.synthetic import benchmark_grid, generate, turning_grid
 from oocyte_fe.tracking.tracker import (
     MFAKCF,
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
+    MFAKCF_ROTATION,
     MFAKCF_SCALE,
     MFAKCF_SIGNATURE,
     SINGLE_KCF,
@@ -49,12 +53,17 @@ def main() -> None:
     parser.add_argument(
         "--seed-offset", type=int, nargs="*", default=[0], help="draws: seed + N (0: own)"
     )
-    parser.add_argument("--model", choices=("own", "heldout"), default="own")
-    parser.add_argument("--seed0", type=int, nargs="*", default=[50_000], help="heldout draws")
+    parser.add_argument("--model", choices=("own", "heldout", "turn"), default="own")
+    parser.add_argument(
+        "--seed0", type=int, nargs="*", default=[50_000], help="heldout / turn draws"
+    )
     args = parser.parse_args()
     if args.model == "heldout":
         specs = [s for seed0 in args.seed0 for s in heldout_grid(args.frames, seed0)]
         render = generate_heldout
+    elif args.model == "turn":
+        specs = [s for seed in args.seed0 for s in turning_grid(seed, args.frames)]
+        render = generate
     else:
         grid = benchmark_grid(args.frames)
         if args.only:
@@ -67,12 +76,19 @@ def main() -> None:
     )
     print(f"\n{len(specs)} sequences x {args.frames} frames in {time.perf_counter() - t0:.0f} s")
     print(f"OpenCV: {result.opencv or 'not used'}\n")
-    names = ["MFAKCF", "MFAKCF (signature)", "MFAKCF (scale)", "MFAKCF (rate 0.02)", "OpenCV CSRT"]
+    names = [
+        "MFAKCF",
+        "MFAKCF (rotation)",
+        "MFAKCF (signature)",
+        "MFAKCF (scale)",
+        "MFAKCF (rate 0.02)",
+        "OpenCV CSRT",
+    ]
     print(bench.draw_table(result, [n for n in names if n in result.trackers]) + "\n")
     csrt = "OpenCV CSRT" if "OpenCV CSRT" in result.trackers else None
-    trackers = ["MFAKCF", "MFAKCF (signature)", "MFAKCF (scale)"]
+    trackers = ["MFAKCF", "MFAKCF (rotation)", "MFAKCF (signature)", "MFAKCF (scale)"]
     print(bench.group_table(result, trackers, csrt) + "\n")
-    if args.model == "heldout":
+    if args.model != "own":
         print(f"1-min load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
         return
     print(bench.table(result))
@@ -86,6 +102,7 @@ def main() -> None:
         ("MFAKCF (no motion)", MFAKCF_HOLD),
         ("MFAKCF (signature)", MFAKCF_SIGNATURE),
         ("MFAKCF (scale)", MFAKCF_SCALE),
+        ("MFAKCF (rotation)", MFAKCF_ROTATION),
         ("KCF (HOG)", SINGLE_KCF),
     ):
         cpu, wall = bench.fps_at_window(config, 128)

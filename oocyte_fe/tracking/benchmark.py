@@ -5,7 +5,9 @@ Trackers: ``MFAKCF`` (:data:`.tracker.MFAKCF`, with the Kalman prediction of
 ``MFAKCF (rate 0.02)`` (:data:`.tracker.MFAKCF_RATE_002`, the previous default),
 ``MFAKCF (no anchor)`` (:data:`.tracker.MFAKCF_NO_ANCHOR`) and ``MFAKCF (no motion)``
 (:data:`.tracker.MFAKCF_HOLD`), the options ``MFAKCF (signature)`` and ``MFAKCF (scale)``
-(:data:`.tracker.MFAKCF_SCALE`, the 1-D scale filter of :mod:`.scale`), ``KCF (HOG)`` (our
+(:data:`.tracker.MFAKCF_SCALE`, the 1-D scale filter of :mod:`.scale`) and
+``MFAKCF (rotation)`` (:data:`.tracker.MFAKCF_ROTATION`, the anchor bank over orientations
+of :mod:`.rotation`), ``KCF (HOG)`` (our
 single-feature KCF with a fixed learning rate, the seed's "original KCF",
 :data:`.tracker.SINGLE_KCF`) and, when opencv-contrib is installed,
 ``OpenCV KCF`` and ``OpenCV CSRT``. Gains are relative, ``100 (P_MFAKCF - P_KCF) / P_KCF`` %,
@@ -30,6 +32,7 @@ from oocyte_fe.tracking.tracker import (
     MFAKCF_HOLD,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
+    MFAKCF_ROTATION,
     MFAKCF_SCALE,
     MFAKCF_SIGNATURE,
     SINGLE_KCF,
@@ -51,6 +54,7 @@ ABLATION = {
     "MFAKCF (no motion)": MFAKCF_HOLD,
     "MFAKCF (signature)": MFAKCF_SIGNATURE,
     "MFAKCF (scale)": MFAKCF_SCALE,
+    "MFAKCF (rotation)": MFAKCF_ROTATION,
 }
 
 TUNING_SUBSET = (

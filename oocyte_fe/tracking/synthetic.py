@@ -380,3 +380,30 @@ def benchmark_grid(n_frames: int = 300) -> list[SequenceSpec]:
                         )
                     )
     return specs
+
+
+TURNS = ((60.0, 0.0), (-60.0, 0.0), (90.0, 0.0), (40.0, -0.15))
+"""(turn deg, growth) of :func:`turning_grid`."""
+
+
+def turning_grid(seed: int, n_frames: int = 200) -> list[SequenceSpec]:
+    """Rotation sequences (issue 29): a 6 % spindle, visible at every angle, pushed 20 um
+    over 100 frames after 30 while it turns by 60, -60 or 90 deg, or by 40 deg while it
+    shrinks by 15 % (:data:`TURNS`); no other rotation, all four with the random seed
+    ``seed`` (the draw is the name's ``_s<seed>``)."""
+    return [
+        SequenceSpec(
+            name=f"turn{turn:g}_grow{growth:g}_s{seed}",
+            seed=seed,
+            n_frames=n_frames,
+            contrast=0.06,
+            displacement_um=20.0,
+            approach_frames=100,
+            enter_frames=30,
+            turn_deg=turn,
+            growth=growth,
+            rotation_deg=0.0,
+            polarizer_visibility=False,
+        )
+        for turn, growth in TURNS
+    ]

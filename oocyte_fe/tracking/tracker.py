@@ -23,8 +23,9 @@ Options of issue 29 (docs/tracking.md): a reach gate from the largest push speed
 (``max_step_px``: a lost target is searched for and taken back only where it could have got
 to), a rotation-free signature check (:mod:`.evidence`, ``MFAKCF_SIGNATURE``), a box size
 from the spindle's moments (:mod:`.extent`) or from a DSST-style 1-D scale filter
-(:mod:`.scale`, ``MFAKCF_SCALE``); each frame's confidence is ``r`` times the box's
-contrast-to-noise factor.
+(:mod:`.scale`, ``MFAKCF_SCALE``), an anchor bank over orientations for a spindle that turns
+(:mod:`.rotation`, ``MFAKCF_ROTATION``); each frame's confidence is ``r`` times the box's
+contrast-to-noise factor (on a frame the bank keeps, ``max(r, B / <B>)`` times it).
 
 With ``features=("hog",)``, ``adaptive=False`` the same code is the "original KCF" of the
 seed: HOG only, fixed learning rate, no loss handling (Henriques et al. 2015). The target
@@ -48,6 +49,7 @@ from oocyte_fe.tracking.extent import BoxExtent, ExtentModel
 from oocyte_fe.tracking.features import FEATURES
 from oocyte_fe.tracking.fusion import apce, fuse, fusion_weights
 from oocyte_fe.tracking.motion import CentreFilter, MotionModel
+from oocyte_fe.tracking.rotation import BankScore, RotationBank, RotationModel, folded
 from oocyte_fe.tracking.scale import ScaleFilter, ScaleModel
 from oocyte_fe.tracking.update import ReliabilityHistory, UpdatePolicy
 
@@ -86,6 +88,13 @@ class TrackerConfig:
     scale: the box's size from the 1-D scale filter (:mod:`.scale`, DSST-style; None: the
         first box's size throughout). Run after the translation estimate on frames with
         ``r >= scale.min_r`` that are not a re-detection; only the reported box changes.
+    rotation: the anchor bank over orientations of :mod:`.rotation` (None: the anchor alone).
+        A frame with ``r < 1`` whose window the bank finds turned (``B >= hold <B>``, best
+        orientation >= ``min_turn`` from 0 deg and ``margin`` above the 0-deg member, peak
+        in the motion gate) is kept and the adaptive filters relearn it at
+        ``rotation.relearn``; a candidate in the gate that the anchor refuses is taken if
+        the bank finds it turned, and a lost target is re-found the same way at the
+        prediction or where it was lost (learnt at ``rotation.refind``).
     max_step_px: the farthest the target can move in one frame, px (the largest push speed
         over the frame rate and the pixel size, :func:`max_step_px`; 0: no limit). While
         lost for ``n`` frames only candidates within ``n max_step_px`` + half the box's
@@ -114,6 +123,7 @@ class TrackerConfig:
     signature: SignatureCheck | None = None
     extent: ExtentModel | None = None
     scale: ScaleModel | None = None
+    rotation: RotationModel | None = None
     max_step_px: float = 0.0
     context: float = 0.0
     context_offset: float = 1.0
@@ -129,6 +139,8 @@ class TrackerConfig:
             raise ValueError("context (lambda_2) must be >= 0 and context_offset > 0")
         if self.extent is not None and self.scale is not None:
             raise ValueError("choose one box-size estimate: extent or scale, not both")
+        if self.rotation is not None and (self.verify <= 0 or self.motion is None):
+            raise ValueError("the rotation bank needs the anchor check (verify > 0) and motion")
         if not self.max_step_px >= 0:
             raise ValueError(f"max_step_px must be >= 0, got {self.max_step_px}")
 
@@ -187,6 +199,13 @@ MFAKCF_SCALE = replace(MFAKCF, scale=ScaleModel())
 lambda 0.1, chosen on the tuning draws; 17 scales of step 1.02, region 1.5 boxes); the
 benchmark reports it as ``MFAKCF (scale)``. Not the default: it lowered the success AUC on
 the tuning cells and did not win on the held-out draws (docs/tracking.md, "Scale filter")."""
+
+MFAKCF_ROTATION = replace(MFAKCF, rotation=RotationModel())
+"""MFAKCF with the anchor bank over orientations of :mod:`.rotation` (12 orientations 15 deg
+apart built from the anchor's first frames, grayscale channel only; hold at 0.6 of its
+reference for a turn of 30 deg or more that beats the unturned member by 25 %; relearn and
+re-find rates 0.1; docs/tracking.md, "Rotation"); the benchmark reports it as
+``MFAKCF (rotation)``."""
 
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
@@ -271,8 +290,15 @@ class Tracker:
             ]
         self.history = ReliabilityHistory(config.policy)
         self.anchor = Anchor(plain, config.anchor_frames) if config.verify > 0 else None
+        self.bank = None
+        if config.rotation is not None and self.anchor is not None and config.adaptive:
+            self.bank_index = [config.features.index(f) for f in config.rotation.features]
+            self.bank = RotationBank(config.rotation, self.shape, config.anchor_frames, self.size)
+            self._bank_learn(frame)
         self.n_lost = 0
         self.n_frame = 0
+        self._last: tuple = (-1, None, None, None)
+        self._turned_refind = False
         self.apce_ref = np.zeros(len(feats))
         self.apce_n = 0
         use_motion = config.motion is not None and config.adaptive
@@ -293,13 +319,92 @@ class Tracker:
     ) -> tuple[list[np.ndarray], tuple[float, float]]:
         """Feature DFTs of the window about ``centre`` and the window's exact centre, px."""
         patch, at = cut_window(frame, centre, self.shape)
+        return self._patch_features(patch), at
+
+    def _patch_features(
+        self, patch: np.ndarray, names: tuple[str, ...] | None = None
+    ) -> list[np.ndarray]:
+        """Feature DFTs (``names``, default the tracker's) of a window-sized patch (smoothed
+        first, under the cosine window)."""
         if self.config.smooth_px > 0:
             patch = ndimage.gaussian_filter(patch, self.config.smooth_px)
-        feats = [
+        return [
             kcf.fft_features(FEATURES[name](patch, self.config.cell) * self.cos)
-            for name in self.config.features
+            for name in (names or self.config.features)
         ]
-        return feats, at
+
+    def _bank_learn(self, frame: np.ndarray) -> None:
+        """Keep the square crop about the centre for the bank; when there are enough, build
+        each orientation's filters as the mean over the turned windows (:mod:`.rotation`)."""
+        crop, _ = cut_window(frame, self.centre, (self.bank.side, self.bank.side))
+        if not self.bank.learn(crop):
+            return
+        cfg = self.config
+        members = []
+        for angle in self.bank.model.angles:
+            mean = None
+            for i, patch in enumerate(self.bank.turned_windows(angle)):
+                feats = self._patch_features(patch, cfg.rotation.features)
+                if mean is None:
+                    mean = [
+                        kcf.KcfModel.fit(xf, self.yf, cfg.kernel_sigma, cfg.lam) for xf in feats
+                    ]
+                    continue
+                for model, xf in zip(mean, feats, strict=True):
+                    model.update(xf, self.yf, 1.0 / (i + 1))
+            members.append(mean)
+        self.bank.build(members)
+
+    def _bank_feats(self, feats: list[np.ndarray]) -> list[np.ndarray]:
+        """The features the bank uses (``rotation.features``), of the tracker's list."""
+        return [feats[i] for i in self.bank_index]
+
+    def _turned(self, feats: list[np.ndarray], at: tuple[float, float], reach: int):
+        """The bank's test of a window (its features, its centre px): its best orientation
+        scores ``B >= hold <B>``, is at least ``min_turn`` from 0 deg and beats the 0-deg
+        member by ``margin``; returns (the peak px, ``B / <B>``) or None (:mod:`.rotation`)."""
+        bank, rot = self.bank, self.config.rotation
+        value, j, dy, dx, value0 = bank.best(self._bank_feats(feats), reach)
+        if value < rot.hold * bank.reference or abs(folded(bank.model.angles[j])) < rot.min_turn:
+            return None
+        if value < (1.0 + rot.margin) * value0:
+            return None
+        return (
+            at[0] + dx * self.config.cell,
+            at[1] + dy * self.config.cell,
+        ), value / bank.reference
+
+    def _bank_hold(self, frame: np.ndarray, centres: list[tuple[float, float]]):
+        """The first of the windows at ``centres`` px whose bank peak passes :meth:`_turned`
+        inside the motion gate, as (position px, B / <B>), or None."""
+        bank = self.bank
+        if bank is None or not bank.complete or bank.reference is None:
+            return None
+        for centre in centres:
+            if self._last[:2] == (self.n_frame, centre):  # the detection's own window
+                feats, at = self._last[2:]
+            else:
+                feats, at = self._features(frame, centre)
+            found = self._turned(feats, at, self.config.rotation.reach)
+            if found is not None and self._in_gate(found[0]):
+                return found
+        return None
+
+    def orientation(self, frame: np.ndarray, centre: tuple[float, float]) -> BankScore | None:
+        """The orientation bank's and the anchor's scores of the window at ``centre`` px,
+        relative to their references (:class:`.rotation.BankScore`); None before the bank is
+        complete and has a reference."""
+        bank = self.bank
+        if bank is None or bank.reference is None or self.anchor.reference is None:
+            return None
+        feats, _ = self._features(np.asarray(frame, dtype=np.float64), centre)
+        value, j, _, _, value0 = bank.best(self._bank_feats(feats), 1)
+        return BankScore(
+            value / bank.reference,
+            folded(bank.model.angles[j]),
+            value0 / bank.reference,
+            self.anchor.score(feats) / self.anchor.reference,
+        )
 
     def _with_context(
         self, frame: np.ndarray, centre: tuple[float, float], feats: list[np.ndarray]
@@ -317,6 +422,7 @@ class Tracker:
     def _detect(self, frame: np.ndarray, centre: tuple[float, float]):
         """Fused response at ``centre``: (new centre, peak, APCE, r, weights, feature APCEs)."""
         feats, at = self._features(frame, centre)
+        self._last = (self.n_frame, centre, feats, at)
         responses = [m.respond(zf) for m, zf in zip(self.models, feats, strict=True)]
         apces = np.array([apce(r) for r in responses])
         if self.config.adaptive:
@@ -344,7 +450,9 @@ class Tracker:
         """The best candidate (by r) that is within reach (``max_step_px``), passes the
         re-find thresholds (``r_found``, or ``r_lost`` in the motion gate), the signature
         check, and the anchor check ``A(z) >= verify <A>`` (:mod:`.anchor`) unless the
-        signature check passed in the gate; None if none does."""
+        signature check passed in the gate; with the orientation bank, a candidate in the
+        gate that the anchor fails is taken at the bank's peak if the bank finds it turned
+        (:meth:`_turned`); None if none does."""
         p = self.config.policy
         for cand in cands:
             if cand[3] < p.r_lost:
@@ -363,9 +471,14 @@ class Tracker:
             reference = self.anchor.reference if self.anchor else None
             if reference is None:
                 return cand
-            feats, _ = self._features(frame, cand[0])
+            feats, at = self._features(frame, cand[0])
             if self.anchor.score(feats) >= self.config.verify * reference:
                 return cand
+            if self.bank is not None and self.bank.reference is not None and in_gate:
+                turned = self._turned(feats, at, 1)  # the anchor failed it: turned?
+                if turned is not None:
+                    self._turned_refind = True  # relearn at rotation.refind (step)
+                    return (turned[0],) + tuple(cand[1:])
         return None
 
     def _redetect(self, frame: np.ndarray, around: tuple[float, float]):
@@ -397,6 +510,7 @@ class Tracker:
         predicted = self.motion.predict() if self.motion else self.centre
         rejected = note = False
         found_from = None
+        self._turned_refind = False
         checks = self.anchor or self.signature or cfg.max_step_px > 0
         if self.lost:
             self.n_lost += 1
@@ -406,7 +520,23 @@ class Tracker:
             new, peak, a, r, weights, apces = cands[0] if rejected else chosen
         else:
             new, peak, a, r, weights, apces = self._detect(frame, predicted)
-        if cfg.adaptive:
+        turned = None
+        if self.bank is not None and (rejected if self.lost else r < 1.0):
+            where = [predicted, self.lost_at] if self.lost else [predicted]
+            turned = self._bank_hold(frame, where)
+        if turned is not None:  # the same target, turned: take its peak, relearn
+            pos = new if not self.lost and r >= cfg.policy.r_stop else turned[0]
+            r = max(r, turned[1])
+            if self.lost:
+                found_from = self.lost_at
+                self.motion.reset(pos)
+                self.centre = pos
+            else:
+                self.centre = self.motion.correct(pos)
+            eta = cfg.rotation.refind if self.lost else cfg.rotation.relearn
+            self.lost = False
+            self.n_lost = 0
+        elif cfg.adaptive:
             p = cfg.policy
             in_gate = self._in_gate(new)
             held = (
@@ -442,6 +572,8 @@ class Tracker:
                 self.lost = False
                 self.n_lost = 0
                 eta = self.history.learning_rate(r)
+                if self._turned_refind:
+                    eta = max(eta, cfg.rotation.refind)
                 anchor = self.anchor
                 note = anchor and anchor.complete and r >= 1.0 and self.n_frame % 4 == 0
                 if r >= 1.0 or self.history.n < cfg.policy.warmup:
@@ -464,7 +596,11 @@ class Tracker:
                 model.update(xf, self.yf, eta)
             if note:  # the anchor's reference <A>, on the window just learnt from
                 self.anchor.note(self.anchor.score(feats))
-            if self.anchor and r >= 1.0:
+                if self.bank is not None and self.bank.due():
+                    self.bank.note(self.bank.score(self._bank_feats(feats)))
+            if self.anchor and r >= 1.0 and turned is None:
+                if self.bank is not None and not self.anchor.complete:
+                    self._bank_learn(frame)
                 self.anchor.learn(feats, self.yf)
         sizer = self.extent or self.scale
         w, h = self.size if sizer is None else sizer.size
