@@ -16,9 +16,7 @@ from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
 from oocyte_fe.microchannel.vof.post import snapshot, time_directories
-from oocyte_fe.microchannel.vof.runner import (
-    INSTALL_HINT,
-)
+from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, find_openfoam
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure
 
 
@@ -141,6 +139,7 @@ def report_outcome(
                 inp.channel.viscosity_Pa_s * PA_S,
                 ph.density_kg_m3 * KG_M3,
                 ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
+                (find_openfoam(inp.openfoam), inp.channel.density_kg_m3 * KG_M3, inp.nice),
             )
             metrics.update(more)
             experiment = _lookup(table.pressure, table.ratio_experiment, pressures[0])
