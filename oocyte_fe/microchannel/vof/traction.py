@@ -124,6 +124,8 @@ def surface_traction(
     ring = max(closed, key=len)
     if _signed_area(ring) < 0:
         ring = ring[::-1]  # counter-clockwise: the outward normal is (dy, -dx)/ds
+    keep = np.concatenate([[True], np.linalg.norm(np.diff(ring, axis=0), axis=1) > 1e-9])
+    ring = ring[keep]  # repeated points (a contour through a lattice point): no empty edges
     edge = np.diff(ring, axis=0)
     lengths = np.linalg.norm(edge, axis=1)
     normals = np.column_stack([edge[:, 1], -edge[:, 0]]) / lengths[:, None]
