@@ -94,7 +94,7 @@ def test_vof_fields_to_the_elastic_cell_end_to_end(tmp_path: Path):
     E, s = 1.0, 0.01  # kPa
     case = _synthetic_run(tmp_path / "run", layout, s, 2.0)
     [cell] = elastic_cells_at_junction(
-        [(300.0, case, 0.001, 0.985)],
+        [(300.0, case, 0.985)],
         lambda _: layout,
         1.66e-6,
         tmp_path / "fe",
@@ -102,11 +102,11 @@ def test_vof_fields_to_the_elastic_cell_end_to_end(tmp_path: Path):
         cytoplasm_kPa=E,
         frames=2,  # linear: two load steps suffice
     )
-    assert cell.traction_x_um == pytest.approx(-300.0, abs=0.5)
-    pts = np.loadtxt(next((tmp_path / "fe").glob("*/vof_traction.csv")), delimiter=",", skiprows=1)
+    assert cell.traction_x_um == pytest.approx((-300.0,), abs=0.5)  # never crosses 0: one write
+    pts = np.loadtxt(next((tmp_path / "fe").rglob("vof_traction.csv")), delimiter=",", skiprows=1)
     r_c = float(np.mean(np.hypot(pts[:, 1] + 300.0, pts[:, 2])))
     u = s * (r_c / R) ** 2 * R / E
-    assert 1 - cell.elastic.b_over_a == pytest.approx(1 - (R - u) / (R + u), rel=0.02)
+    assert 1 - cell.b_over_a == pytest.approx(1 - (R - u) / (R + u), rel=0.02)
 
 
 def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_path: Path):
@@ -154,3 +154,39 @@ def test_table4_comparison_names_the_closer_model():
     cmp = compare_table4(np.array([0.9, 0.95]), A=np.array([0.91, 0.92]), B=[0.85, 1.0])
     assert cmp.errors == pytest.approx({"A": 0.02, "B": 0.05})
     assert cmp.closer == "A" and "**A**" in cmp.sentence()
+
+
+def test_elastic_ratio_is_read_at_the_junction_between_two_writes(tmp_path: Path):
+    """Writes with the centroid at x = -20, -4 and +6 um: within +-12.5 um of x = 0 the last
+    two (and with a 2 um window the pair around 0); b/a at 0 from the line through the
+    writes (0.70 at -4, 0.60 at +6 -> 0.66; three points on a line -> its value at 0)."""
+    from oocyte_fe.microchannel.elastic_junction import (
+        ElasticAtPressure,
+        ElasticCellAtJunction,
+        writes_around,
+    )
+
+    xs = {"0": -30.0, "0.001": -20.0, "0.002": -4.0, "0.003": 6.0}
+    for name in xs:
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "U").write_text("")
+    moments = tmp_path / "postProcessing" / "moments_cell" / "0"
+    moments.mkdir(parents=True)
+    rows = [f"{t} 1 {x * 1e-6:.9e} 0 {(x * 1e-6) ** 2 + 1e-9:.9e} 1e-9 0" for t, x in xs.items()]
+    (moments / "volFieldValue.dat").write_text("# Time ...\n" + "\n".join(rows) + "\n")
+    around = writes_around(tmp_path)
+    assert [f.name for f, _ in around] == ["0.002", "0.003"]
+    assert [x for _, x in around] == pytest.approx([-4.0, 6.0])
+    cells = tuple(ElasticCellAtJunction(None, r, tmp_path) for r in (0.70, 0.60))  # type: ignore[arg-type]
+    at = ElasticAtPressure(300.0, 0.985, cells, (-4.0, 6.0))
+    assert at.b_over_a == pytest.approx(0.66)
+    assert [f.name for f, _ in writes_around(tmp_path, half_window=2.0)] == ["0.002", "0.003"]
+    assert [f.name for f, _ in writes_around(tmp_path, half_window=25.0)] == [
+        "0.001",
+        "0.002",
+        "0.003",
+    ]
+    three = tuple(ElasticCellAtJunction(None, r, tmp_path) for r in (0.86, 0.70, 0.60))  # type: ignore[arg-type]
+    assert ElasticAtPressure(300.0, 0.985, three, (-20.0, -4.0, 6.0)).b_over_a == pytest.approx(
+        0.66
+    )

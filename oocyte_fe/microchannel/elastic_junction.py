@@ -101,6 +101,7 @@ def elastic_cell_at_junction(
     the last converged of ``frames`` load steps (:attr:`ElasticCellAtJunction.load_fraction`
     says how much of the load that is when the FE stops short)."""
     rows = read_vof_traction(Path(traction_csv))
+    Path(folder).mkdir(parents=True, exist_ok=True)
     table = fe_traction_table(rows, diameter_um / 2, Path(folder) / "elastic_cell_traction.csv")
     exp = Experiment.model_validate(
         {
@@ -141,36 +142,91 @@ def traction_at_junction(
     return traction, float(np.interp(t, trace.time, trace.centroid[:, 0]))
 
 
+READ_WINDOW_UM = 12.5  # the elastic b/a at x = 0: a line through the writes within +-12.5 um
+
+
+def writes_around(
+    case: Path, x: float = 0.0, half_window: float = READ_WINDOW_UM, cell: str = "cell"
+) -> list[tuple[Path, float]]:
+    """The written times of ``case`` whose centroid (per-step moments) lies within
+    ``half_window`` um of ``x``, as (folder, centroid x); when fewer than two do, the last
+    write before and the first after ``x`` (the nearest one alone when the run does not
+    cross it)."""
+    folders = time_directories(case)[1:]
+    if not folders:
+        raise InputError(case, "time folders", "a written time after t = 0")
+    trace = moment_trace(case, [cell])
+    xs = [float(np.interp(t, trace.time, trace.centroid[:, 0])) for t, _ in folders]
+    inside = [k for k, xk in enumerate(xs) if abs(xk - x) <= half_window]
+    if len(inside) >= 2:
+        return [(folders[k][1], xs[k]) for k in inside]
+    before = [k for k, xk in enumerate(xs) if xk <= x]
+    after = [k for k, xk in enumerate(xs) if xk > x]
+    if before and after:
+        return [(folders[k][1], xs[k]) for k in (before[-1], after[0])]
+    k = min(range(len(xs)), key=lambda k: abs(xs[k] - x))
+    return [(folders[k][1], xs[k])]
+
+
 @dataclass(frozen=True)
 class ElasticAtPressure:
-    """One pressure: the liquid run's b/a, the elastic cell under its traction, where read."""
+    """One pressure: the liquid run's b/a, the elastic cell under the traction of each write
+    around the junction crossing (:func:`writes_around`) and its b/a at x = 0."""
 
     pressure_hPa: float
     liquid_b_over_a: float
-    elastic: ElasticCellAtJunction
-    traction_x_um: float  # the centroid's x at the write the traction is taken at
+    cells: tuple[ElasticCellAtJunction, ...]  # one per write
+    traction_x_um: tuple[float, ...]  # the centroid's x at those writes
+
+    @property
+    def carried(self) -> bool:
+        """Every FE run carried its whole traction."""
+        return all(c.experiment.success for c in self.cells)
+
+    @property
+    def b_over_a(self) -> float:
+        """b/a at x = 0 from a straight line through the writes' b/a against their x (the
+        traction, like the liquid's per-step b/a, jitters from one write to the next as the
+        interface crosses the grid); the single write's when there is one."""
+        if len(self.cells) == 1:
+            return self.cells[0].b_over_a
+        ratios = [c.b_over_a for c in self.cells]
+        slope, intercept = np.polyfit(np.array(self.traction_x_um), ratios, 1)
+        return float(intercept)
 
 
 def elastic_cells_at_junction(
-    runs: list[tuple[float, Path, float, float]],
+    runs: list[tuple[float, Path, float]],
     layout_of: Callable[[float], Layout],
     mu_medium: float,
     folder: Path,
     **cell: float,
 ) -> list[ElasticAtPressure]:
-    """For each run ``(pressure hPa, case, time at the junction s, liquid b/a)``: the traction
-    at the write nearest the junction crossing loads the elastic cell (``cell``: keywords of
-    :func:`elastic_cell_at_junction`); ``layout_of(pressure)`` the run's mesh layout. One FE
-    folder per pressure under ``folder``."""
+    """For each run ``(pressure hPa, case, liquid b/a)``: the traction of each write around
+    the junction crossing (:func:`writes_around`) loads the elastic cell
+    (``cell``: keywords of :func:`elastic_cell_at_junction`); ``layout_of(pressure)`` the
+    run's mesh layout. One FE folder per pressure and write under ``folder``. The elastic
+    cell's 1 - b/a grows by about 0.004 per um of travel there (300 hPa) and jitters by about
+    0.01 from write to write, hence the line through the writes to x = 0."""
     out = []
-    for pressure, case, time, liquid in runs:
-        traction, x_um = traction_at_junction(case, time, layout_of(pressure), mu_medium)
-        sub = Path(folder) / f"elastic_p{pressure:g}hPa"
-        sub.mkdir(parents=True, exist_ok=True)
-        csv = traction.write_csv(sub / "vof_traction.csv")
-        out.append(
-            ElasticAtPressure(pressure, liquid, elastic_cell_at_junction(csv, sub, **cell), x_um)
-        )
+    for pressure, case, liquid in runs:
+        cells, xs = [], []
+        for k, (write, x_um) in enumerate(writes_around(case)):
+            traction = surface_traction(
+                write,
+                layout_of(pressure),
+                "cell",
+                mu_medium,
+                GRADIENT_OFFSET_CELLS,
+                PRESSURE_OFFSET_CELLS,
+                True,
+            )
+            sub = Path(folder) / f"elastic_p{pressure:g}hPa" / f"write{k}"
+            sub.mkdir(parents=True, exist_ok=True)
+            csv = traction.write_csv(sub / "vof_traction.csv")
+            cells.append(elastic_cell_at_junction(csv, sub, **cell))
+            xs.append(x_um)
+        out.append(ElasticAtPressure(pressure, liquid, tuple(cells), tuple(xs)))
     return out
 
 
