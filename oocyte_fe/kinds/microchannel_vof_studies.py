@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
 from oocyte_fe.microchannel.vof.control_volume import box_balance
 from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
@@ -23,7 +24,7 @@ from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
 from oocyte_fe.microchannel.vof.restart import steps_from
-from oocyte_fe.microchannel.vof.runner import OpenFoam
+from oocyte_fe.microchannel.vof.runner import OpenFoam, SolverError
 from oocyte_fe.microchannel.vof.traction import momentum_balance, surface_traction
 
 TRACTION_OFFSET = 2.0  # cells: the velocity gradient's central stencil lies in the medium
@@ -174,8 +175,11 @@ def traction_study(
     }
     if box is not None:
         foam, rho_medium, nice = box
-        first, second = steps_from(foam, run.case, folder, 2, "momentum_steps", nice)
-        cv = box_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
+        try:
+            first, second = steps_from(foam, run.case, folder, 2, "momentum_steps", nice)
+            cv = box_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
+        except (InputError, SolverError) as exc:  # e.g. a box cut by a wall
+            return text + f"\n\nControl volume around the cell: not computed: {exc}", metrics
         miss = cv.force - cv.outflow - cv.momentum_rate
         x0, x1, y0, y1 = cv.box_um
         text += (
