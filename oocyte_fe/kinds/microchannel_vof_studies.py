@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from oocyte_fe.errors import InputError
+from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
 from oocyte_fe.microchannel.vof.control_volume import box_balance
 from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
@@ -24,7 +24,7 @@ from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
 from oocyte_fe.microchannel.vof.restart import steps_from
-from oocyte_fe.microchannel.vof.runner import OpenFoam, SolverError
+from oocyte_fe.microchannel.vof.runner import OpenFoam
 from oocyte_fe.microchannel.vof.traction import momentum_balance, surface_traction
 
 TRACTION_OFFSET = 2.0  # cells: the velocity gradient's central stencil lies in the medium
