@@ -107,7 +107,7 @@ def test_table4_case_runs_the_studies_and_the_seed_model_beside() -> None:
         "p300hPa_dt2.5e-07",
     ]
     mesh, zp = specs[7], specs[9]
-    assert (mesh.dx, mesh.correctors, mesh.model) == (6.25, 96, "liquid_cell_isoadvector")
+    assert (mesh.dx, mesh.correctors, mesh.model) == (6.25, 48, "liquid_cell_isoadvector")
     assert zp.curve == "zp" and specs[0].curve == "cytoplasm"
     beside = specs[12:]
     assert [s.model for s in beside] == ["three_phase_mules"] * 8
