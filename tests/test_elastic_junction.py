@@ -39,7 +39,7 @@ def _vof_csv(path: Path, s_kPa: float, p0_kPa: float = 0.0, centre=(-8.0, -19.0)
 def test_cosine_traction_gives_the_ellipse(tmp_path: Path, p0: float):
     E, s = 1.0, 0.01
     csv = _vof_csv(tmp_path / "t.csv", s, p0)
-    cell = elastic_cell_at_junction(csv, tmp_path, zona_kPa=E, cytoplasm_kPa=E)
+    cell = elastic_cell_at_junction(csv, tmp_path, zona_kPa=E, cytoplasm_kPa=E, frames=2)
     u = s * R / E
     assert cell.experiment.success
     assert 1 - cell.b_over_a == pytest.approx(1 - (R - u) / (R + u), rel=0.01)
@@ -49,3 +49,144 @@ def test_a_table_without_the_columns_is_refused(tmp_path: Path):
     (tmp_path / "t.csv").write_text("x,y\n1,2\n")
     with pytest.raises(InputError, match="arc_angle_deg"):
         elastic_cell_at_junction(tmp_path / "t.csv", tmp_path)
+
+
+def _synthetic_run(case: Path, layout, s: float, p0: float, outline=None) -> Path:
+    """Written times 0 and 0.001 s of a cell at rest (U = 0) at (-300, 0) um, the disk of
+    radius R (or ``outline`` about that centre), in the pressure p0 - s (x^2 - y^2) / R^2
+    (kPa), with the solver's per-step moments file."""
+    from oocyte_fe.microchannel.vof.casewriter import Disk, Outline
+    from oocyte_fe.microchannel.vof.foamfile import write_field
+
+    c = layout.cell_centres()
+    centre = np.array([-300.0, 0.0])
+    region = (
+        Disk("cell", (-300.0, 0.0), R) if outline is None else Outline("cell", outline + centre)
+    )
+    alpha = region.fraction(c, layout.dx)
+    d = c - centre
+    p = (p0 - s * (d[:, 0] ** 2 - d[:, 1] ** 2) / R**2) * 1e3  # Pa
+    for name in ("0", "0.001"):
+        write_field(case / name / "alpha.cell", "[0 0 0 0 0 0 0]", alpha, {})
+        write_field(case / name / "p", "[1 -1 -2 0 0 0 0]", p, {})
+        write_field(case / name / "U", "[0 1 -1 0 0 0 0]", np.zeros((len(c), 3)), {})
+    moments = case / "postProcessing" / "moments_cell" / "0"
+    moments.mkdir(parents=True, exist_ok=True)
+    a = alpha * 1e-18
+    x, y = c[:, 0] * 1e-6, c[:, 1] * 1e-6
+    sums = [a.sum(), (a * x).sum(), (a * y).sum(), (a * x * x).sum(), (a * y * y).sum()]
+    sums.append((a * x * y).sum())
+    rows = "\n".join(" ".join(f"{v:.15e}" for v in [t, *sums]) for t in (0.0, 0.001))
+    (moments / "volFieldValue.dat").write_text(f"# Time ...\n{rows}\n")
+    return case
+
+
+def test_vof_fields_to_the_elastic_cell_end_to_end(tmp_path: Path):
+    """Synthetic VOF fields on the junction lattice (dx 5 um): a disk at rest (U = 0) in the
+    pressure p = p0 - s (x^2 - y^2) / R^2, whose traction on the contour of radius r is the
+    normal ``s (r/R)^2 cos 2 theta`` less p0. The traction read from the fields (pressure
+    extrapolated to the contour from 1 and 2 cells: error 2 (h/r)^2 = 1 %) loads the FE cell:
+    the Airy ellipse within 2 %."""
+    from oocyte_fe.microchannel.elastic_junction import elastic_cells_at_junction
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+
+    layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
+    E, s = 1.0, 0.01  # kPa
+    case = _synthetic_run(tmp_path / "run", layout, s, 2.0)
+    [cell] = elastic_cells_at_junction(
+        [(300.0, case, 0.985)],
+        lambda _: layout,
+        1.66e-6,
+        tmp_path / "fe",
+        zona_kPa=E,
+        cytoplasm_kPa=E,
+        frames=2,  # linear: two load steps suffice
+    )
+    assert cell.traction_x_um == pytest.approx((-300.0,), abs=0.5)  # never crosses 0: one write
+    pts = np.loadtxt(next((tmp_path / "fe").rglob("vof_traction.csv")), delimiter=",", skiprows=1)
+    r_c = float(np.mean(np.hypot(pts[:, 1] + 300.0, pts[:, 2])))
+    u = s * (r_c / R) ** 2 * R / E
+    assert 1 - cell.b_over_a == pytest.approx(1 - (R - u) / (R + u), rel=0.02)
+
+
+def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_path: Path):
+    """A 'flow' whose pressure does not depend on the cell's shape (synthetic fields; the
+    second pass starts the cell in the FE's deformed outline): the second pass repeats the
+    first's b/a (within 1 %: the traction is read on the deformed contour) and the iteration
+    stops there, converged after 2 passes."""
+    from oocyte_fe.microchannel.elastic_iteration import deform_recompute
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+
+    layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
+    shapes = []
+
+    def flow(outline, folder):
+        shapes.append(outline)
+        return _synthetic_run(folder, layout, 0.01, 0.0, outline), 0.001, layout, 1.0
+
+    result = deform_recompute(flow, tmp_path, 1.66e-6, zona_kPa=1.0, cytoplasm_kPa=1.0, frames=2)
+    assert result.converged and len(result.passes) == 2, result.stopped
+    assert shapes[0] is None and shapes[1].shape[1] == 2
+    a, b = np.ptp(shapes[1], axis=0)  # the deformed outline, the ellipse's axes along x, y
+    assert min(a, b) / max(a, b) == pytest.approx(result.ratios[0], rel=0.01)
+
+
+def test_polygon_fraction_of_an_ellipse():
+    """The fractions of a 200-gon ellipse (a = 70, b = 50 um) on a 5 um lattice sum to its
+    area pi a b within 0.3 %; a polygon of a circle gives disk_fraction's cells within 0.02."""
+    from oocyte_fe.microchannel.vof.geometry import disk_fraction, polygon_fraction
+
+    g = np.arange(-97.5, 100.0, 5.0)
+    c = np.column_stack([a.ravel() for a in np.meshgrid(g, g)])
+    t = np.linspace(0.0, 2 * np.pi, 200, endpoint=False)
+    ellipse = np.column_stack([70.0 * np.cos(t), 50.0 * np.sin(t)])
+    area = polygon_fraction(c, 5.0, ellipse).sum() * 25.0
+    assert area == pytest.approx(np.pi * 70.0 * 50.0, rel=3e-3)
+    circle = np.column_stack([R * np.cos(t), R * np.sin(t)])
+    diff = polygon_fraction(c, 5.0, circle) - disk_fraction(c, 5.0, (0.0, 0.0), R)
+    assert np.abs(diff).max() < 0.02
+
+
+def test_table4_comparison_names_the_closer_model():
+    """Mean absolute errors by hand: model A off by (0.01, 0.03) -> 0.02, B by (0.05, 0.05)."""
+    from oocyte_fe.microchannel.elastic_junction import compare_table4
+
+    cmp = compare_table4(np.array([0.9, 0.95]), A=np.array([0.91, 0.92]), B=[0.85, 1.0])
+    assert cmp.errors == pytest.approx({"A": 0.02, "B": 0.05})
+    assert cmp.closer == "A" and "**A**" in cmp.sentence()
+
+
+def test_elastic_ratio_is_read_at_the_junction_between_two_writes(tmp_path: Path):
+    """Writes with the centroid at x = -20, -4 and +6 um: within +-12.5 um of x = 0 the last
+    two (and with a 2 um window the pair around 0); b/a at 0 from the line through the
+    writes (0.70 at -4, 0.60 at +6 -> 0.66; three points on a line -> its value at 0)."""
+    from oocyte_fe.microchannel.elastic_junction import (
+        ElasticAtPressure,
+        ElasticCellAtJunction,
+        writes_around,
+    )
+
+    xs = {"0": -30.0, "0.001": -20.0, "0.002": -4.0, "0.003": 6.0}
+    for name in xs:
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "U").write_text("")
+    moments = tmp_path / "postProcessing" / "moments_cell" / "0"
+    moments.mkdir(parents=True)
+    rows = [f"{t} 1 {x * 1e-6:.9e} 0 {(x * 1e-6) ** 2 + 1e-9:.9e} 1e-9 0" for t, x in xs.items()]
+    (moments / "volFieldValue.dat").write_text("# Time ...\n" + "\n".join(rows) + "\n")
+    around = writes_around(tmp_path)
+    assert [f.name for f, _ in around] == ["0.002", "0.003"]
+    assert [x for _, x in around] == pytest.approx([-4.0, 6.0])
+    cells = tuple(ElasticCellAtJunction(None, r, tmp_path) for r in (0.70, 0.60))  # type: ignore[arg-type]
+    at = ElasticAtPressure(300.0, 0.985, cells, (-4.0, 6.0))
+    assert at.b_over_a == pytest.approx(0.66)
+    assert [f.name for f, _ in writes_around(tmp_path, half_window=2.0)] == ["0.002", "0.003"]
+    assert [f.name for f, _ in writes_around(tmp_path, half_window=25.0)] == [
+        "0.001",
+        "0.002",
+        "0.003",
+    ]
+    three = tuple(ElasticCellAtJunction(None, r, tmp_path) for r in (0.86, 0.70, 0.60))  # type: ignore[arg-type]
+    assert ElasticAtPressure(300.0, 0.985, three, (-20.0, -4.0, 6.0)).b_over_a == pytest.approx(
+        0.66
+    )

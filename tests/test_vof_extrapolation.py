@@ -96,8 +96,10 @@ def test_dt_refinements_add_runs_at_halved_steps(
     shutil.copytree(CASES / "microchannel_vof_quick", case)
     toml = case / "case.toml"
     text = toml.read_text()
-    assert "\ndt_refinements = 1" in text  # the quick case's own dt check
-    toml.write_text(text.replace("\ndt_refinements = 1", "\ndt_refinements = 2", 1))
+    assert "\ndt_refinements" not in text  # the quick case runs its one step (1e-6 s)
+    toml.write_text(
+        text.replace("\ntime_step_s = 1e-6", "\ntime_step_s = 1e-6\ndt_refinements = 2", 1)
+    )
     seen: list[tuple[str, float]] = []
 
     def submit(_fn, jobs, concurrent, scheduler, progress=None):
@@ -108,7 +110,7 @@ def test_dt_refinements_add_runs_at_halved_steps(
     monkeypatch.setattr(vof_kind, "run_concurrently", submit)
     run_cases(plan([case]), tmp_path / "out")
     assert seen == [
-        ("p300hPa", 2e-6),
-        ("p300hPa_dt1e-06", 1e-6),
+        ("p300hPa", 1e-6),
         ("p300hPa_dt5e-07", 5e-7),
+        ("p300hPa_dt2.5e-07", 2.5e-7),
     ]

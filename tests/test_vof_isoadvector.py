@@ -107,7 +107,7 @@ def test_table4_case_runs_the_studies_and_the_seed_model_beside() -> None:
         "p300hPa_dt2.5e-07",
     ]
     mesh, zp = specs[7], specs[9]
-    assert (mesh.dx, mesh.correctors, mesh.model) == (6.25, 96, "liquid_cell_isoadvector")
+    assert (mesh.dx, mesh.correctors, mesh.model) == (6.25, 48, "liquid_cell_isoadvector")
     assert zp.curve == "zp" and specs[0].curve == "cytoplasm"
     beside = specs[12:]
     assert [s.model for s in beside] == ["three_phase_mules"] * 8
@@ -180,7 +180,8 @@ def test_traction_of_closed_forms_on_a_disk(tmp_path: Path) -> None:
     """Synthetic fields on the junction lattice (dx 5 um), a disk r = 70 um at the junction:
     (1) p = G x, U = 0: the net force of a linear pressure on the contour whose pressure is
     read h = 1 cell outside is -G pi r (r + h) (divergence theorem, plus the offset ring),
-    within 1 %; the traction at the top is -p n; (2) p = 0, U = (gamma y, 0): simple shear,
+    and -G pi r^2 when extrapolated to the contour from h and 2 h, within 1 %; the traction
+    at the top is -p n; (2) p = 0, U = (gamma y, 0): simple shear,
     t = mu gamma (n_y, n_x) at every edge (1e-9) and the net force vanishes; CSV columns."""
     from oocyte_fe.microchannel.vof.foamfile import write_field
     from oocyte_fe.microchannel.vof.geometry import disk_fraction
@@ -200,6 +201,9 @@ def test_traction_of_closed_forms_on_a_disk(tmp_path: Path) -> None:
     expected = -g * 1e-3 * np.pi * r_contour * (r_contour + h)  # kPa um
     assert t.force[0] == pytest.approx(expected, rel=0.01)
     assert abs(t.force[1]) < 1e-3 * abs(expected)
+    # read at 1 and 2 cells and extrapolated to the contour: -G pi r^2 (the divergence theorem)
+    t = surface_traction(folder, layout, "cell", mu, 2.0, 1.0, extrapolate_pressure=True)
+    assert t.force[0] == pytest.approx(-g * 1e-3 * np.pi * r_contour**2, rel=0.01)
     u = np.zeros((len(c), 3))
     u[:, 0] = gamma * c[:, 1] * 1e-6  # m/s
     write_field(folder / "p", "[1 -1 -2 0 0 0 0]", np.zeros(len(c)), {})

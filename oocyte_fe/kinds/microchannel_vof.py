@@ -101,6 +101,7 @@ def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
         end_time=end,
         write_interval=end / inp.writes,
         outer_correctors=inp.outer_correctors,
+        momentum_predictor=inp.momentum_predictor and spec.model == LIQUID_CELL,
         correctors=spec.correctors,
         pressure_rel_tol=inp.pressure_rel_tol,
         solver=MODEL_SOLVER[spec.model],

@@ -160,6 +160,12 @@ class VofInputs(CaseInputs):
     )
     writes: int = _f(20, "number of written times", "1", ge=2)
     outer_correctors: int = _f(1, "PIMPLE outer correctors", "1", ge=1)
+    momentum_predictor: bool = _f(
+        False,
+        "liquid cell: solve the momentum equation before the pressure correctors (without it "
+        "the viscous cell's momentum is not conserved; the three-phase model keeps none)",
+        "1",
+    )
     correctors: int = _f(3, "pressure correctors", "1", ge=1)
     pressure_rel_tol: float = _f(
         0.0, "GAMG relative tolerance of the correctors before the last", "1", ge=0, lt=1
@@ -207,7 +213,11 @@ METRICS = {
     "traction_force_x": "net traction force on the cell per unit depth, x (nN/um)",
     "traction_force_y": "net traction force on the cell per unit depth, y (nN/um)",
     "traction_at_x_um": "centroid x of the written time the traction is taken at (um)",
-    "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction (one-way)",
+    "cv_imbalance_pct": "momentum budget of a box around the cell: |miss| / load on its faces, %",
+    "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
+    "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
+    "liquid_mae": "liquid cell (VOF): mean |b/a - experiment| over the pressures",
+    "paper_vof_mae": "paper's VOF: mean |b/a - experiment| over the same pressures",
     "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
     "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
     "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",

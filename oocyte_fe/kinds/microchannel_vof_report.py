@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
 from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes, traction_study
@@ -16,9 +17,7 @@ from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
 from oocyte_fe.microchannel.vof.post import snapshot, time_directories
-from oocyte_fe.microchannel.vof.runner import (
-    INSTALL_HINT,
-)
+from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, find_openfoam
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure
 
 
@@ -131,7 +130,7 @@ def report_outcome(
         metrics.update(study.metrics())
         metrics["dt_change_max_pct"] = worst
     beside_text = _beside(inp, table, beside, extra, metrics)
-    traction_text = "not computed (the liquid-cell model only)"
+    traction_text = elastic_text = "not computed (the liquid-cell model only)"
     if inp.model == LIQUID_CELL:
         ph = inp.cytoplasm if inp.cell_curve == "cytoplasm" else inp.zp
         try:
@@ -141,13 +140,16 @@ def report_outcome(
                 inp.channel.viscosity_Pa_s * PA_S,
                 ph.density_kg_m3 * KG_M3,
                 ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv"),
+                (find_openfoam(inp.openfoam), inp.channel.density_kg_m3 * KG_M3, inp.nice),
             )
             metrics.update(more)
-            experiment = _lookup(table.pressure, table.ratio_experiment, pressures[0])
-            csv = ctx.output(f"traction_p{pressures[0] / HPA:g}hPa.csv")
-            traction_text += "\n\n" + _elastic_cell(csv, ctx, metrics, experiment)
         except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
             traction_text = f"not computed: {exc}"
+        try:
+            elastic_text, more = elastic_section(ctx, inp, table, pressures, runs)
+            metrics.update(more)
+        except InputError as exc:
+            elastic_text = f"not computed: {exc}"
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(
         time_directories(runs[0].case)[-1][1],
@@ -183,6 +185,7 @@ def report_outcome(
         (f"Time-step convergence of {inp.model} (first pressure)", dt_text),
         (f"Beside: {inp.beside_model or 'no second model'}", beside_text),
         (f"Traction on the cell at the junction ({pressures[0] / HPA:g} hPa)", traction_text),
+        ("The AFM-elastic cell under the flow's traction (one-way)", elastic_text),
         (
             "Files",
             "Each run's OpenFOAM case is in `openfoam/<run>/` (open `case.foam` in ParaView for "
@@ -243,20 +246,3 @@ def _beside(inp: VofInputs, table, beside: dict, extra: dict, metrics: dict) -> 
 
 def _layout(inp: VofInputs, run: JunctionRun):
     return inp.geometry.to_geometry().layout(inp.dx_um, run.velocity_a, run.velocity_b)
-
-
-def _elastic_cell(csv, ctx, metrics: dict, experiment: float) -> str:
-    """The AFM-elastic cell under this traction (one-way; :mod:`..elastic_junction`)."""
-    from oocyte_fe.microchannel.elastic_junction import elastic_cell_at_junction
-
-    cell = elastic_cell_at_junction(csv, ctx.output("."))
-    metrics["elastic_cell_b_over_a"] = cell.b_over_a
-    return (
-        "**The AFM-elastic cell under this traction** (one-way, issue 30 part 2: the layered "
-        "plane-strain FE cell, ZP 7.0 and cytoplasm 1.55 kPa, free, loaded on its undeformed "
-        f"outline; `elastic_cell_traction.csv`): b/a = **{cell.b_over_a:.4f}** (1 - b/a "
-        f"{1 - cell.b_over_a:.4f}), against the experiment's {experiment:.3f}. A deformation "
-        "this large changes the flow around the cell, which one-way coupling does not "
-        "recompute, and the traction comes from the liquid VOF cell whose momentum check "
-        "misses (above): an order of magnitude, not a converged answer."
-    )

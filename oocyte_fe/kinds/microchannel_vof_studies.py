@@ -15,16 +15,21 @@ from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
+from oocyte_fe.microchannel.vof.control_volume import box_balance
 from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
 from oocyte_fe.microchannel.vof.foamfile import read_internal_field
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
+from oocyte_fe.microchannel.vof.restart import steps_from
+from oocyte_fe.microchannel.vof.runner import OpenFoam
 from oocyte_fe.microchannel.vof.traction import momentum_balance, surface_traction
 
 TRACTION_OFFSET = 2.0  # cells: the velocity gradient's central stencil lies in the medium
-PRESSURE_OFFSET = 1.0  # cells: just outside the smeared interface (the inner pressure differs)
+PRESSURE_OFFSET = 1.0  # cells: outside the smeared interface (the inner pressure differs);
+# the pressure is read there and twice as far and extrapolated back to the contour
 ACCELERATION_WINDOW_S = 4e-5  # the centroid's acceleration: a parabola over +-20 us
 
 
@@ -123,17 +128,27 @@ def _dt_section(study: TimeStepStudy, runs: list[JunctionRun]) -> str:
 
 
 def traction_study(
-    run: JunctionRun, layout: Layout, mu_medium: float, density: float, csv: Path
+    run: JunctionRun,
+    layout: Layout,
+    mu_medium: float,
+    density: float,
+    csv: Path,
+    box: tuple[OpenFoam, float, int] | None = None,
 ) -> tuple[str, dict[str, float]]:
     """The traction of the flow on the liquid cell at the written time nearest its junction
     crossing (:mod:`oocyte_fe.microchannel.vof.traction`), written to ``csv``, and its
     momentum check: the section text and the metrics ``traction_imbalance_pct``,
-    ``traction_force_x``, ``traction_force_y`` (nN/um), ``traction_at_x_um``."""
+    ``traction_force_x``, ``traction_force_y`` (nN/um), ``traction_at_x_um``. With ``box`` =
+    (OpenFOAM, medium density, niceness): two more steps from that time and the momentum
+    budget of a box around the cell (:mod:`oocyte_fe.microchannel.vof.control_volume`),
+    metric ``cv_imbalance_pct``."""
     folders = time_directories(run.case)[1:]
     t_j = run.time_at_junction if math.isfinite(run.time_at_junction) else folders[-1][0]
     t, folder = min(folders, key=lambda tf: abs(tf[0] - t_j))
     trace = moment_trace(run.case, ["cell"])
-    traction = surface_traction(folder, layout, "cell", mu_medium, TRACTION_OFFSET, PRESSURE_OFFSET)
+    traction = surface_traction(
+        folder, layout, "cell", mu_medium, TRACTION_OFFSET, PRESSURE_OFFSET, True
+    )
     traction.write_csv(csv)
     area = _cell_area(folder, layout)
     window = ACCELERATION_WINDOW_S
@@ -144,8 +159,9 @@ def traction_study(
         f"`{csv.name}`: {len(traction.angle)} edges of the alpha = 0.5 contour at t = {t:.4g} s "
         f"(centroid x = {x_at:.1f} um); columns arc_angle_deg (about the centroid, from +x, "
         "counter-clockwise), x_um, y_um (edge midpoint), t_x_kPa, t_y_kPa (traction of the "
-        f"medium on the cell, outward normal; pressure {PRESSURE_OFFSET:g} and velocity "
-        f"gradient {TRACTION_OFFSET:g} cells outside the contour). Net force (per unit depth) "
+        f"medium on the cell, outward normal; pressure read {PRESSURE_OFFSET:g} and "
+        f"{2 * PRESSURE_OFFSET:g} cells outside the contour and extrapolated to it, velocity "
+        f"gradient {TRACTION_OFFSET:g} cells outside). Net force (per unit depth) "
         f"F = ({f[0]:.2f}, {f[1]:.2f}) nN/um against the cell's momentum rate M a = "
         f"({ma[0]:.2f}, {ma[1]:.2f}) nN/um (M = rho x area {area:.0f} um^2, a from the per-step "
         f"centroid over {window * 1e6:.0f} us): |F - M a| = **{balance.imbalance_pct:.1f} %** "
@@ -157,6 +173,25 @@ def traction_study(
         "traction_force_y": float(f[1]),
         "traction_at_x_um": x_at,
     }
+    if box is not None:
+        foam, rho_medium, nice = box
+        try:
+            first, second = steps_from(foam, run.case, folder, 2, "momentum_steps", nice)
+            cv = box_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
+        except (InputError, SolverError) as exc:  # e.g. a box cut by a wall
+            return text + f"\n\nControl volume around the cell: not computed: {exc}", metrics
+        miss = cv.force - cv.outflow - cv.momentum_rate
+        x0, x1, y0, y1 = cv.box_um
+        text += (
+            f"\n\n**Control volume around the cell** (two more steps from t = {t:.4g} s; the box "
+            f"x {x0:.1f} to {x1:.1f}, y {y0:.1f} to {y1:.1f} um, faces in the medium): forces "
+            f"on its faces less the momentum carried out ({cv.force[0] - cv.outflow[0]:.2f}, "
+            f"{cv.force[1] - cv.outflow[1]:.2f}) nN/um against the rate of its momentum "
+            f"({cv.momentum_rate[0]:.2f}, {cv.momentum_rate[1]:.2f}) nN/um: miss "
+            f"({miss[0]:.2f}, {miss[1]:.2f}) = **{cv.imbalance_pct:.2f} %** of the load on the "
+            f"box, {cv.load:.1f} nN/um."
+        )
+        metrics["cv_imbalance_pct"] = cv.imbalance_pct
     return text, metrics
 
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.microchannel.vof.foamfile import field_values, write_dictionary, write_field
-from oocyte_fe.microchannel.vof.geometry import Layout, disk_fraction
+from oocyte_fe.microchannel.vof.geometry import Layout, disk_fraction, polygon_fraction
 from oocyte_fe.microchannel.vof.isoadvector import (
     INTER_ISO_FOAM,
     MULTIPHASE,
@@ -59,6 +59,21 @@ class Disk:
     centre: tuple[float, float]
     radius: float
 
+    def fraction(self, centres: np.ndarray, dx: float) -> np.ndarray:
+        return disk_fraction(centres, dx, self.centre, self.radius)
+
+
+@dataclass(frozen=True)
+class Outline:
+    """A region of one phase at t = 0 bounded by a closed polygon (k, 2) in um (e.g. the
+    deformed outline of the elastic cell), used like a :class:`Disk`."""
+
+    phase: str
+    points: np.ndarray
+
+    def fraction(self, centres: np.ndarray, dx: float) -> np.ndarray:
+        return polygon_fraction(centres, dx, self.points)
+
 
 @dataclass(frozen=True)
 class Numerics:
@@ -88,7 +103,7 @@ class VofSetup:
 
     layout: Layout
     phases: tuple[Phase, ...]
-    disks: tuple[Disk, ...]
+    disks: tuple[Disk | Outline, ...]
     numerics: Numerics
 
     def alpha(self) -> dict[str, np.ndarray]:
@@ -97,7 +112,7 @@ class VofSetup:
         alpha = {p.name: np.zeros(len(centres)) for p in self.phases}
         alpha[self.phases[0].name][:] = 1.0
         for disk in self.disks:
-            f = disk_fraction(centres, self.layout.dx, disk.centre, disk.radius)
+            f = disk.fraction(centres, self.layout.dx)
             for name in alpha:
                 alpha[name] *= 1.0 - f
             alpha[disk.phase] += f

@@ -22,8 +22,17 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+import numpy as np
+
 from oocyte_fe.microchannel.viscosity import Rheology
-from oocyte_fe.microchannel.vof.casewriter import Disk, Numerics, Phase, VofSetup, write_case
+from oocyte_fe.microchannel.vof.casewriter import (
+    Disk,
+    Numerics,
+    Outline,
+    Phase,
+    VofSetup,
+    write_case,
+)
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.isoadvector import INTER_ISO_FOAM
 from oocyte_fe.microchannel.vof.monitor import Limits, SolverMonitor
@@ -92,11 +101,17 @@ def liquid_cell_setup(
     velocity_a: float,
     velocity_b: float,
     numerics: Numerics,
+    outline: np.ndarray | None = None,
 ) -> VofSetup:
     """The two-phase junction case (``interIsoFoam``): the whole cell (its diameter) as ONE
-    phase of one viscosity curve in the medium (:mod:`.isoadvector`)."""
+    phase of one viscosity curve in the medium (:mod:`.isoadvector`); with ``outline`` ((k, 2)
+    um, about the cell's centre) the cell starts in that shape instead of the disk (the
+    deform-recompute passes of :mod:`oocyte_fe.microchannel.elastic_iteration`)."""
     layout = geometry.layout(dx, velocity_a, velocity_b)
-    disks = (Disk(cell.name, geometry.cell_centre, 0.5 * geometry.cell_diameter),)
+    if outline is None:
+        disks = (Disk(cell.name, geometry.cell_centre, 0.5 * geometry.cell_diameter),)
+    else:
+        disks = (Outline(cell.name, np.asarray(outline) + np.array(geometry.cell_centre)),)
     return VofSetup(layout, (medium, cell), disks, replace(numerics, moments=(cell.name,)))
 
 

@@ -1,0 +1,106 @@
+"""Deform and recompute: the flow around the elastic cell's deformed shape (issue 30 part 2).
+
+One-way coupling (:mod:`.elastic_junction`) loads the elastic cell with the traction of the
+flow past the undeformed (liquid, nearly round) cell. When the cell deforms by tens of per
+cent the flow around it changes, so pass k runs the flow with the cell STARTED in the shape
+the FE gave in pass k - 1 (a liquid cell of that outline: with the cell's viscosity it keeps
+its shape within about 1 % of b/a over the half millisecond to the junction, docs), takes the
+traction at the junction crossing and loads the undeformed FE cell with it again::
+
+    shape_0 = disk;   traction_k = flow(shape_k);   shape_{k+1}, (b/a)_{k+1} = FE(traction_k)
+
+until ``|(b/a)_{k+1} / (b/a)_k - 1| < tolerance`` (1 %). The FE is loaded on its undeformed
+outline at each edge's polar angle (as in one-way), so the iteration closes the flow's
+dependence on the shape, not the large-deformation mapping of the load. It stops, and says
+so, when the FE does not carry the whole traction or the pass budget is spent.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from oocyte_fe.experiment.analysis import section_outline_um
+from oocyte_fe.microchannel.elastic_junction import (
+    ElasticCellAtJunction,
+    elastic_cell_at_junction,
+    traction_at_junction,
+)
+from oocyte_fe.microchannel.vof.geometry import Layout
+
+# run_flow(outline about the cell centre or None, folder) -> (case, time at the junction s,
+# layout, the flow's own b/a at the junction)
+FlowRun = Callable[[np.ndarray | None, Path], tuple[Path, float, Layout, float]]
+
+
+@dataclass(frozen=True)
+class Pass:
+    """One pass: the flow's cell shape (its b/a at the junction) and the FE cell under the
+    traction of that flow."""
+
+    flow_b_over_a: float
+    traction_x_um: float
+    elastic: ElasticCellAtJunction
+
+
+@dataclass(frozen=True)
+class DeformRecompute:
+    passes: tuple[Pass, ...]
+    tolerance: float
+    stopped: str  # why the iteration ended
+
+    @property
+    def ratios(self) -> list[float]:
+        return [p.elastic.b_over_a for p in self.passes]
+
+    @property
+    def converged(self) -> bool:
+        r = self.ratios
+        return len(r) >= 2 and abs(r[-1] / r[-2] - 1.0) < self.tolerance
+
+
+def _centred_outline(cell: ElasticCellAtJunction) -> np.ndarray:
+    """The FE's deformed outline about its area centroid (um)."""
+    x = section_outline_um(cell.experiment)
+    xn = np.roll(x, -1, axis=0)
+    cross = x[:, 0] * xn[:, 1] - xn[:, 0] * x[:, 1]
+    area = 0.5 * cross.sum()
+    centroid = np.array(
+        [((x[:, 0] + xn[:, 0]) * cross).sum(), ((x[:, 1] + xn[:, 1]) * cross).sum()]
+    )
+    return x - centroid / (6.0 * area)
+
+
+def deform_recompute(
+    run_flow: FlowRun,
+    folder: Path,
+    mu_medium: float,
+    max_passes: int = 6,
+    tolerance: float = 0.01,
+    **cell: float,
+) -> DeformRecompute:
+    """The passes of the module docstring; ``cell``: keywords of
+    :func:`.elastic_junction.elastic_cell_at_junction`; ``mu_medium`` kPa s."""
+    passes: list[Pass] = []
+    outline = None
+    stopped = f"{max_passes} passes spent"
+    for k in range(max_passes):
+        sub = Path(folder) / f"pass{k}"
+        sub.mkdir(parents=True, exist_ok=True)
+        case, t_j, layout, flow_ratio = run_flow(outline, sub / "flow")
+        traction, x_um = traction_at_junction(case, t_j, layout, mu_medium)
+        csv = traction.write_csv(sub / "vof_traction.csv")
+        elastic = elastic_cell_at_junction(csv, sub, **cell)
+        passes.append(Pass(flow_ratio, x_um, elastic))
+        if not elastic.experiment.success:
+            stopped = f"pass {k}: the FE carries {elastic.load_fraction:.0%} of the traction"
+            break
+        result = DeformRecompute(tuple(passes), tolerance, "")
+        if result.converged:
+            stopped = f"converged after {k + 1} passes"
+            break
+        outline = _centred_outline(elastic)
+    return DeformRecompute(tuple(passes), tolerance, stopped)
