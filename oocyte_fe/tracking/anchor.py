@@ -35,7 +35,26 @@ import numpy as np
 from oocyte_fe.tracking.kcf import KcfModel
 
 
-class Anchor:
+class ScoreReference:
+    """The mean score of the tracked frames noted so far: what a candidate's score is
+    compared with (the anchor's ``<A>``, the rotation bank's ``<B>``)."""
+
+    def __init__(self) -> None:
+        self.score_sum = 0.0
+        self.score_n = 0
+
+    def note(self, score: float) -> None:
+        """Add a tracked frame's score to the reference."""
+        self.score_sum += score
+        self.score_n += 1
+
+    @property
+    def reference(self) -> float | None:
+        """The mean score, or None before any tracked frame was scored."""
+        return self.score_sum / self.score_n if self.score_n else None
+
+
+class Anchor(ScoreReference):
     """The frozen first-frames filters and their reference score (module doc)."""
 
     def __init__(self, models: list[KcfModel], n_frames: int) -> None:
@@ -44,8 +63,7 @@ class Anchor:
         self.models = [KcfModel(m.xf.copy(), m.alphaf.copy(), m.sigma, m.lam) for m in models]
         self.n_frames = n_frames
         self.n = 1
-        self.score_sum = 0.0
-        self.score_n = 0
+        super().__init__()
 
     @property
     def complete(self) -> bool:
@@ -65,13 +83,3 @@ class Anchor:
         response = sum(m.respond(zf) for m, zf in zip(self.models, feats, strict=True))
         near = np.roll(response / len(self.models), (1, 1), axis=(0, 1))[:3, :3]
         return float(near.max())
-
-    def note(self, score: float) -> None:
-        """Add a tracked frame's score to the reference ``<A>``."""
-        self.score_sum += score
-        self.score_n += 1
-
-    @property
-    def reference(self) -> float | None:
-        """``<A>``, or None before any tracked frame was scored."""
-        return self.score_sum / self.score_n if self.score_n else None

@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from oocyte_fe.tracking.anchor import ScoreReference
 from oocyte_fe.tracking.kcf import KcfModel
 
 TAPER_PX = 2.0
@@ -140,7 +141,7 @@ def folded(angle_deg: float) -> float:
     return 90.0 - (90.0 - angle_deg) % 180.0
 
 
-class RotationBank:
+class RotationBank(ScoreReference):
     """Mean first-frames crop, the turned filters built from it, and the reference ``<B>``."""
 
     def __init__(
@@ -154,8 +155,7 @@ class RotationBank:
         self.crops: list[np.ndarray] = []
         self.n_seen = 0
         self.filters: list[list[KcfModel]] = []
-        self.score_sum = 0.0
-        self.score_n = 0
+        super().__init__()
         self.n_offered = 0
 
     @property
@@ -221,15 +221,6 @@ class RotationBank:
         """Count one of the anchor's reference frames; True on every ``note_every``-th."""
         self.n_offered += 1
         return (self.n_offered - 1) % self.model.note_every == 0
-
-    def note(self, score: float) -> None:
-        self.score_sum += score
-        self.score_n += 1
-
-    @property
-    def reference(self) -> float | None:
-        """``<B>``, or None before any tracked frame was scored."""
-        return self.score_sum / self.score_n if self.score_n else None
 
 
 def _refine(near: np.ndarray, i: int, k: int) -> tuple[float, float]:
