@@ -11,6 +11,7 @@ the fits rated good (poor ones with ``include_poor``), the rating being the appa
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,8 +21,11 @@ from afm.batch import BatchResult, GroupStats
 from afm.bottom_effect import CONE_MODELS, SPHERE_MODELS
 from afm.corrections import (
     CELL_TOLERANCE,
+    CONE_CURVATURE_GAP,
     TABLE_CELL_OVER_ZONA,
     check_range,
+    cone_max_y,
+    cone_zona_modulus,
     load_table,
     zona_modulus,
 )
@@ -30,8 +34,9 @@ from oocyte_fe.errors import InputError
 
 @dataclass(frozen=True)
 class ShelledOocyte:
-    """Option ``shelled_oocyte``: E_ZP from each sphere fit (:func:`zona_modulus`), for a ZP
-    of ``zona_um`` over a cytoplasm of ``cytoplasm_kPa`` on a cell of radius ``cell_um``."""
+    """Option ``shelled_oocyte``: E_ZP from each sphere fit (:func:`zona_modulus`) or cone fit
+    (:func:`cone_zona_modulus`), for a ZP of ``zona_um`` over a cytoplasm of ``cytoplasm_kPa``
+    on a cell of radius ``cell_um``."""
 
     zona_um: float
     cytoplasm_kPa: float
@@ -47,13 +52,15 @@ class ShelledOocyte:
         where: str,
         field: str,
     ) -> None:
-        """Refuse what the table does not cover: a tip other than a sphere, nu other than
-        0.5, an unbounded fit range, a depth, probe or cell outside the table."""
-        if model not in ("hertz_sphere", "hertz_paraboloid"):
+        """Refuse what the tables do not cover: a tip other than a sphere or a cone, nu other
+        than 0.5, an unbounded fit range, a depth, probe or cell outside the table, a cone
+        so blunt for its depth that the cell's curvature matters."""
+        if model not in ("hertz_sphere", "hertz_paraboloid", "sneddon_cone"):
             raise InputError(
                 where,
                 f"{field}.type",
-                "a spherical probe (model hertz_sphere or hertz_paraboloid): cones are not covered",
+                "a spherical probe (model hertz_sphere or hertz_paraboloid) or a cone "
+                "(sneddon_cone): pyramids are not covered",
                 model,
             )
         if nu != 0.5:
@@ -62,8 +69,21 @@ class ShelledOocyte:
             raise InputError(
                 where, "inputs.max_indentation_um", f"a depth (the fit range) with {field}", None
             )
+        if model == "sneddon_cone":
+            self._check_cone(geometry["half_angle_deg"], depth_um, where)
+        else:
+            self._check_sphere(geometry["radius_um"], depth_um, where, field)
+        check_range(
+            self.cell_um / self.zona_um / TABLE_CELL_OVER_ZONA,
+            1 - CELL_TOLERANCE,
+            1 + CELL_TOLERANCE,
+            f"{field}.cell_radius_um / zona_thickness_um over the table's 70/15 (R/h)",
+            where,
+        )
+
+    def _check_sphere(self, probe_um: float, depth_um: float, where: str, field: str) -> None:
         t = load_table()
-        probe_h = geometry["radius_um"] / self.zona_um
+        probe_h = probe_um / self.zona_um
         check_range(
             probe_h,
             t.probes[0],
@@ -79,18 +99,36 @@ class ShelledOocyte:
                 f"<= {deepest:.4g} um, the table's deepest for this probe and ZP",
                 depth_um,
             )
-        check_range(
-            self.cell_um / self.zona_um / TABLE_CELL_OVER_ZONA,
-            1 - CELL_TOLERANCE,
-            1 + CELL_TOLERANCE,
-            f"{field}.cell_radius_um / zona_thickness_um over the table's 70/15 (R/h)",
-            where,
+
+    def _check_cone(self, half_angle_deg: float, depth_um: float, where: str) -> None:
+        tan = math.tan(math.radians(half_angle_deg))
+        max_y = cone_max_y(half_angle_deg)
+        deepest = min(
+            max_y * self.zona_um / tan, CONE_CURVATURE_GAP * math.pi * self.cell_um / tan**2
         )
+        if depth_um > deepest * (1 + 1e-9):
+            raise InputError(
+                where,
+                "inputs.max_indentation_um",
+                f"<= {deepest:.4g} um for a {half_angle_deg:g} deg cone: the cone table's "
+                f"deepest for this angle (y = d tan(alpha) / h <= {max_y:g}) and the "
+                f"cell's curvature gap a tan(alpha) / (2 R) <= {CONE_CURVATURE_GAP:g}",
+                depth_um,
+            )
 
     def corrected(
         self, e_kPa: float, model: str, geometry: dict[str, float], depth_um: float
     ) -> float:
         """E_ZP [kPa] of a fit that read ``e_kPa`` to ``depth_um``."""
+        if model == "sneddon_cone":
+            return cone_zona_modulus(
+                e_kPa,
+                depth_um,
+                geometry["half_angle_deg"],
+                self.zona_um,
+                self.cytoplasm_kPa,
+                self.cell_um,
+            )
         return zona_modulus(
             e_kPa,
             depth_um,
@@ -104,7 +142,8 @@ class ShelledOocyte:
     @property
     def text(self) -> str:
         return (
-            f"shelled_oocyte: E_ZP from the FE table (afm/data/shell_correction.csv) for a "
+            f"shelled_oocyte: E_ZP from the FE tables (afm/data/shell_correction.csv, "
+            f"shell_correction_cone.csv for cones) for a "
             f"{self.zona_um:g} um ZP over a {self.cytoplasm_kPa:g} kPa cytoplasm, cell "
             f"radius {self.cell_um:g} um (curvature and shell)"
         )

@@ -14,8 +14,13 @@ code). ``ratio = 1`` for ``E_c = E_ZP`` and at ``d -> 0``. Interpolation: a cubi
 sqrt(d/h) along each FE curve (nodes every 0.025 h; the ratio falls like sqrt(d) from 1),
 then monotone cubic (PCHIP) in ln(E_c/E_ZP) and in ln(Rp/h); it passes through the nodes. The
 table is for the seed's cell, R/h = 70/15; R/h within 3 % of it is accepted (the ratio moves
-by about 1/3 of a relative change of R/h: +2.6 to +4.8 % at R/h = 4.0, docs/afm.md). Cones
-are not covered: the FE cone is not verified (docs/fe.md).
+by about 1/3 of a relative change of R/h: +2.6 to +4.8 % at R/h = 4.0, docs/afm.md).
+
+Cones (:func:`cone_shell_ratio`, :func:`cone_zona_modulus`): a ``sneddon_cone`` fit to ``d``
+reads ``E_app = E_ZP ratio_cone(y, E_c/E_ZP)``, ``y = d tan(alpha) / h``, from the table
+``afm/data/shell_correction_cone.csv`` (``python -m oocyte_fe.afm_corrections.cone_table``, a
+70 deg cone); in linear elasticity the ratio depends on y and E_c/E_ZP only, whatever the
+angle (measured from 45 to 80 deg within 0.75 %).
 
 A fit with the probe's own radius ``Rp`` (what a user enters) reads ``E_app`` over the
 curvature factor of :func:`curvature_factor`; :func:`zona_modulus` undoes both. The options of
@@ -184,18 +189,142 @@ def zona_modulus(
     )
     e_app = e_fit_kPa * curvature_factor(model, probe_um, cell_um, depth_um)
     t, ratio = _checked_profile(depth_um / zona_um, probe_um / zona_um, where)
-    lo, hi = cytoplasm_kPa / t.e_ratios[-1], cytoplasm_kPa / t.e_ratios[0]  # E_ZP range
+    return _solve_zona(e_app, cytoplasm_kPa, t.e_ratios, ratio, where)
+
+
+def _solve_zona(
+    e_app: float,
+    cytoplasm_kPa: float,
+    e_ratios: tuple[float, ...],
+    ratio: Callable[[float], float],
+    where: str,
+) -> float:
+    """E_ZP [kPa] with ``E_ZP ratio(E_c / E_ZP) = e_app`` (Brent in ln E_ZP, over the E_ZP
+    the table's E ratios allow)."""
+    lo, hi = cytoplasm_kPa / e_ratios[-1], cytoplasm_kPa / e_ratios[0]  # E_ZP range
 
     def residual(e_zp: float) -> float:
-        return e_zp * ratio(min(max(cytoplasm_kPa / e_zp, t.e_ratios[0]), t.e_ratios[-1])) - e_app
+        return e_zp * ratio(min(max(cytoplasm_kPa / e_zp, e_ratios[0]), e_ratios[-1])) - e_app
 
     if residual(lo) > 0 or residual(hi) < 0:
         raise InputError(
             where,
             "E_cytoplasm / E_ZP",
-            f"within the table's range [{t.e_ratios[0]:g}, {t.e_ratios[-1]:g}] for the ZP modulus "
+            f"within the table's range [{e_ratios[0]:g}, {e_ratios[-1]:g}] for the ZP modulus "
             f"that explains E = {e_app:.4g} kPa",
             f"no E_ZP in [{lo:.4g}, {hi:.4g}] kPa does",
         )
     root = brentq(lambda x: residual(math.exp(x)), math.log(lo), math.log(hi), xtol=1e-13)
     return math.exp(root)
+
+
+CONE_TABLE = Path(__file__).parent / "data" / "shell_correction_cone.csv"
+"""The shipped shelled-oocyte table for cones (``oocyte_fe.afm_corrections.cone_table``)."""
+CONE_CURVATURE_GAP = 0.01
+"""Largest ``a tan(alpha) / (2 R)`` accepted for a cone: the cell's extra gap at the contact
+edge over the cone's. The table's ratio divides the curvature out to first order; what is
+left, the homogeneous curved cell reading low, is about 0.8 of this gap (measured at 70 deg,
+docs/afm.md), so about 0.8 % at the bound."""
+
+
+SHARP_CONE_DEG = 45.0
+"""Cones sharper than this are outside what the FE verifies (docs/fe.md); for them the table
+rests on the linear-elastic angle invariance and is accepted to y = :data:`SHARP_CONE_MAX_Y`
+only (a 30 deg FE run, itself not verified, departs from the table by at most 0.75 % there
+and by 2 % at y = 0.2; docs/afm.md)."""
+SHARP_CONE_MAX_Y = 0.1
+
+
+def cone_max_y(half_angle_deg: float) -> float:
+    """Deepest y = d tan(alpha)/h accepted for a cone of ``half_angle_deg``."""
+    deepest = float(load_cone_table().y[-1])
+    return deepest if half_angle_deg >= SHARP_CONE_DEG else min(deepest, SHARP_CONE_MAX_Y)
+
+
+@dataclass(frozen=True)
+class ConeTable:
+    """The cone table: ``ratio[e]`` at the y nodes ``y`` for E ratio node ``e_ratios[e]``."""
+
+    y: np.ndarray
+    e_ratios: tuple[float, ...]
+    ratio: tuple[np.ndarray, ...]
+    splines: tuple[CubicSpline, ...]
+    """Cubic splines of each column in y (the ratio falls like y = pi a / (2 h) from 1)."""
+
+
+@functools.lru_cache(maxsize=2)
+def load_cone_table(path: str | Path = CONE_TABLE) -> ConeTable:
+    """The cone table of ``path`` (CSV: y, e_ratio, ratio, hom)."""
+    with Path(path).open() as fh:
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+    data = np.array([[float(r[k]) for k in ("y", "e_ratio", "ratio")] for r in rows])
+    e_ratios = tuple(sorted(set(data[:, 1])))
+    y = np.unique(data[:, 0])
+    columns = []
+    for e in e_ratios:
+        col = data[data[:, 1] == e]
+        columns.append(col[np.argsort(col[:, 0]), 2])
+    splines = tuple(CubicSpline(y, c) for c in columns)
+    return ConeTable(y, e_ratios, tuple(columns), splines)
+
+
+def cone_shell_ratio(y: float, e_ratio: float, where: str = "shell_correction") -> float:
+    """E_app / E_ZP of a ``sneddon_cone`` fit from contact to ``y = d tan(alpha) / h`` on the
+    shelled oocyte with E_c / E_ZP = ``e_ratio`` (any half angle: in linear elasticity the
+    ratio depends on y and E_c/E_ZP only; measured within 0.75 % from 60 to 80 deg)."""
+    t = load_cone_table()
+    check_range(y, 0.0, float(t.y[-1]), "depth tan(half angle) / ZP thickness (y)", where)
+    check_range(e_ratio, t.e_ratios[0], t.e_ratios[-1], "E_cytoplasm / E_ZP", where)
+    return _cone_at(t, y)(e_ratio)
+
+
+def _cone_at(t: ConeTable, y: float) -> Callable[[float], float]:
+    by_e = PchipInterpolator(np.log(t.e_ratios), [float(s(y)) for s in t.splines])
+    return lambda e_ratio: float(by_e(math.log(e_ratio)))
+
+
+def cone_curvature_gap(depth_um: float, half_angle_deg: float, cell_um: float) -> float:
+    """``a tan(alpha) / (2 R)`` with Sneddon's contact radius ``a = 2 d tan(alpha) / pi``: the
+    cell's extra gap at the contact edge over the cone's own [1]."""
+    tan = math.tan(math.radians(half_angle_deg))
+    return 2.0 / math.pi * depth_um * tan * tan / (2.0 * cell_um)
+
+
+def cone_zona_modulus(
+    e_fit_kPa: float,
+    depth_um: float,
+    half_angle_deg: float,
+    zona_um: float,
+    cytoplasm_kPa: float,
+    cell_um: float,
+    where: str = "shell_correction",
+) -> float:
+    """E_ZP [kPa] from the modulus ``e_fit_kPa`` a ``sneddon_cone`` fit read to ``depth_um``:
+    solves ``E_fit = E_ZP ratio(y, E_c/E_ZP)`` (:func:`cone_shell_ratio`) by Brent's method
+    in ln E_ZP. Refused: R/h off the table's by more than 3 %, or a cone so blunt for its
+    depth that the cell's curvature matters (:data:`CONE_CURVATURE_GAP`)."""
+    check_range(
+        cell_um / zona_um / TABLE_CELL_OVER_ZONA,
+        1 - CELL_TOLERANCE,
+        1 + CELL_TOLERANCE,
+        f"cell radius / ZP thickness relative to the table's {TABLE_CELL_OVER_ZONA:.4g}",
+        where,
+    )
+    check_range(
+        cone_curvature_gap(depth_um, half_angle_deg, cell_um),
+        0.0,
+        CONE_CURVATURE_GAP,
+        "the cell's curvature gap at the contact edge, a tan(half angle) / (2 R)",
+        where,
+    )
+    t = load_cone_table()
+    y = depth_um * math.tan(math.radians(half_angle_deg)) / zona_um
+    check_range(
+        y,
+        0.0,
+        cone_max_y(half_angle_deg),
+        f"depth tan(half angle) / ZP thickness (y) for a {half_angle_deg:g} deg cone",
+        where,
+    )
+    ratio = _cone_at(t, y)
+    return _solve_zona(e_fit_kPa, cytoplasm_kPa, t.e_ratios, ratio, where)

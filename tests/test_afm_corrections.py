@@ -12,8 +12,13 @@ import pytest
 
 from afm import bottom_effect as be
 from afm.corrections import (
+    CONE_CURVATURE_GAP,
+    cone_curvature_gap,
+    cone_shell_ratio,
+    cone_zona_modulus,
     curvature_factor,
     effective_radius_um,
+    load_cone_table,
     load_table,
     shell_ratio,
     zona_modulus,
@@ -75,6 +80,39 @@ def test_zona_modulus_undoes_the_table_and_the_curvature():
     assert c == pytest.approx(math.sqrt(rp / effective_radius_um(rp, r)), rel=1e-4)
 
 
+def test_cone_table_returns_its_nodes_and_is_one_in_its_limits():
+    t = load_cone_table()
+    for e, column in zip(t.e_ratios, t.ratio, strict=True):
+        for y, r in zip(t.y, column, strict=True):
+            assert cone_shell_ratio(float(y), e) == pytest.approx(r, abs=1e-12)
+        assert cone_shell_ratio(0.0, e) == pytest.approx(1.0, abs=1e-12)
+    for y in (0.01, 0.1, 0.3):
+        assert cone_shell_ratio(y, 1.0) == pytest.approx(1.0, abs=1e-12)
+    # a softer cytoplasm and a deeper fit read lower
+    assert cone_shell_ratio(0.2, 0.05) < cone_shell_ratio(0.2, 0.22) < cone_shell_ratio(0.1, 0.22)
+
+
+def test_cone_zona_modulus_undoes_the_table_and_refuses_a_blunt_cone():
+    e_zp, e_c, d, angle = 7.0, 1.55, 2.0, 10.0  # the seed's cone and moduli
+    y = d * np.tan(np.radians(angle)) / 15.0
+    e_fit = e_zp * cone_shell_ratio(y, e_c / e_zp)
+    assert cone_zona_modulus(e_fit, d, angle, 15.0, e_c, 70.0) == pytest.approx(e_zp, rel=1e-10)
+    # gap = a tan(alpha) / (2 R), a = 2 d tan(alpha) / pi
+    tan = np.tan(np.radians(70.0))
+    assert cone_curvature_gap(1.0, 70.0, 70.0) == pytest.approx(2 / np.pi * tan**2 / 140.0)
+    deepest = CONE_CURVATURE_GAP * np.pi * 70.0 / tan**2  # 0.29 um for 70 deg
+    cone_zona_modulus(5.0, 0.99 * deepest, 70.0, 15.0, 1.55, 70.0)
+    with pytest.raises(InputError, match="curvature gap"):
+        cone_zona_modulus(5.0, 1.01 * deepest, 70.0, 15.0, 1.55, 70.0)
+    with pytest.raises(InputError, match=r"\(y\)"):
+        cone_shell_ratio(0.31, 0.22)
+    # sharper than 45 deg: the table is accepted to y = 0.1 only
+    d_sharp = 0.101 * 15.0 / np.tan(np.radians(10.0))
+    with pytest.raises(InputError, match="10 deg cone"):
+        cone_zona_modulus(7.0, d_sharp, 10.0, 15.0, 1.55, 70.0)
+    cone_zona_modulus(7.0, 0.099 * 15.0 / np.tan(np.radians(10.0)), 10.0, 15.0, 1.55, 70.0)
+
+
 def test_dimitriadis_coefficients_and_closed_form():
     # eq. 12's first two numbers from Dimitriadis' alpha0 = -1.7795 (bonded, nu = 0.5)
     alpha0 = -1.7795
@@ -93,10 +131,19 @@ def test_dimitriadis_coefficients_and_closed_form():
     assert cone == pytest.approx([3.087])
 
 
-def _case(tmp_path: Path, correction: str, model: str = "hertz_sphere", extra: str = "") -> Path:
+def _case(
+    tmp_path: Path,
+    correction: str,
+    model: str = "hertz_sphere",
+    extra: str = "",
+    angle: float = 35.0,
+) -> Path:
     case = tmp_path / "case"
     (case / "curves").mkdir(parents=True, exist_ok=True)
-    geometry = "{ radius_um = 5.0 }" if model != "sneddon_cone" else "{ half_angle_deg = 35.0 }"
+    cone = {"half_angle_deg": angle}
+    geometry = (
+        "{ radius_um = 5.0 }" if model != "sneddon_cone" else f"{{ half_angle_deg = {angle} }}"
+    )
     for i, e in enumerate((5.0, 7.0)):
         curve = indentation_curve(
             e,
@@ -105,7 +152,7 @@ def _case(tmp_path: Path, correction: str, model: str = "hertz_sphere", extra: s
             n_points=300,
             k_nN_per_um=1e3,
             model=model,
-            geometry={"radius_um": 5.0} if model != "sneddon_cone" else {"half_angle_deg": 35.0},
+            geometry={"radius_um": 5.0} if model != "sneddon_cone" else cone,
         )
         write_curve(curve, case / "curves" / f"c{i}.csv")
     (case / "case.toml").write_text(
@@ -143,6 +190,22 @@ def test_shelled_oocyte_option_through_the_case(tmp_path):
     assert "shelled_oocyte: E_ZP from the FE table" in report
 
 
+def test_shelled_oocyte_option_corrects_a_cone_fit_through_the_case(tmp_path):
+    case = _case(tmp_path, SHELL, "sneddon_cone")
+    [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
+    assert result.status == "PASS", result.reason
+    with (tmp_path / "out" / "case" / "fits.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 2
+    for row in rows:
+        e, d = float(row["E_kPa"]), float(row["max_indentation_um"])
+        expected = cone_zona_modulus(e, d, 35.0, 15.0, 1.2, 70.0)
+        y = d * np.tan(np.radians(35.0)) / 15.0
+        assert expected == pytest.approx(e / cone_shell_ratio(y, 1.2 / expected), rel=1e-9)
+        assert float(row["E_corrected_kPa"]) == pytest.approx(expected, rel=1e-5)
+        assert 1.0 < expected / e < 1.15  # y = 0.093: the shell reads a few percent low
+
+
 def test_dimitriadis_option_through_the_case(tmp_path):
     case = _case(tmp_path, 'type = "dimitriadis_bonded"\nlayer_thickness_um = 8.0')
     [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
@@ -158,7 +221,7 @@ def test_dimitriadis_option_through_the_case(tmp_path):
 @pytest.mark.parametrize(
     ("correction", "model", "extra", "field"),
     [
-        (SHELL, "sneddon_cone", "", "inputs.correction.type"),
+        (SHELL, "sneddon_cone:75", "", "inputs.max_indentation_um"),  # curvature gap 0.13
         (SHELL, "hertz_sphere", "nu = 0.45\n", "inputs.nu"),
         (SHELL.replace("15.0", "30.0"), "hertz_sphere", "", "Rp/h"),
         (SHELL.replace("15.0", "9.0"), "hertz_sphere", "", "inputs.max_indentation_um"),
@@ -168,6 +231,7 @@ def test_dimitriadis_option_through_the_case(tmp_path):
     ],
 )
 def test_option_refuses_what_it_does_not_cover(tmp_path, correction, model, extra, field):
-    case = _case(tmp_path, correction, model, extra)
+    model, _, angle = model.partition(":")
+    case = _case(tmp_path, correction, model, extra, float(angle or 35.0))
     [result] = run_cases(plan([case], quick=True), tmp_path / "out", quick=True)
     assert result.status == "ERROR" and field in result.reason, result.reason

@@ -25,6 +25,7 @@ import argparse
 import datetime
 import subprocess
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -145,22 +146,36 @@ def force_curve(exp: Experiment) -> tuple[np.ndarray, np.ndarray]:
     return arrays["depth"], arrays["force"]
 
 
+def fitted_moduli(
+    depth: np.ndarray,
+    force: np.ndarray,
+    model_name: str,
+    geometry: dict[str, float],
+    to_depth: np.ndarray,
+    axis: Callable[[np.ndarray], np.ndarray] = np.sqrt,
+) -> np.ndarray:
+    """E_fit [kPa] of afm's ``model_name`` (tip ``geometry``, nu 0.5) fitted from contact to
+    each depth of ``to_depth`` (points uniform in depth; module docstring). Between the FE
+    frames the local modulus ``F / s`` is a monotone cubic in ``axis(d)`` (sqrt(d) for a
+    sphere, whose ratio falls like sqrt(d); d for a cone, whose ratio falls like d)."""
+    model = get_model(model_name)
+    inside = depth > 0
+    local = force[inside] / model.shape(depth[inside], geometry, NU)  # F / s
+    modulus = PchipInterpolator(axis(depth[inside]), local, extrapolate=True)  # smooth
+    out = []
+    for d in np.atleast_1d(to_depth):
+        x = np.linspace(0.0, d, 4001)[1:]
+        s = model.shape(x, geometry, NU)
+        out.append(np.sum(modulus(axis(x)) * s * s) / np.sum(s * s))
+    return np.array(out)
+
+
 def hertz_fit(
     depth: np.ndarray, force: np.ndarray, radius_um: float, to_depth: np.ndarray
 ) -> np.ndarray:
     """E_fit [kPa] of afm's ``hertz_sphere`` (radius ``radius_um``, nu 0.5) fitted from contact
     to each depth of ``to_depth`` (points uniform in depth; module docstring)."""
-    model = get_model("hertz_sphere")
-    geometry = {"radius_um": radius_um}
-    inside = depth > 0
-    local = force[inside] / model.shape(depth[inside], geometry, NU)  # F / s
-    modulus = PchipInterpolator(np.sqrt(depth[inside]), local, extrapolate=True)  # smooth
-    out = []
-    for d in np.atleast_1d(to_depth):
-        x = np.linspace(0.0, d, 4001)[1:]
-        s = model.shape(x, geometry, NU)
-        out.append(np.sum(modulus(np.sqrt(x)) * s * s) / np.sum(s * s))
-    return np.array(out)
+    return fitted_moduli(depth, force, "hertz_sphere", {"radius_um": radius_um}, to_depth)
 
 
 @dataclass(frozen=True)
@@ -206,7 +221,7 @@ def table_rows() -> list[dict[str, float]]:
     return rows
 
 
-def _version() -> str:
+def code_version() -> str:
     try:
         out = subprocess.run(
             ["git", "describe", "--always", "--dirty"],
@@ -225,8 +240,8 @@ def write_table(path: Path, rows: list[dict[str, float]], cpu_s: float) -> None:
     header = [
         "shell correction for a spherical probe on the layered oocyte (afm.corrections)",
         "made by: python -m oocyte_fe.afm_corrections.table "
-        f"(code {_version()}, {datetime.date.today().isoformat()}, {cpu_s / 60:.1f} CPU-min; FE "
-        f"results come from the cache when present; {COLD_RUN})",
+        f"(code {code_version()}, {datetime.date.today().isoformat()}, "
+        f"{cpu_s / 60:.1f} CPU-min; FE results come from the cache when present; {COLD_RUN})",
         f"FE: axisymmetric P2, neo-Hookean, nu = {NU}, bonded layers, cell R = "
         f"{CELL_RADIUS_UM:g} um, ZP h = {ZONA_UM:g} um, contact elements "
         f"{REFINE_UM:g} um sqrt(Rp / 5 um), {FRAMES} frames uniform in sqrt(d), a 60 um "
@@ -236,7 +251,7 @@ def write_table(path: Path, rows: list[dict[str, float]], cpu_s: float) -> None:
         f"grid: depth_h = 0:{DEPTH_STEP_H}:min({MAX_DEPTH_H}, {MAX_DEPTH_RP} Rp/h); "
         f"e_ratio = {', '.join(f'{e:g}' for e in E_RATIOS)}; "
         f"probe_h = {', '.join(f'{p:.6g}' for p in PROBE_RATIOS)}",
-        "spherical probes only: cones are not covered (the FE cone is not verified, docs/fe.md)",
+        "spherical probes only: cones are in shell_correction_cone.csv",
     ]
     lines = [f"# {h}" for h in header] + ["depth_h,e_ratio,probe_h,ratio,hom"]
     lines += [
