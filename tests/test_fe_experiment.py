@@ -141,23 +141,24 @@ def test_validate_refuses_cross_field_nonsense(tmp_path: Path, label: str):
     _write_case(tmp_path, inputs)
     with pytest.raises(InputError) as err:
         load_case(tmp_path)
-    assert "case.toml" in str(err.value) and block in str(err.value)
+    assert "case.toml" in str(err.value) and f"{block}.{key}" in str(err.value)
 
 
 @pytest.mark.parametrize(
-    "tool",
+    ("tool", "named"),
     [
-        {"side": "left"},  # off the axis in axisymmetry
-        {"inner_radius_um": 60.0},  # wider than the cell
-        {"mouth_fillet_um": 6.0},  # a fillet wider than the wall
+        ({"side": "left"}, "tools"),  # off the axis in axisymmetry
+        ({"inner_radius_um": 60.0}, "tools"),  # wider than the cell
+        ({"mouth_fillet_um": 6.0}, "pipette.straight_pipette.mouth_fillet_um"),  # wider than wall
     ],
 )
-def test_validate_refuses_tools_that_do_not_fit(tmp_path: Path, tool: dict):
+def test_validate_refuses_tools_that_do_not_fit(tmp_path: Path, tool: dict, named: str):
     inputs = copy.deepcopy(_aspiration())
     inputs["tools"]["pipette"].update(tool)
     _write_case(tmp_path, inputs)
-    with pytest.raises(InputError, match="tools"):
+    with pytest.raises(InputError, match="tools") as err:
         load_case(tmp_path)
+    assert named in str(err.value)
 
 
 @pytest.mark.parametrize("name", sorted(TEMPLATES))

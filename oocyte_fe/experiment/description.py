@@ -27,7 +27,7 @@ from oocyte_fe.experiment.loads import Load, TractionLoad, read_traction_table
 from oocyte_fe.experiment.paths import PathSpec
 from oocyte_fe.fe.material import Material, Prony, read_material_file
 from oocyte_fe.kinds.data_templates import ZONA_MATERIAL
-from oocyte_fe.runner.schema import CaseInputs, DataFile
+from oocyte_fe.runner.schema import CaseInputs, DataFile, Relation, RuleBroken
 
 Side = Literal["top", "bottom", "left", "right"]
 Length = Annotated[float, Field(gt=0, le=1e4)]
@@ -174,6 +174,17 @@ class Cell(CaseInputs):
         json_schema_extra={"unit": "um"},
     )
 
+    rules = (
+        Relation("zona_thickness_um", "<", lambda m: 0.5 * m.radius_um, "half the outer radius"),
+        Relation(
+            "mesh_size_um",
+            "<=",
+            lambda m: 0.5 * (m.radius_um - m.zona_thickness_um),
+            "half the cytoplasm radius",
+        ),
+        Relation("refine_size_um", "<=", lambda m: m.mesh_size_um, "mesh_size_um"),
+    )
+
     @property
     def radius_um(self) -> float:
         return 0.5 * self.outer_diameter_um
@@ -181,20 +192,20 @@ class Cell(CaseInputs):
     @model_validator(mode="after")
     def _geometry(self) -> Cell:
         r = self.radius_um
-        if self.zona_thickness_um >= 0.5 * r:
-            raise ValueError(f"zona_thickness_um < half the outer radius ({0.5 * r:g} um)")
         if self.zona_thickness_um > 0 and self.materials.zona is None:
             raise ValueError("materials.zona when zona_thickness_um > 0")
-        if self.mesh_size_um > (r - self.zona_thickness_um) / 2:
-            raise ValueError(f"mesh_size_um <= half the cytoplasm radius ({r / 2:g} um)")
-        if self.refine_size_um is not None and self.refine_size_um > self.mesh_size_um:
-            raise ValueError("refine_size_um <= mesh_size_um")
         for lo, hi in self.refine_windows_deg or []:
             if not 0 <= lo < hi <= 180:
                 raise ValueError("refine_windows_deg: [lo, hi] with 0 <= lo < hi <= 180")
         for name, (x, y) in self.points.items():
-            if np.hypot(x, y) > r * (1 + 1e-9) or (self.symmetry == "axisymmetric" and x < 0):
-                raise ValueError(f"point {name!r} = ({x:g}, {y:g}) inside the cell (radius {r:g})")
+            axisym = self.symmetry == "axisymmetric"
+            if np.hypot(x, y) > r * (1 + 1e-9) or (axisym and x < 0):
+                raise RuleBroken(
+                    "points",
+                    f"point {name!r} inside the cell (radius {r:g} um"
+                    + (", x >= 0 in axisymmetry)" if axisym else ")"),
+                    [x, y],
+                )
         return self
 
 
@@ -244,11 +255,7 @@ class StraightPipette(ToolBase):
         "it holds the cell); contact: the glass by contact only (hold the cell otherwise)",
     )
 
-    @model_validator(mode="after")
-    def _fillet(self) -> StraightPipette:
-        if self.mouth_fillet_um >= self.wall_um:
-            raise ValueError("mouth_fillet_um < wall_um")
-        return self
+    rules = (Relation("mouth_fillet_um", "<", lambda m: m.wall_um, "wall_um"),)
 
 
 class WedgePipette(ToolBase):
@@ -303,10 +310,10 @@ class NeckedPipette(ToolBase):
     suction_Pa: PathSpec | None = None
     suction_control: SuctionControl | None = None
 
+    rules = (Relation("neck_diameter_um", "<", lambda m: m.bore_diameter_um, "bore_diameter_um"),)
+
     @model_validator(mode="after")
     def _narrowing(self) -> NeckedPipette:
-        if self.neck_diameter_um >= self.bore_diameter_um:
-            raise ValueError("neck_diameter_um below bore_diameter_um")
         if (self.suction_Pa is None) == (self.suction_control is None):
             raise ValueError("suction_Pa or suction_control (one of them)")
         return self
