@@ -42,6 +42,7 @@ from scipy.interpolate import CubicSpline, PchipInterpolator
 from scipy.optimize import brentq
 
 from afm.models import get_model
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
 TABLE = Path(__file__).parent / "data" / "shell_correction.csv"
@@ -51,6 +52,30 @@ TABLE_CELL_OVER_ZONA = 70.0 / 15.0
 CELL_TOLERANCE = 0.03
 """Relative departure of R/h from the table's accepted: the ratio moves by about a third of
 it (measured at R = 60 um: +2.6 to +4.8 %), so about 1 % at the edge (docs/afm.md)."""
+
+
+KINDS = {
+    "e_fit_kPa": "modulus_kPa",
+    "cytoplasm_kPa": "modulus_kPa",
+    "zona_um": "length_um",
+    "probe_um": "length_um",
+    "cell_um": "length_um",
+    "half_angle_deg": "cone_half_angle_deg",
+}
+"""The physical quantity of each argument of the corrections (``oocyte_fe.checks``)."""
+
+
+def _checked(where: str, **values: object) -> dict[str, float]:
+    """Every argument a real, finite number within its quantity's bounds (a depth >= 0)."""
+    out = {}
+    for name, value in values.items():
+        if name == "depth_um":
+            out[name] = checks.number(where, name, value, ge=0.0, le=1e6)
+        elif name in KINDS:
+            out[name] = checks.quantity(where, name, value, KINDS[name])
+        else:
+            out[name] = checks.number(where, name, value)
+    return out
 
 
 @dataclass(frozen=True)
@@ -140,6 +165,10 @@ def shell_ratio(
 
     Outside the table: :class:`InputError` naming the quantity and the range.
     """
+    depth_h, e_ratio, probe_h = (
+        checks.number(where, n, x)
+        for n, x in (("depth_h", depth_h), ("e_ratio", e_ratio), ("probe_h", probe_h))
+    )
     t, ratio = _checked_profile(depth_h, probe_h, where)
     check_range(e_ratio, t.e_ratios[0], t.e_ratios[-1], "E_cytoplasm / E_ZP", where)
     return ratio(e_ratio)
@@ -158,7 +187,9 @@ def curvature_factor(model: str, probe_um: float, cell_um: float, depth_um: floa
     """E_app(R*) / E_fit(Rp): a fit of ``model`` (hertz_sphere or hertz_paraboloid) with the
     probe's radius to a curve that follows ``hertz_sphere`` with R*, from contact to
     ``depth_um`` (points uniform in depth): ``int s_Rp^2 / int s_R* s_Rp`` [1]."""
-    if depth_um <= 0:  # the small-depth limit: paraboloids, sqrt(Rp / R*)
+    v = _checked("curvature_factor", probe_um=probe_um, cell_um=cell_um, depth_um=depth_um)
+    probe_um, cell_um, depth_um = v["probe_um"], v["cell_um"], v["depth_um"]
+    if depth_um <= 1e-6 * probe_um:  # the small-depth limit (to O(d/Rp)): sqrt(Rp / R*)
         return math.sqrt(probe_um / effective_radius_um(probe_um, cell_um))
     x = np.linspace(0.0, depth_um, 2001)
     s_user = _shape(model, probe_um, x)
@@ -180,6 +211,17 @@ def zona_modulus(
     read to ``depth_um``: solves ``E_fit c = E_ZP ratio(d/h, E_c/E_ZP, Rp/h)`` (eq. 1, ``c``
     the :func:`curvature_factor`) for E_ZP by Brent's method in ln E_ZP (the cytoplasm's
     modulus given in kPa)."""
+    v = _checked(
+        where,
+        e_fit_kPa=e_fit_kPa,
+        depth_um=depth_um,
+        zona_um=zona_um,
+        cytoplasm_kPa=cytoplasm_kPa,
+        probe_um=probe_um,
+        cell_um=cell_um,
+    )
+    e_fit_kPa, depth_um, zona_um = v["e_fit_kPa"], v["depth_um"], v["zona_um"]
+    cytoplasm_kPa, probe_um, cell_um = v["cytoplasm_kPa"], v["probe_um"], v["cell_um"]
     check_range(
         cell_um / zona_um / TABLE_CELL_OVER_ZONA,
         1 - CELL_TOLERANCE,
@@ -271,7 +313,8 @@ def load_cone_table(path: str | Path = CONE_TABLE) -> ConeTable:
 def cone_shell_ratio(y: float, e_ratio: float, where: str = "shell_correction") -> float:
     """E_app / E_ZP of a ``sneddon_cone`` fit from contact to ``y = d tan(alpha) / h`` on the
     shelled oocyte with E_c / E_ZP = ``e_ratio`` (any half angle: in linear elasticity the
-    ratio depends on y and E_c/E_ZP only; measured within 0.75 % from 60 to 80 deg)."""
+    ratio depends on y and E_c/E_ZP only; measured within 0.75 % from 45 to 80 deg)."""
+    y, e_ratio = checks.number(where, "y", y), checks.number(where, "e_ratio", e_ratio)
     t = load_cone_table()
     check_range(y, 0.0, float(t.y[-1]), "depth tan(half angle) / ZP thickness (y)", where)
     check_range(e_ratio, t.e_ratios[0], t.e_ratios[-1], "E_cytoplasm / E_ZP", where)
@@ -286,6 +329,9 @@ def _cone_at(t: ConeTable, y: float) -> Callable[[float], float]:
 def cone_curvature_gap(depth_um: float, half_angle_deg: float, cell_um: float) -> float:
     """``a tan(alpha) / (2 R)`` with Sneddon's contact radius ``a = 2 d tan(alpha) / pi``: the
     cell's extra gap at the contact edge over the cone's own [1]."""
+    v = _checked("cone_curvature_gap", depth_um=depth_um, half_angle_deg=half_angle_deg)
+    depth_um, half_angle_deg = v["depth_um"], v["half_angle_deg"]
+    cell_um = checks.quantity("cone_curvature_gap", "cell_um", cell_um, "length_um")
     tan = math.tan(math.radians(half_angle_deg))
     return 2.0 / math.pi * depth_um * tan * tan / (2.0 * cell_um)
 
@@ -303,6 +349,17 @@ def cone_zona_modulus(
     solves ``E_fit = E_ZP ratio(y, E_c/E_ZP)`` (:func:`cone_shell_ratio`) by Brent's method
     in ln E_ZP. Refused: R/h off the table's by more than 3 %, or a cone so blunt for its
     depth that the cell's curvature matters (:data:`CONE_CURVATURE_GAP`)."""
+    v = _checked(
+        where,
+        e_fit_kPa=e_fit_kPa,
+        depth_um=depth_um,
+        half_angle_deg=half_angle_deg,
+        zona_um=zona_um,
+        cytoplasm_kPa=cytoplasm_kPa,
+        cell_um=cell_um,
+    )
+    e_fit_kPa, depth_um, half_angle_deg = v["e_fit_kPa"], v["depth_um"], v["half_angle_deg"]
+    zona_um, cytoplasm_kPa, cell_um = v["zona_um"], v["cytoplasm_kPa"], v["cell_um"]
     check_range(
         cell_um / zona_um / TABLE_CELL_OVER_ZONA,
         1 - CELL_TOLERANCE,

@@ -28,6 +28,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+from afm.corrections import cone_zona_modulus, zona_modulus
 from afm.creep import (
     CreepData,
     compliance_from_indentation,
@@ -461,3 +462,39 @@ def _creep_files(tmp_path: Path, fault: str, fraction: float, back: float, noise
 def test_creep_files(tmp_path: Path) -> None:
     with exercised("afm.read_creep"):
         _creep_files(tmp_path=tmp_path)
+
+
+_ZONA_ARGS = {
+    "e_fit_kPa": 5.0,
+    "depth_um": 1.5,
+    "zona_um": 15.0,
+    "cytoplasm_kPa": 1.55,
+    "probe_um": 10.0,
+    "cell_um": 70.0,
+}
+_CONE_ARGS = {**{k: v for k, v in _ZONA_ARGS.items() if k != "probe_um"}, "half_angle_deg": 10.0}
+
+
+@FUZZ
+@given(
+    cone=st.booleans(),
+    name=st.sampled_from(sorted({*_ZONA_ARGS, *_CONE_ARGS})),
+    value=NONSENSE,
+)
+@example(cone=True, name="depth_um", value=2.8)
+@example(cone=False, name="depth_um", value=5e-324)
+@example(cone=True, name="half_angle_deg", value=math.inf)
+def _shell_correction_arguments(cone: bool, name: str, value: object) -> None:
+    # the shelled-oocyte corrections (issue 28 C): E_ZP finite and positive, or refused
+    args = dict(_CONE_ARGS if cone else _ZONA_ARGS)
+    if name in args:
+        args[name] = value
+    fn = cone_zona_modulus if cone else zona_modulus
+    e_zp = check_outcome("afm.corrections", lambda: fn(**args))
+    if e_zp is not None:
+        assert e_zp > 0
+
+
+def test_shell_correction_arguments() -> None:
+    with exercised("afm.corrections"):
+        _shell_correction_arguments()
