@@ -31,6 +31,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from afm.models import get_model
+from oocyte_fe import checks
+from oocyte_fe.errors import InputError
 
 DIMITRIADIS_BONDED = (1.133, 1.283, 0.769, 0.0975)
 """Dimitriadis et al. (2002) eq. 12: bonded, nu = 0.5, coefficients of x = sqrt(R d)/h."""
@@ -44,15 +46,30 @@ def _polynomial(coefficients: tuple[float, ...], x: np.ndarray) -> np.ndarray:
     return 1.0 + sum(c * x ** (k + 1) for k, c in enumerate(coefficients))
 
 
+def _checked(
+    where: str, depth_um: object, radius_um: object, layer_um: object
+) -> tuple[np.ndarray, float, float]:
+    """Depths (>= 0) and lengths (within a length's bounds) as numbers, or refused."""
+    return (
+        checks.numbers_array(where, "depth_um", depth_um, ge=0.0, le=1e6),
+        checks.quantity(where, "radius_um", radius_um, "length_um"),
+        checks.quantity(where, "layer_um", layer_um, "length_um"),
+    )
+
+
 def dimitriadis_factor(depth_um: np.ndarray, radius_um: float, layer_um: float) -> np.ndarray:
     """F / F_Hertz of a sphere on a bonded layer, nu = 0.5 (Dimitriadis 2002, eq. 12) [1]."""
-    x = np.sqrt(radius_um * np.asarray(depth_um, dtype=float)) / layer_um
+    depth_um, radius_um, layer_um = _checked("dimitriadis_factor", depth_um, radius_um, layer_um)
+    x = np.sqrt(radius_um * depth_um) / layer_um
     return _polynomial(DIMITRIADIS_BONDED, x)
 
 
 def garcia_cone_factor(depth_um: np.ndarray, half_angle_deg: float, layer_um: float) -> np.ndarray:
     """F / F_Sneddon of a cone on a bonded layer, nu = 0.5 (Garcia and Garcia 2018) [1]."""
-    y = np.asarray(depth_um, dtype=float) * math.tan(math.radians(half_angle_deg)) / layer_um
+    where = "garcia_cone_factor"
+    half_angle_deg = checks.quantity(where, "half_angle_deg", half_angle_deg, "cone_half_angle_deg")
+    depth_um, _, layer_um = _checked(where, depth_um, 1.0, layer_um)
+    y = depth_um * math.tan(math.radians(half_angle_deg)) / layer_um
     return _polynomial(GARCIA_CONE, y)
 
 
@@ -71,7 +88,12 @@ def fit_factor(
     """E_fit / E of a half-space fit of ``model`` (hertz_sphere, hertz_paraboloid:
     ``radius_um``; sneddon_cone: ``half_angle_deg``) from contact to ``depth_um`` (points
     uniform in depth) on a bonded layer of ``layer_um``: ``int s^2 f / int s^2`` [1]."""
+    tip = get_model(model, "fit_factor")
+    if not isinstance(geometry, Mapping):
+        raise InputError("fit_factor", "geometry", "a table of tip parameters", got=geometry)
+    geometry = tip.check_geometry(geometry, "fit_factor")
+    depth_um = checks.quantity("fit_factor", "depth_um", depth_um, "length_um")
     x = np.linspace(0.0, depth_um, 2001)
-    shape = get_model(model).shape(x, geometry, 0.5)
+    shape = tip.shape(x, geometry, 0.5)
     f = factor(model, geometry, x, layer_um)
     return float(np.trapezoid(shape**2 * f, x) / np.trapezoid(shape**2, x))

@@ -28,6 +28,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+from afm.bottom_effect import fit_factor
 from afm.corrections import cone_zona_modulus, zona_modulus
 from afm.creep import (
     CreepData,
@@ -498,3 +499,24 @@ def _shell_correction_arguments(cone: bool, name: str, value: object) -> None:
 def test_shell_correction_arguments() -> None:
     with exercised("afm.corrections"):
         _shell_correction_arguments()
+
+
+@FUZZ
+@given(
+    cone=st.booleans(), name=st.sampled_from(["geometry", "depth_um", "layer_um"]), value=NONSENSE
+)
+@example(cone=False, name="depth_um", value=2.0)
+@example(cone=True, name="layer_um", value=0.0)
+def _bottom_effect_arguments(cone: bool, name: str, value: object) -> None:
+    # the bonded-layer corrections (Dimitriadis, Garcia): a finite factor >= 1, or refused
+    model, geometry = ("sneddon_cone", {"half_angle_deg": 35.0}) if cone else ("hertz_sphere", {})
+    args: dict = {"geometry": geometry or {"radius_um": 5.0}, "depth_um": 2.0, "layer_um": 8.0}
+    args[name] = value
+    f = check_outcome("afm.bottom_effect", lambda: fit_factor(model, **args))
+    if f is not None:
+        assert f >= 1.0
+
+
+def test_bottom_effect_arguments() -> None:
+    with exercised("afm.bottom_effect"):
+        _bottom_effect_arguments()
