@@ -262,6 +262,8 @@ def fit_ramp(
                 else (np.array([contact_time / 3]))
             )
         else:
+            if isinstance(start_tau_s, str | bytes) or not isinstance(start_tau_s, Sequence):
+                raise InputError(src, "start_tau_s", "a list of times in s", start_tau_s)
             tau0 = np.array([quantity(src, "start_tau_s", v, "time_s") for v in start_tau_s])
             if tau0.size != n_theta:
                 raise InputError(src, "start_tau_s", f"{n_theta} times", tau0.size)

@@ -46,9 +46,9 @@ class RampCurve:
         if t.size < MIN_POINTS:
             raise InputError(src, "time_s", f"at least {MIN_POINTS} points", t.size)
         t = increasing(src, "time_s", t)  # names the first bad data row
-        for name, values in (("tip_position_um", x), ("force_nN", f)):
-            if not np.all(np.isfinite(values)):
-                raise InputError(src, name, "finite numbers")
+        for name, values, bound in (("tip_position_um", x, 1e6), ("force_nN", f, 1e12)):
+            if not np.all(np.isfinite(values) & (np.abs(values) <= bound)):
+                raise InputError(src, name, f"finite numbers of magnitude at most {bound:g}")
         steps = np.diff(t)
         step = float(np.median(steps))
         resampled = self.resampled

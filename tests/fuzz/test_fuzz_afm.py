@@ -50,6 +50,8 @@ from afm.prony_series import (
     relaxation_from_creep,
 )
 from afm.synthetic import creep_indentation, indentation_curve, pierce_curve
+from afm.viscoelastic.fit import fit_ramp
+from afm.viscoelastic.ramp import RampCurve
 from oocyte_fe.errors import InputError
 from tests.fuzz.harness import TALLY, check_outcome, fuzz_settings
 
@@ -520,3 +522,39 @@ def _bottom_effect_arguments(cone: bool, name: str, value: object) -> None:
 def test_bottom_effect_arguments() -> None:
     with exercised("afm.bottom_effect"):
         _bottom_effect_arguments()
+
+
+_T_RAMP = np.linspace(0.0, 0.1, 400)
+_X_RAMP = np.concatenate([np.linspace(-1.0, 1.0, 200), np.linspace(1.0, -1.0, 200)])
+_RAMP = RampCurve(_T_RAMP, _X_RAMP, 0.5 * np.clip(_X_RAMP, 0.0, None) ** 2)
+
+
+@FUZZ
+@given(
+    name=st.sampled_from(["nu", "terms", "t0_s", "start_tau_s", "relaxation", "last_force"]),
+    value=NONSENSE,
+)
+@example(name="start_tau_s", value=0.01)
+@example(name="last_force", value=1e300)
+@example(name="nu", value=0.5)
+def _fit_ramp_arguments(name: str, value: object) -> None:
+    # issue 28 B: the viscoelastic ramp fit; a scalar start_tau_s and a 1e300 force were a
+    # traceback and an infinite residual
+    force, kwargs = _RAMP.force_nN.copy(), {}
+    if name == "last_force":
+        force[-1] = value if isinstance(value, float) else force[-1]
+    else:
+        kwargs[name] = value
+    fit = check_outcome(
+        "afm.fit_ramp",
+        lambda: fit_ramp(
+            RampCurve(_T_RAMP, _X_RAMP, force), "hertz_paraboloid", {"radius_um": 5.0}, **kwargs
+        ),
+    )
+    if fit is not None:
+        assert math.isfinite(fit.residual_rms_nN) and math.isfinite(fit.r_squared)
+
+
+def test_fit_ramp_arguments() -> None:
+    with exercised("afm.fit_ramp"):
+        _fit_ramp_arguments()
