@@ -34,7 +34,7 @@ from pydantic import Discriminator, Field, Tag, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment.paths import PathSpec
-from oocyte_fe.microchannel.tables import read_columns
+from oocyte_fe.io.columns import read_columns
 from oocyte_fe.runner.schema import CaseInputs, DataFile
 
 COLUMNS = ("x_um", "y_um", "tx_Pa", "ty_Pa")

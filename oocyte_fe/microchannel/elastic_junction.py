@@ -36,7 +36,7 @@ from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.analysis import outline_extents_um
 from oocyte_fe.experiment.driver import ExperimentResult
 from oocyte_fe.experiment.loads import write_traction_table
-from oocyte_fe.microchannel.tables import read_columns
+from oocyte_fe.io.columns import read_columns
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
 from oocyte_fe.microchannel.vof.traction import Traction, surface_traction
