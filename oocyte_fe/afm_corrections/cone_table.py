@@ -108,10 +108,12 @@ def experiment(
     )
 
 
-def fitted(e_ratio: float, half_angle_deg: float, y: np.ndarray, y_max: float) -> np.ndarray:
-    """E_fit / E_ZP of ``sneddon_cone`` fitted to the FE curve (run to ``y_max``, or read from
-    the cache) from contact to each ``y``."""
-    exp = experiment(e_ratio, half_angle_deg, y_max=y_max)
+def fitted(
+    e_ratio: float, half_angle_deg: float, y: np.ndarray, y_max: float, frames: int = 24
+) -> np.ndarray:
+    """E_fit / E_ZP of ``sneddon_cone`` fitted to the FE curve (run to ``y_max`` in
+    ``frames`` frames, or read from the cache) from contact to each ``y``."""
+    exp = experiment(e_ratio, half_angle_deg, y_max=y_max, frames=frames)
     d, f = force_curve(exp)
     tan = float(np.tan(np.radians(half_angle_deg)))
     geometry = {"half_angle_deg": half_angle_deg}
@@ -120,11 +122,14 @@ def fitted(e_ratio: float, half_angle_deg: float, y: np.ndarray, y_max: float) -
     return fitted_moduli(d, f, "sneddon_cone", geometry, to_depth, axis=np.asarray) / e_zona
 
 
-def fresh_cone_ratio(e_ratio: float, half_angle_deg: float, y: np.ndarray) -> np.ndarray:
+def fresh_cone_ratio(
+    e_ratio: float, half_angle_deg: float, y: np.ndarray, frames: int = 24
+) -> np.ndarray:
     """E_fit(layered) / E_fit(homogeneous) at each ``y`` from fresh runs to ``max(y)`` (their
-    own mesh: a check of the table off its nodes)."""
+    own mesh and ``frames``: a check of the table off its nodes)."""
     y_max = float(np.max(y))
-    return fitted(e_ratio, half_angle_deg, y, y_max) / fitted(1.0, half_angle_deg, y, y_max)
+    layered = fitted(e_ratio, half_angle_deg, y, y_max, frames)
+    return layered / fitted(1.0, half_angle_deg, y, y_max, frames)
 
 
 def y_nodes() -> tuple[np.ndarray, np.ndarray]:
