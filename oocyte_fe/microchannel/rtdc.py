@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment.analysis import contour_deformation
@@ -43,6 +44,10 @@ class RtdcSetting:
     channel_width_um: float = 20.0
     flow_rate_uL_s: float = 0.04
     viscosity_mPa_s: float = 15.0
+
+    def __post_init__(self) -> None:
+        for name in ("channel_width_um", "flow_rate_uL_s", "viscosity_mPa_s"):
+            checks.positive("RtdcSetting", name, getattr(self, name))
 
     @property
     def channel_radius_um(self) -> float:
