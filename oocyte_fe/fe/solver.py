@@ -46,6 +46,7 @@ from oocyte_fe.fe.loads import (
     SurfaceTraction,
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
+from oocyte_fe.fe.pattern import SparsityPattern
 from oocyte_fe.fe.vectorized import FacetOperators, RegionOperators
 from oocyte_fe.progress import report
 
@@ -152,6 +153,7 @@ class Problem:
         self.pressures = [(pl, body.facet_basis(pl.boundary)) for pl in pressures]
         self.contacts = [(c, body.facet_basis(c.boundary)) for c in contacts]
         self.log = log or LOG
+        self._pattern = SparsityPattern((body.n_dofs, body.n_dofs))
         self._fixed = [
             (
                 body.point_dofs(b.point, b.component)
@@ -314,7 +316,7 @@ class Problem:
             f_ext += load.scale(t) * vec
         r[: body.n_u] -= f_ext
 
-        def tangent() -> sp.csr_matrix:
+        def tangent() -> sp.csc_matrix:
             rows, cols, vals = [], [], []
             uu = list(blocks_uu)
             for k, A5, JFinvT5 in deferred:
@@ -331,13 +333,12 @@ class Problem:
                     rows.append(Kpp.row + o)
                     cols.append(Kpp.col + o)
                     vals.append(Kpp.data)
-            Kuu = sum(uu[1:], uu[0]).tocoo()
-            rows.append(Kuu.row)
-            cols.append(Kuu.col)
-            vals.append(Kuu.data)
-            return sp.csr_matrix(
-                (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                shape=(body.n_dofs, body.n_dofs),
+            for block in uu:
+                rows.append(block.row)
+                cols.append(block.col)
+                vals.append(block.data)
+            return self._pattern.csc(
+                np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
             )
 
         return r, tangent, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
