@@ -34,6 +34,9 @@ import numpy as np
 
 from oocyte_fe.tracking.kcf import KcfModel
 
+NEAR = np.array([-1, 0, 1])
+"""Cell shifts within one cell of zero, in both axes (the response is periodic)."""
+
 
 class ScoreReference:
     """The mean score of the tracked frames noted so far: what a candidate's score is
@@ -81,5 +84,5 @@ class Anchor(ScoreReference):
     def score(self, feats: list[np.ndarray]) -> float:
         """``A(z)``: the mean anchor response's maximum within one cell of zero shift."""
         response = sum(m.respond(zf) for m, zf in zip(self.models, feats, strict=True))
-        near = np.roll(response / len(self.models), (1, 1), axis=(0, 1))[:3, :3]
+        near = response[np.ix_(NEAR, NEAR)] / len(self.models)  # shifts -1, 0, 1 (wrapped)
         return float(near.max())
