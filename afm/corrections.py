@@ -127,6 +127,17 @@ def check_range(value: float, lo: float, hi: float, quantity: str, where: str) -
         raise InputError(where, quantity, f"within the table's range [{lo:g}, {hi:g}]", value)
 
 
+def check_cell(cell_um: float, zona_um: float, where: str) -> None:
+    """The cell's R/h within :data:`CELL_TOLERANCE` of the tables' 70/15."""
+    check_range(
+        cell_um / zona_um / TABLE_CELL_OVER_ZONA,
+        1 - CELL_TOLERANCE,
+        1 + CELL_TOLERANCE,
+        f"cell radius / ZP thickness relative to the table's {TABLE_CELL_OVER_ZONA:.4g}",
+        where,
+    )
+
+
 def _at_depth(t: ShellTable, depth_h: float, probe_h: float) -> Callable[[float], float]:
     """``ratio`` as a function of E_c/E_ZP at fixed d/h and Rp/h (the interpolation of
     :func:`shell_ratio`; the spline in depth is made once)."""
@@ -222,13 +233,7 @@ def zona_modulus(
     )
     e_fit_kPa, depth_um, zona_um = v["e_fit_kPa"], v["depth_um"], v["zona_um"]
     cytoplasm_kPa, probe_um, cell_um = v["cytoplasm_kPa"], v["probe_um"], v["cell_um"]
-    check_range(
-        cell_um / zona_um / TABLE_CELL_OVER_ZONA,
-        1 - CELL_TOLERANCE,
-        1 + CELL_TOLERANCE,
-        f"cell radius / ZP thickness relative to the table's {TABLE_CELL_OVER_ZONA:.4g}",
-        where,
-    )
+    check_cell(cell_um, zona_um, where)
     e_app = e_fit_kPa * curvature_factor(model, probe_um, cell_um, depth_um)
     t, ratio = _checked_profile(depth_um / zona_um, probe_um / zona_um, where)
     return _solve_zona(e_app, cytoplasm_kPa, t.e_ratios, ratio, where)
@@ -360,13 +365,7 @@ def cone_zona_modulus(
     )
     e_fit_kPa, depth_um, half_angle_deg = v["e_fit_kPa"], v["depth_um"], v["half_angle_deg"]
     zona_um, cytoplasm_kPa, cell_um = v["zona_um"], v["cytoplasm_kPa"], v["cell_um"]
-    check_range(
-        cell_um / zona_um / TABLE_CELL_OVER_ZONA,
-        1 - CELL_TOLERANCE,
-        1 + CELL_TOLERANCE,
-        f"cell radius / ZP thickness relative to the table's {TABLE_CELL_OVER_ZONA:.4g}",
-        where,
-    )
+    check_cell(cell_um, zona_um, where)
     check_range(
         cone_curvature_gap(depth_um, half_angle_deg, cell_um),
         0.0,

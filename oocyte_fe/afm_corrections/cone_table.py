@@ -27,8 +27,6 @@ Run ``python -m oocyte_fe.afm_corrections.cone_table`` to regenerate
 
 from __future__ import annotations
 
-import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +39,7 @@ from oocyte_fe.afm_corrections.table import (
     code_version,
     fitted_moduli,
     force_curve,
+    regenerate,
 )
 from oocyte_fe.experiment.description import Experiment
 
@@ -191,13 +190,7 @@ def write_table(path: Path, rows: list[dict[str, float]], cpu_s: float) -> None:
 def main(argv: list[str] | None = None) -> None:
     """Regenerate the table (``--out``: default afm/data/shell_correction_cone.csv)."""
     default = Path(__file__).parents[2] / "afm" / "data" / "shell_correction_cone.csv"
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=default)
-    args = parser.parse_args(argv)
-    tic = time.process_time()
-    rows = table_rows()
-    write_table(args.out, rows, time.process_time() - tic)
-    print(f"wrote {args.out} ({len(rows)} rows, {(time.process_time() - tic) / 60:.1f} CPU-min)")
+    regenerate(argv, __doc__.splitlines()[0], default, table_rows, write_table)
 
 
 if __name__ == "__main__":

@@ -261,16 +261,28 @@ def write_table(path: Path, rows: list[dict[str, float]], cpu_s: float) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-def main(argv: list[str] | None = None) -> None:
-    """Regenerate the table (``--out``: default afm/data/shell_correction.csv)."""
-    default = Path(__file__).parents[2] / "afm" / "data" / "shell_correction.csv"
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def regenerate(
+    argv: list[str] | None,
+    description: str,
+    default: Path,
+    rows: Callable[[], list[dict[str, float]]],
+    write: Callable[[Path, list[dict[str, float]], float], None],
+) -> None:
+    """The command line of a table module: ``--out`` (default ``default``), then the rows
+    computed (FE results from the cache when present) and written with the CPU time."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--out", type=Path, default=default)
     args = parser.parse_args(argv)
     tic = time.process_time()
-    rows = table_rows()
-    write_table(args.out, rows, time.process_time() - tic)
-    print(f"wrote {args.out} ({len(rows)} rows, {(time.process_time() - tic) / 60:.1f} CPU-min)")
+    table = rows()
+    write(args.out, table, time.process_time() - tic)
+    print(f"wrote {args.out} ({len(table)} rows, {(time.process_time() - tic) / 60:.1f} CPU-min)")
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Regenerate the table (``--out``: default afm/data/shell_correction.csv)."""
+    default = Path(__file__).parents[2] / "afm" / "data" / "shell_correction.csv"
+    regenerate(argv, __doc__.splitlines()[0], default, table_rows, write_table)
 
 
 if __name__ == "__main__":
