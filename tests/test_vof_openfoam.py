@@ -86,14 +86,20 @@ def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) ->
 
 @pytest.mark.slow
 def test_quick_vof_case_passes(tmp_path: Path) -> None:
-    """The quick junction case (coarse mesh, 300 hPa, 150 um of travel, second mesh):
-    cell-phase volumes conserved to 1e-3, ratio change between meshes <= 2 %."""
+    """The quick junction case (300 hPa, 12.5 um): the momentum budgets of a box around the
+    cell and of the cell's diffuse interface balance within 1 % of their loads (measured
+    0.42 % and 0.88 %), and the four checks of the case pass."""
+    import json
+
     from oocyte_fe.runner.run import plan, run_cases
 
     cases = Path(__file__).resolve().parents[1] / "cases"
     [result] = run_cases(plan([cases / "microchannel_vof_quick"], quick=True), tmp_path, quick=True)
+    metrics = json.loads((tmp_path / "microchannel_vof_quick" / "metrics.json").read_text())
+    assert metrics["metrics"]["cv_imbalance_pct"] < 1.0
+    assert metrics["metrics"]["diffuse_imbalance_pct"] < 1.0
     assert result.status == "PASS", result.reason
-    assert result.total == 3
+    assert result.total == 4
 
 
 def test_cell_order_matches_blockmesh(tmp_path: Path) -> None:

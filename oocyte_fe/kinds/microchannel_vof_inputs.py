@@ -214,6 +214,8 @@ METRICS = {
     "traction_force_y": "net traction force on the cell per unit depth, y (nN/um)",
     "traction_at_x_um": "centroid x of the written time the traction is taken at (um)",
     "cv_imbalance_pct": "momentum budget of a box around the cell: |miss| / load on its faces, %",
+    "diffuse_imbalance_pct": "the cell's momentum rate against the force of its diffuse "
+    "interface, -sum sigma . grad(alpha) dA: |miss| / load on the band, %",
     "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
     "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
     "liquid_mae": "liquid cell (VOF): mean |b/a - experiment| over the pressures",

@@ -18,6 +18,7 @@ import numpy as np
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
 from oocyte_fe.microchannel.vof.control_volume import box_balance
+from oocyte_fe.microchannel.vof.diffuse_force import cell_balance
 from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, time_step_study
 from oocyte_fe.microchannel.vof.foamfile import read_internal_field
 from oocyte_fe.microchannel.vof.geometry import Layout
@@ -178,6 +179,7 @@ def traction_study(
         try:
             first, second = steps_from(foam, run.case, folder, 2, "momentum_steps", nice)
             cv = box_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
+            cb = cell_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
         except (InputError, SolverError) as exc:  # e.g. a box cut by a wall
             return text + f"\n\nControl volume around the cell: not computed: {exc}", metrics
         miss = cv.force - cv.outflow - cv.momentum_rate
@@ -192,6 +194,16 @@ def traction_study(
             f"box, {cv.load:.1f} nN/um."
         )
         metrics["cv_imbalance_pct"] = cv.imbalance_pct
+        text += (
+            "\n\n**The cell's own budget from its diffuse interface** (the same two steps): the "
+            f"force -sum sigma . grad(alpha) dA = ({cb.force[0]:.2f}, {cb.force[1]:.2f}) nN/um "
+            "against the rate of the cell's momentum d/dt sum alpha rho u dA = "
+            f"({cb.momentum_rate[0]:.2f}, {cb.momentum_rate[1]:.2f}) nN/um: miss "
+            f"**{cb.imbalance_pct:.2f} %** of the load on the band, {cb.load:.1f} nN/um "
+            f"({100 * np.linalg.norm(cb.force - cb.momentum_rate) / balance.gross:.2f} % of the "
+            "contour's load above)."
+        )
+        metrics["diffuse_imbalance_pct"] = cb.imbalance_pct
     return text, metrics
 
 

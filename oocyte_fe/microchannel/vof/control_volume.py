@@ -55,7 +55,10 @@ class BoxBalance:
 
 
 @dataclass(frozen=True)
-class _Fields:
+class MixtureFields:
+    """The fields of one written time on the lattice (NaN off the fluid), and the mixture's
+    density and viscosity (``alpha`` weighted, the cell's from the solver's ``nu1``)."""
+
     alpha: np.ndarray
     p: np.ndarray  # kPa
     ux: np.ndarray  # um/s
@@ -64,9 +67,10 @@ class _Fields:
     mu: np.ndarray  # kPa s
 
 
-def _fields(
+def mixture_fields(
     folder: Path, layout: Layout, cell: str, rho_cell: float, rho_medium: float, mu_medium: float
-) -> _Fields:
+) -> MixtureFields:
+    """:class:`MixtureFields` of the time ``folder`` (densities nN s^2/um^4, mu kPa s)."""
     x, y, i, j = lattice(layout)
     n, shape = layout.n_cells, (len(y), len(x))
 
@@ -79,7 +83,7 @@ def _fields(
     # the cell's kinematic viscosity, as the solver wrote it (m^2/s), for the mixture's mu
     nu_path = folder / "nu1"
     mu_cell = grid("nu1", 1e12) * rho_cell if nu_path.exists() else np.zeros_like(alpha)
-    return _Fields(
+    return MixtureFields(
         alpha,
         grid("p", 1e-3),  # Pa -> kPa
         ux,
@@ -116,7 +120,7 @@ def box_balance(
     if dt <= 0:
         raise InputError(folder_2, "time", f"a time after {folder_1.name}", folder_2.name)
     args = (layout, cell, rho_cell, rho_medium, mu_medium)
-    f1, f2 = _fields(folder_1, *args), _fields(folder_2, *args)
+    f1, f2 = mixture_fields(folder_1, *args), mixture_fields(folder_2, *args)
     i0, i1, j0, j1 = cell_box(f2.alpha, margin)
     dx = layout.dx
     ny, nx = f2.alpha.shape
@@ -166,7 +170,7 @@ def _sides(i0: int, i1: int, j0: int, j1: int) -> list[tuple]:
     ]
 
 
-def _face_terms(f: _Fields, dx: float, inner: tuple, outer: tuple, n: np.ndarray) -> tuple:
+def _face_terms(f: MixtureFields, dx: float, inner: tuple, outer: tuple, n: np.ndarray) -> tuple:
     """Traction (k, 2), momentum outflow (k, 2) per unit face length, and face pressure (k,)."""
     if np.any(f.alpha[inner] > 1e-3) or np.any(f.alpha[outer] > 1e-3):
         raise InputError("control volume", "box", "faces outside the cell (alpha <= 1e-3)")

@@ -1,0 +1,91 @@
+"""The force of the flow on the cell from its diffuse interface, and the cell's momentum budget.
+
+In a VOF solution the cell's surface is a band about two cells wide. Multiplying the momentum
+equation ``d(rho u)/dt + div(rho u u) = div sigma`` by the cell's fraction ``alpha`` (which is
+carried by the flow, ``d alpha/dt + u . grad alpha = 0``) and integrating over the domain
+(``alpha = 0`` away from the cell) gives, per unit depth (nN/um)::
+
+    d/dt sum alpha rho u dA  =  F,     F = -sum sigma . grad(alpha) dA
+    sigma = -p I + mu (grad u + grad u^T),   rho, mu the mixture's (alpha weighted)
+
+``F`` is the net force of the medium on the cell whatever the stress inside the band (the
+traction is continuous across a sharp interface), so, unlike the traction read on the
+``alpha = 0.5`` contour (:mod:`.traction`), it needs no probe outside the band. Discretised on
+the uniform lattice with central differences, the left side from two consecutive steps
+``(P(t2) - P(t1)) / dt`` and ``F`` at ``t2`` (implicit Euler, as the solver). The miss is
+reported against the load ``sum |(sigma + p_m I) . grad alpha| dA`` (``p_m`` the band's mean
+pressure, which exerts no net force on a closed surface).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel.vof.control_volume import MixtureFields, mixture_fields
+from oocyte_fe.microchannel.vof.geometry import Layout
+
+
+@dataclass(frozen=True)
+class CellBalance:
+    """The cell's momentum budget between two steps (per unit depth, nN/um)."""
+
+    force: np.ndarray  # -sum sigma . grad(alpha) dA at t2
+    momentum_rate: np.ndarray  # d/dt sum alpha rho u dA
+    load: float  # sum |(sigma + p_m I) . grad alpha| dA
+
+    @property
+    def imbalance_pct(self) -> float:
+        """``|F - dP/dt| / load`` in per cent."""
+        return 100.0 * float(np.linalg.norm(self.force - self.momentum_rate)) / self.load
+
+
+def diffuse_force(f: MixtureFields, dx: float) -> tuple[np.ndarray, float]:
+    """``F = -sum sigma . grad(alpha) dx^2`` (nN/um) and the load (module docstring) of the
+    fields ``f`` on a lattice of spacing ``dx`` (um); cells off the fluid count as alpha = 0."""
+    alpha = np.nan_to_num(f.alpha, nan=0.0)
+    da_dy, da_dx = np.gradient(alpha, dx)
+    dux_dy, dux_dx = np.gradient(f.ux, dx)
+    duy_dy, duy_dx = np.gradient(f.uy, dx)
+    band = (da_dx != 0.0) | (da_dy != 0.0)
+    shear = f.mu * (dux_dy + duy_dx)
+    sxx, syy = 2.0 * f.mu * dux_dx, 2.0 * f.mu * duy_dy  # the viscous part; -p I below
+    p = f.p
+    if not np.all(np.isfinite(np.stack([p, sxx, syy, shear])[:, band])):
+        raise InputError("diffuse force", "U, p", "the fluid all around the cell's band")
+    grad = np.hypot(da_dx, da_dy)[band]
+    p_mean = float(np.sum(p[band] * grad) / np.sum(grad))
+    tx = -((sxx - p) * da_dx + shear * da_dy)[band]
+    ty = -(shear * da_dx + (syy - p) * da_dy)[band]
+    force = np.array([tx.sum(), ty.sum()]) * dx * dx
+    load_x = tx - p_mean * da_dx[band]
+    load_y = ty - p_mean * da_dy[band]
+    return force, float(np.hypot(load_x, load_y).sum() * dx * dx)
+
+
+def cell_balance(
+    folder_1: Path,
+    folder_2: Path,
+    layout: Layout,
+    cell: str,
+    rho_cell: float,
+    rho_medium: float,
+    mu_medium: float,
+) -> CellBalance:
+    """:class:`CellBalance` between the consecutive steps written in ``folder_1`` and
+    ``folder_2``: densities nN s^2/um^4, ``mu_medium`` kPa s."""
+    dt = float(folder_2.name) - float(folder_1.name)
+    if dt <= 0:
+        raise InputError(folder_2, "time", f"a time after {folder_1.name}", folder_2.name)
+    args = (layout, cell, rho_cell, rho_medium, mu_medium)
+    f1, f2 = mixture_fields(folder_1, *args), mixture_fields(folder_2, *args)
+
+    def momentum(f: MixtureFields) -> np.ndarray:
+        w = np.nan_to_num(f.alpha * f.rho, nan=0.0)
+        return np.array([np.nansum(w * f.ux), np.nansum(w * f.uy)]) * layout.dx**2
+
+    force, load = diffuse_force(f2, layout.dx)
+    return CellBalance(force, (momentum(f2) - momentum(f1)) / dt, load)
