@@ -419,6 +419,12 @@ class Experiment(CaseInputs):
     )
     time: TimePath = Field(description="the time path")
     record: Record = Field(Record(), description="what to record beyond the histories")
+    kinematics: Literal["finite_strain", "small_strain"] = Field(
+        "finite_strain",
+        description="finite_strain: the neo-Hookean solid; small_strain: small-strain "
+        "elasticity with the contact of Sneddon's and Hertz's solutions (a pressure along the "
+        "tool's axis, the gap measured along it; frictionless plates, spheres and cones)",
+    )
     mesh_scale: float = Field(
         1.0,
         ge=0.25,
@@ -445,6 +451,8 @@ class Experiment(CaseInputs):
             if self.tools or not self.loads:
                 raise ValueError("support 'inertia_relief': a free cell with loads, no tools")
             return self._sections()
+        if self.kinematics == "small_strain":
+            self._small_strain()
         for name, tool in self.tools.items():
             where = f"tools.{name}"
             if axisym and tool.side not in ("top", "bottom"):
@@ -489,6 +497,19 @@ class Experiment(CaseInputs):
                     "support (a free cell under loads only: support = 'inertia_relief')"
                 )
         return self._sections()
+
+    def _small_strain(self) -> None:
+        """Small strain: Sneddon's frictionless indenters only (no loads, no pipettes)."""
+        if self.loads:
+            raise ValueError("kinematics 'small_strain': tools only, no loads")
+        for name, tool in self.tools.items():
+            if not isinstance(tool, Plate | Sphere | Cone | HoldingPipette):
+                raise ValueError(
+                    f"tools.{name}: kinematics 'small_strain' takes plates, spheres, cones and "
+                    "holding pipettes"
+                )
+            if getattr(tool, "friction", 0.0):
+                raise ValueError(f"tools.{name}.friction: 0 with kinematics 'small_strain'")
 
     def _sections(self) -> Experiment:
         for t in self.record.sections_at_s:

@@ -45,6 +45,7 @@ from oocyte_fe.fe.loads import (
     Prescribed,
     ReactionControl,
 )
+from oocyte_fe.fe.obstacles import Linearised
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog, dead_load_vector
 from oocyte_fe.fe.vectorized import FacetOperators
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
@@ -204,7 +205,8 @@ def run_experiment(
     if cell.zona_thickness_um > 0:
         materials["zona"] = to_material(cell.materials.zona, "materials.zona")
     materials["cytoplasm"] = to_material(cell.materials.cytoplasm, "materials.cytoplasm")
-    body = Body(mesh, materials, cell.symmetry, order=2, source="cell")
+    small = exp.kinematics == "small_strain"
+    body = Body(mesh, materials, cell.symmetry, order=2, source="cell", kinematics=exp.kinematics)
     e_max = max(m.E_kPa for m in materials.values())
     h = (cell.refine_size_um or cell.mesh_size_um) * exp.mesh_scale
     contacts, pressures, pipettes = [], [], {}
@@ -213,6 +215,8 @@ def run_experiment(
         rigid = tl.obstacle(tool, name, R, axisym)
         if rigid is None:
             continue
+        if small:  # Sneddon's contact: a pressure along the tool's axis
+            rigid = Linearised(rigid, tuple(float(c) for c in tl.approach(tool.side)), name)
         contacts.append(
             Contact(
                 "outer_surface",

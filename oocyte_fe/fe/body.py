@@ -57,6 +57,11 @@ class Body:
         ``"axisymmetric"`` (``x[0] = R >= 0``, ``x[1] = Z`` the axis) or ``"plane_strain"``.
     order
         2 (P2/P1 Taylor-Hood, default) or 1 (MINI P1+bubble/P1).
+    kinematics
+        ``"finite_strain"`` (default) or ``"small_strain"``: the linear solid of small-strain
+        elasticity (the assumption of Sneddon's and Hertz's solutions), see
+        :func:`~oocyte_fe.fe.material.response`; contact and pressures still act on the
+        displaced surface.
     """
 
     def __init__(
@@ -67,9 +72,15 @@ class Body:
         order: int = 2,
         intorder: int | None = None,
         source: str = "mesh",
+        kinematics: Literal["finite_strain", "small_strain"] = "finite_strain",
     ) -> None:
         if form not in ("axisymmetric", "plane_strain"):
             raise InputError(source, "form", "'axisymmetric' or 'plane_strain'", got=form)
+        if kinematics not in ("finite_strain", "small_strain"):
+            raise InputError(
+                source, "kinematics", "'finite_strain' or 'small_strain'", got=kinematics
+            )
+        self.small_strain = kinematics == "small_strain"
         if order not in (1, 2):
             raise InputError(source, "order", "1 or 2", got=order)
         if isinstance(mesh, MeshTri2) and order != 2:

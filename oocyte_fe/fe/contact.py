@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 from skfem import FacetBasis
 
-from oocyte_fe.fe.obstacles import Obstacle
+from oocyte_fe.fe.obstacles import Linearised, Obstacle
 
 SLIP_CAP = 5.0  # stored |z| of the smooth friction law: 1 - tanh(5) = 9e-5
 
@@ -149,7 +149,12 @@ def evaluate(
     """Gap, tractions and tangent coefficients at the quadrature points (``u_q`` (2, nf, nq))."""
     d = np.asarray(contact.motion(t), dtype=float)[:, None, None]
     d_n = np.asarray(contact.motion(state.t), dtype=float)[:, None, None]
-    gap, n, kappa = contact.obstacle.distance_curvature(X + u_q - d)
+    if isinstance(contact.obstacle, Linearised):  # small strain: the lateral displacement out
+        a = np.asarray(contact.obstacle.axis, dtype=float)[:, None, None]
+        x = X + a * np.einsum("i...,i...->...", a, u_q) - d
+    else:
+        x = X + u_q - d
+    gap, n, kappa = contact.obstacle.distance_curvature(x)
     tau = np.stack([-n[1], n[0]])
     pen = -gap
     lam, dlam = contact.law.normal(pen)

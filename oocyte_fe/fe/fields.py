@@ -43,8 +43,11 @@ def stress_fields(problem: Problem, x: NDArray) -> dict[str, NDArray]:
         if prony.g:
             h = problem.histories[k].h
             S_dev = prony.g_inf * elastic.S0 + np.einsum("i,i...->...", np.asarray(prony.g), h)
-        P = np.einsum("iK...,KJ...->iJ...", kin.F, S_dev) + pq * kin.J * kin.FinvT
-        sigma = np.einsum("iJ...,kJ...->ik...", P, kin.F) / kin.J
+        if kin.small:  # the linear solid: sigma = S_dev + p I
+            sigma = S_dev + pq * np.eye(3)[:, :, None, None]
+        else:
+            P = np.einsum("iK...,KJ...->iJ...", kin.F, S_dev) + pq * kin.J * kin.FinvT
+            sigma = np.einsum("iJ...,kJ...->ik...", P, kin.F) / kin.J
         mean = np.trace(sigma) / 3.0
         dev = sigma - mean * np.eye(3)[:, :, None, None]
         vm = np.sqrt(1.5 * np.einsum("ij...,ij...->...", dev, dev))

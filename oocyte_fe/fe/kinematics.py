@@ -47,11 +47,20 @@ class Kinematics:
     Finv: NDArray  # (3, 3, nel, nqp)
     J: NDArray  # (nel, nqp)
     I1: NDArray  # (nel, nqp)
+    small: bool = False  # small-strain kinematics (see from_grad5)
 
     @classmethod
-    def from_grad5(cls, gu5: NDArray) -> Kinematics:
+    def from_grad5(cls, gu5: NDArray, small: bool = False) -> Kinematics:
+        """The kinematics of ``Grad u`` (active components). With ``small`` the linearised
+        ones of small-strain elasticity: ``F = I + Grad u`` is kept (the strain is read from
+        it), but ``F^-1 = I`` and ``J = 1 + tr(Grad u)``, so that the pressure works on the
+        linearised volume change and no geometric stiffness arises."""
         F5 = IDENTITY5[:, None, None] + gu5
         F = full3(F5)
+        if small:
+            eye = np.broadcast_to(np.eye(3)[:, :, None, None], F.shape).copy()
+            J = 1.0 + gu5[0] + gu5[3] + gu5[4]
+            return cls(F=F, Finv=eye, J=J, I1=np.einsum("ij...,ij...->...", F, F), small=True)
         det2 = F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
         Finv = np.zeros_like(F)
         # a collapsed element gives inf/nan here; the solver detects J <= 0 or non-finite J

@@ -159,7 +159,13 @@ def response(
         P_dev    = gamma P0 + F H,   dP_dev/dF = gamma A0 + d_ik H_LJ
 
     Pressure part: ``P_p = p J F^-T``, ``dP_p/dF = p J (F^-T_iJ F^-T_kL - F^-1_Li F^-1_Jk)``.
+
+    With small-strain kinematics (``kin.small``) the linear solid instead:
+    ``P0 = 2 mu dev(eps)``, ``eps = sym(Grad u)``, ``A0 = 2 mu (I_sym - 1/3 I x I)``, the
+    same Prony recursion on ``S0 = P0`` (``P_dev = gamma P0 + H``), ``P_p = p I``.
     """
+    if kin.small:
+        return _small_strain_response(kin, p, material, history, dt)
     F, FinvT = kin.F, kin.FinvT
     a = material.mu * kin.J ** (-2.0 / 3.0)
     P0 = a * (F - kin.I1 / 3.0 * FinvT)
@@ -185,6 +191,35 @@ def response(
     P5 = active(P) + p * active(JFinvT)
     A5 = A + p * kin.J * (outer5(FinvT, FinvT) - cross)
     return Response(P5=P5, A5=A5, JFinvT5=active(JFinvT), S0=S0)
+
+
+_EYE5 = active(np.eye(3))
+_SAME = (ACTIVE_I[:, None] == ACTIVE_I[None, :]) & (ACTIVE_J[:, None] == ACTIVE_J[None, :])
+_SWAP = (ACTIVE_I[:, None] == ACTIVE_J[None, :]) & (ACTIVE_J[:, None] == ACTIVE_I[None, :])
+_SYM5 = 0.5 * (_SAME.astype(float) + _SWAP.astype(float))  # d sym(G) / d G
+_DEV5 = _SYM5 - np.outer(_EYE5, _EYE5) / 3.0  # d dev(sym G) / d G, active components
+
+
+def _small_strain_response(
+    kin: Kinematics, p: NDArray, material: Material, history: ViscousHistory | None, dt: float
+) -> Response:
+    """The linear (small-strain) solid of :func:`response`."""
+    G = kin.F - np.eye(3)[:, :, None, None]
+    eps = 0.5 * (G + G.swapaxes(0, 1))
+    dev = eps - np.trace(eps) / 3.0 * np.eye(3)[:, :, None, None]
+    P0 = 2.0 * material.mu * dev
+    P, gamma = P0, 1.0
+    if history is not None and material.prony.g:
+        g = np.asarray(material.prony.g)
+        e, c = _prony_factors(material.prony, dt)
+        gamma = material.prony.g_inf + float(np.sum(g * c))
+        H = np.einsum("i,i...->...", g * e, history.h) - float(np.sum(g * c)) * history.S0
+        P = gamma * P0 + H
+    A5 = np.broadcast_to(
+        (2.0 * material.mu * gamma * _DEV5)[:, :, None, None], (5, 5, *p.shape)
+    ).copy()
+    eye5 = np.broadcast_to(_EYE5[:, None, None], (5, *p.shape))
+    return Response(P5=active(P) + p * eye5, A5=A5, JFinvT5=eye5.copy(), S0=P0)
 
 
 def update_history(

@@ -96,7 +96,62 @@ class Circle:
         return r - self.radius, rel / safe, np.where(r > 0, 1.0 / safe, 0.0)
 
 
-Obstacle = Polyline | Circle
+@dataclass(frozen=True)
+class Linearised:
+    """The contact of small-strain theory with a rigid tool advancing along ``axis`` (unit):
+    the gap is measured along the axis from the tool's front at the point's lateral position
+    ``s = x . e`` (``e`` the axis turned by +90 deg), and the normal is the axis::
+
+        g(x) = x . a - f(s),    n = a,    kappa = 0
+
+    ``f(s)`` the foremost point of ``tool`` along ``a`` on the line of lateral position ``s``
+    (``g = +inf`` where the line misses the tool). With the point taken at ``X + (u . a) a``
+    (the lateral displacement left out, :func:`~oocyte_fe.fe.contact.evaluate`) this is the
+    boundary condition of Sneddon's and Hertz's solutions: ``u . a >= f(X . e) - X . a``, a
+    pressure along the axis.
+    """
+
+    tool: Polyline | Circle
+    axis: tuple[float, float]
+    name: str = "tool"
+
+    def __post_init__(self) -> None:
+        if not np.isclose(np.hypot(*self.axis), 1.0):
+            raise InputError(self.name, "axis", "a unit vector", got=self.axis)
+
+    def front(self, s: NDArray) -> NDArray:
+        """``f(s)`` [um]: the tool's foremost coordinate along the axis at lateral ``s``."""
+        a = np.asarray(self.axis, dtype=float)
+        e = np.array([-a[1], a[0]])
+        if isinstance(self.tool, Circle):
+            c = np.asarray(self.tool.center, dtype=float)
+            h2 = self.tool.radius**2 - (s - c @ e) ** 2
+            return np.where(h2 >= 0.0, c @ a + np.sqrt(np.maximum(h2, 0.0)), -np.inf)
+        pts = np.asarray(self.tool.points, dtype=float)
+        lat, ax = pts @ e, pts @ a
+        out = np.full(np.shape(s), -np.inf)
+        for s0, s1, t0, t1 in zip(lat[:-1], lat[1:], ax[:-1], ax[1:], strict=True):
+            on = (s >= min(s0, s1)) & (s <= max(s0, s1))
+            if s1 == s0:  # a segment along the axis: its foremost end
+                here = np.full(np.shape(s), max(t0, t1))
+            else:
+                here = t0 + (s - s0) / (s1 - s0) * (t1 - t0)
+            out = np.where(on, np.maximum(out, here), out)
+        return out
+
+    def distance(self, x: NDArray) -> tuple[NDArray, NDArray]:
+        return self.distance_curvature(x)[:2]
+
+    def distance_curvature(self, x: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        a = np.asarray(self.axis, dtype=float).reshape((2,) + (1,) * (x.ndim - 1))
+        e = np.stack([-a[1], a[0]])
+        s = np.sum(x * e, axis=0)
+        g = np.sum(x * a, axis=0) - self.front(s)
+        n = np.broadcast_to(a, x.shape).copy()
+        return g, n, np.zeros_like(g)
+
+
+Obstacle = Polyline | Circle | Linearised
 
 
 def flat_plate(y: float, x_min: float, x_max: float, below: bool = True) -> Polyline:

@@ -266,7 +266,7 @@ class Problem:
         gu5 = np.einsum("iaeq,ie->aeq", ops.B, u[ops.dofs])
         p = self.body.pressure(x, region)
         pq = np.einsum("keq,ke->eq", ops.p_values, p[ops.p_dofs])
-        return Kinematics.from_grad5(gu5), pq
+        return Kinematics.from_grad5(gu5, self.body.small_strain), pq
 
     def assemble(self, x: NDArray, t: float, dt: float):
         """Residual ``r`` and tangent ``K`` at ``x`` for the step ending at ``t``."""
@@ -286,7 +286,8 @@ class Problem:
         f_ext = np.zeros(body.n_u)
         for k, region in enumerate(body.regions):
             kin, pq = self.region_kinematics(x, k)
-            if np.any(kin.J <= 0) or not np.all(np.isfinite(kin.J)):
+            inverted = not kin.small and np.any(kin.J <= 0)  # the linear solid cannot invert
+            if inverted or not np.all(np.isfinite(kin.J)):
                 raise _StepFailed(f"inverted element in region {region.name!r}", np.inf)
             res = response(kin, pq, region.material, self.histories[k], dt)
             ops = self._ops[k]
