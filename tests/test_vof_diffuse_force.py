@@ -44,3 +44,20 @@ def test_a_uniform_pressure_and_a_simple_shear_exert_no_net_force():
     scale = 2.5 * 2.0 * np.pi * 40.0
     assert np.all(np.abs(force) < 1e-12 * scale)
     assert load > 0.0
+
+
+def test_a_wall_next_to_the_band_takes_the_walls_conditions():
+    """Cells off the fluid (NaN, a wall) two cells from the interface's centre: the sum runs
+    over the fluid, the differences next to the wall take zero-gradient alpha and p and U = 0.
+    The pressure gradient's force stays -G A within 1 % (alpha is about 0.03 at the wall)."""
+    xx, yy, alpha = _disc(width=1.5)
+    G = 0.003
+    p = G * xx + 1.7
+    wall = yy > 44.0  # the disc's edge at 40 um: the wall two cells beyond it
+    ux, uy = 0 * xx, 0 * xx
+    for field in (alpha, p, ux, uy):
+        field[wall] = np.nan
+    force, load = diffuse_force(_fields(alpha, p, ux, uy), DX)
+    area = np.nansum(alpha) * DX * DX
+    assert force[0] == pytest.approx(-G * area, rel=0.01)
+    assert np.isfinite(load) and load > 0.0

@@ -179,7 +179,6 @@ def traction_study(
         try:
             first, second = steps_from(foam, run.case, folder, 2, "momentum_steps", nice)
             cv = box_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
-            cb = cell_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
         except (InputError, SolverError) as exc:  # e.g. a box cut by a wall
             return text + f"\n\nControl volume around the cell: not computed: {exc}", metrics
         miss = cv.force - cv.outflow - cv.momentum_rate
@@ -194,6 +193,10 @@ def traction_study(
             f"box, {cv.load:.1f} nN/um."
         )
         metrics["cv_imbalance_pct"] = cv.imbalance_pct
+        try:
+            cb = cell_balance(first, second, layout, "cell", density, rho_medium, mu_medium)
+        except InputError as exc:
+            return text + f"\n\nThe cell's own budget: not computed: {exc}", metrics
         text += (
             "\n\n**The cell's own budget from its diffuse interface** (the same two steps): the "
             f"force -sum sigma . grad(alpha) dA = ({cb.force[0]:.2f}, {cb.force[1]:.2f}) nN/um "

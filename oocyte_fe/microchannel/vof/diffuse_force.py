@@ -11,10 +11,11 @@ carried by the flow, ``d alpha/dt + u . grad alpha = 0``) and integrating over t
 ``F`` is the net force of the medium on the cell whatever the stress inside the band (the
 traction is continuous across a sharp interface), so, unlike the traction read on the
 ``alpha = 0.5`` contour (:mod:`.traction`), it needs no probe outside the band. Discretised on
-the uniform lattice with central differences, the left side from two consecutive steps
-``(P(t2) - P(t1)) / dt`` and ``F`` at ``t2`` (implicit Euler, as the solver). The miss is
-reported against the load ``sum |(sigma + p_m I) . grad alpha| dA`` (``p_m`` the band's mean
-pressure, which exerts no net force on a closed surface).
+the uniform lattice with central differences (next to a wall with the wall's conditions), the
+left side from two consecutive steps ``(P(t2) - P(t1)) / dt`` and ``F`` at ``t2`` (implicit
+Euler, as the solver). The miss is reported against the load
+``sum |(sigma + p_m I) . grad alpha| dA`` (``p_m`` the band's mean pressure, which exerts no
+net force on a closed surface).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from scipy import ndimage
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.vof.control_volume import MixtureFields, mixture_fields
@@ -43,19 +45,37 @@ class CellBalance:
         return 100.0 * float(np.linalg.norm(self.force - self.momentum_rate)) / self.load
 
 
+def _walled(field: np.ndarray, fluid: np.ndarray, wall_value: float | None) -> np.ndarray:
+    """``field`` continued into the lattice cells off the fluid (walls, outside the channel):
+    the nearest fluid cell's value (zero normal gradient, the walls' condition for alpha and
+    p) or ``wall_value`` (no slip: U = 0)."""
+    if fluid.all():
+        return field
+    if wall_value is not None:
+        return np.where(fluid, field, wall_value)
+    index = ndimage.distance_transform_edt(~fluid, return_distances=False, return_indices=True)
+    return field[tuple(index)]
+
+
 def diffuse_force(f: MixtureFields, dx: float) -> tuple[np.ndarray, float]:
     """``F = -sum sigma . grad(alpha) dx^2`` (nN/um) and the load (module docstring) of the
-    fields ``f`` on a lattice of spacing ``dx`` (um); cells off the fluid count as alpha = 0."""
-    alpha = np.nan_to_num(f.alpha, nan=0.0)
+    fields ``f`` on a lattice of spacing ``dx`` (um), summed over the fluid cells; next to a
+    wall the central differences take the wall's conditions (alpha, p: zero normal gradient;
+    U = 0)."""
+    fluid = np.isfinite(f.alpha) & np.isfinite(f.p) & np.isfinite(f.ux) & np.isfinite(f.uy)
+    if not fluid.any():
+        raise InputError("diffuse force", "alpha, p, U", "fluid cells on the lattice")
+    alpha = _walled(f.alpha, fluid, None)
+    p = _walled(f.p, fluid, None)
+    mu = _walled(f.mu, fluid, None)
     da_dy, da_dx = np.gradient(alpha, dx)
-    dux_dy, dux_dx = np.gradient(f.ux, dx)
-    duy_dy, duy_dx = np.gradient(f.uy, dx)
-    band = (da_dx != 0.0) | (da_dy != 0.0)
-    shear = f.mu * (dux_dy + duy_dx)
-    sxx, syy = 2.0 * f.mu * dux_dx, 2.0 * f.mu * duy_dy  # the viscous part; -p I below
-    p = f.p
-    if not np.all(np.isfinite(np.stack([p, sxx, syy, shear])[:, band])):
-        raise InputError("diffuse force", "U, p", "the fluid all around the cell's band")
+    dux_dy, dux_dx = np.gradient(_walled(f.ux, fluid, 0.0), dx)
+    duy_dy, duy_dx = np.gradient(_walled(f.uy, fluid, 0.0), dx)
+    band = fluid & ((da_dx != 0.0) | (da_dy != 0.0))
+    shear = mu * (dux_dy + duy_dx)
+    sxx, syy = 2.0 * mu * dux_dx, 2.0 * mu * duy_dy  # the viscous part; -p I below
+    if not band.any():
+        raise InputError("diffuse force", "alpha", "a cell (an interface band) in the fluid")
     grad = np.hypot(da_dx, da_dy)[band]
     p_mean = float(np.sum(p[band] * grad) / np.sum(grad))
     tx = -((sxx - p) * da_dx + shear * da_dy)[band]
