@@ -44,6 +44,7 @@ from oocyte_fe.fe.loads import (
     FollowerPressure,
     Prescribed,
     ReactionControl,
+    TorqueRelief,
 )
 from oocyte_fe.fe.obstacles import Linearised
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog, dead_load_vector
@@ -275,6 +276,7 @@ def run_experiment(
         log=log,
         control=control,
         dead_loads=dead,
+        torque_relief=TorqueRelief() if exp.support == "inertia_relief" and not axisym else None,
     )
     probes = point_probes(body, np.array(list(cell.points.values()))) if cell.points else None
     rows: list[dict] = []

@@ -18,9 +18,13 @@ body, and the body force ``b = -rho a`` of that acceleration balances them exact
 
     b(X) = -(F / V) - (M / I) e_z x X,    V = int dV,  I = int |X|^2 dV   (plane strain)
 
-(axisymmetric: ``b_z = -F_z / V``). Three (one) vertex components pinned near the centre then
-only remove the rigid motion; their reaction is the imbalance left by the follower pressures'
-change of direction, reported as ``hold_reaction_nN``.
+(axisymmetric: ``b_z = -F_z / V``). The resultant of dead loads does not change as the cell
+deforms, their moment about the deformed cell does: in plane strain the moment left is
+balanced at every Newton iterate by a further body force of the rotation mode
+(:class:`oocyte_fe.fe.loads.TorqueRelief`), so that no pin carries a couple. Three (one)
+vertex components pinned near the centre then only remove the rigid motion; their reaction
+is the imbalance left by the follower pressures' change of direction, reported as
+``hold_reaction_nN``.
 """
 
 from __future__ import annotations

@@ -106,3 +106,23 @@ class BodyForce:
     force: Callable[[NDArray], NDArray]
     scale: Callable[[float], float]
     name: str = "body force"
+
+
+@dataclass(frozen=True)
+class TorqueRelief:
+    """The turning part of a free cell's inertia relief, in the current configuration
+    (plane strain). Dead loads balanced on the reference configuration (zero resultant and
+    moment there) keep a zero resultant as the cell deforms, but their moment about the
+    deformed cell does not stay zero; without this the two pins of a free cell carry it as
+    a pair of point forces. Each residual evaluation adds the body force of the rotation
+    mode ``b = c (-(Y - Y_c), X - X_c)`` [nN/um^3] per reference area (about the reference
+    centroid, so that it has no resultant) with ``c`` such that the external forces have no
+    moment in the current configuration::
+
+        sum_i (x_i f_iy - y_i f_ix) = 0   over the displacement nodes at x_i = X_i + u_i
+
+    It is the d'Alembert force of the cell's angular acceleration, spread over the reference
+    section rather than the deformed one. ``dc/du`` is left out of the tangent (Newton then
+    converges linearly in the last digits where the moment arms change quickly)."""
+
+    name: str = "torque relief"

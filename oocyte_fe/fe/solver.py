@@ -44,6 +44,7 @@ from oocyte_fe.fe.loads import (
     Prescribed,
     ReactionControl,
     SurfaceTraction,
+    TorqueRelief,
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
 from oocyte_fe.fe.pattern import SparsityPattern
@@ -147,6 +148,7 @@ class Problem:
         log: logging.Logger | None = None,
         control: ReactionControl | None = None,
         dead_loads: Sequence[SurfaceTraction | BodyForce] = (),
+        torque_relief: TorqueRelief | None = None,
     ) -> None:
         self.body = body
         self.prescribed = list(prescribed)
@@ -202,6 +204,8 @@ class Problem:
         ]
         self._pressure_ops = [FacetOperators.of(fb) for _, fb in self.pressures]
         self.dead_loads = [(load, dead_load_vector(body, load)) for load in dead_loads]
+        self._torque = None if torque_relief is None else self._torque_mode(torque_relief)
+        self.torque_relief_coefficient = 0.0  # c of the last residual (TorqueRelief)
         self._contact_ops = [FacetOperators.of(fb) for _, fb in self.contacts]
         self._ops = [
             RegionOperators.of(r.ubasis, r.pbasis, bool(body.axisym)) for r in body.regions
@@ -224,6 +228,23 @@ class Problem:
                     f"{-gap.min():.3g} um at t = 0)",
                 )
             self.contact_states.append(ct.ContactState(np.zeros_like(X), np.zeros(gap.shape), 0.0))
+
+    def _torque_mode(self, relief: TorqueRelief) -> NDArray:
+        """The load vector of the unit rotation mode about the reference centroid."""
+        body = self.body
+        if body.axisym:
+            raise InputError(relief.name, "symmetry", "a plane-strain body (no turning about z)")
+        weights = [(np.asarray(r.ubasis.global_coordinates()), r.ubasis.dx) for r in body.regions]
+        area = sum(float(np.sum(dx)) for _, dx in weights)
+        xc, yc = (sum(float(np.sum(X[d] * dx)) for X, dx in weights) / area for d in range(2))
+        mode = BodyForce(lambda X: np.stack([-(X[1] - yc), X[0] - xc]), lambda _t: 1.0)
+        return dead_load_vector(body, mode)
+
+    def _moment(self, x: NDArray, f: NDArray) -> float:
+        """``sum_i (x_i f_iy - y_i f_ix)`` [nN um] of nodal forces ``f`` at the nodes of ``x``."""
+        sx, sy = self.body.ubasis.split_indices()
+        X = self.body.ubasis.doflocs
+        return float(np.sum((X[0, sx] + x[sx]) * f[sy] - (X[1, sy] + x[sy]) * f[sx]))
 
     # --- assembly ----------------------------------------------------------------------------
 
@@ -315,6 +336,19 @@ class Problem:
             blocks_uu.append(Kc)
         for load, vec in self.dead_loads:
             f_ext += load.scale(t) * vec
+        rank_one = None
+        if self._torque is not None:
+            g = self._torque
+            m_g = self._moment(x, g)
+            c = -self._moment(x, f_ext) / m_g
+            self.torque_relief_coefficient = c
+            # d(-c g)/du = g (grad M_f + c grad M_g) / M_g, grad M_f = (f_y, -f_x) per node
+            w = np.zeros(body.n_dofs)
+            sx, sy = body.ubasis.split_indices()
+            w[sx] = (f_ext[sy] + c * g[sy]) / m_g
+            w[sy] = -(f_ext[sx] + c * g[sx]) / m_g
+            rank_one = (np.concatenate([g, np.zeros(body.n_dofs - body.n_u)]), w)
+            f_ext += c * g
         r[: body.n_u] -= f_ext
 
         def tangent() -> sp.csc_matrix:
@@ -342,6 +376,7 @@ class Problem:
                 np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
             )
 
+        tangent.rank_one = rank_one  # the torque relief's K += g w^T (None without it)
         return r, tangent, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
 
     def _load_value(self, k: int, t: float) -> float:
@@ -424,11 +459,18 @@ class Problem:
                 break
             dx = np.zeros_like(x)
             dx[D] = target[D] - x[D]
+            rank_one = K.rank_one
             K = K()
             A, b, _, I = condense(K, -r, x=dx, D=D)
             try:
                 lu = self._linear.factorize(A)
-                dx[I] = lu.solve(b)
+                if rank_one is None:
+                    dx[I] = lu.solve(b)
+                else:  # (K_II + g_I w_I^T) dx_I = b - g_I w_D . dx_D, by Sherman-Morrison
+                    g, w = rank_one
+                    y = lu.solve(b - g[I] * (w[D] @ dx[D]))
+                    z = lu.solve(g[I])
+                    dx[I] = y - z * ((w[I] @ y) / (1.0 + w[I] @ z))
             except RuntimeError as exc:
                 raise _StepFailed(f"singular tangent ({exc})", res) from None
             if self.control is not None:  # (a line search scales dx, not this increment)
