@@ -71,9 +71,9 @@ def elastic_section(
         text += (
             "\n\nThe FE cell does not carry the whole traction at "
             + "; ".join(failed)
-            + ". The elastic cell of the AFM moduli is crushed there (b/a below about 0.5 "
-            "before the full load): no b/a at the junction, and these pressures are left out "
-            "of the errors below."
+            + ". The elastic cell of the AFM moduli is crushed there (a ZP element inverts "
+            "before the full load): no b/a at the junction, and "
+            "these pressures are left out of the errors below."
         )
     if known.any():
         k = np.nonzero(known)[0]
