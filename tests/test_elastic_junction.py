@@ -129,6 +129,15 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     assert shapes[0] is None and shapes[1].shape[1] == 2
     a, b = np.ptp(shapes[1], axis=0)  # the deformed outline, the ellipse's axes along x, y
     assert min(a, b) / max(a, b) == pytest.approx(result.ratios[0], rel=0.01)
+    # the case's report section: one row per pass, each pass's b/a and the last change
+    from oocyte_fe.kinds.microchannel_vof_elastic import recompute_section
+
+    text, metrics = recompute_section(result, 300.0)
+    assert metrics["recompute_b_over_a"] == result.ratios
+    change = 100 * (result.ratios[1] / result.ratios[0] - 1)
+    assert abs(change) < 1.0
+    assert metrics["recompute_last_change_pct"] == pytest.approx(change, rel=1e-12)
+    assert "converged after 2 passes" in text and text.count("\n| 1 |") == 1
 
 
 def test_polygon_fraction_of_an_ellipse():

@@ -15,19 +15,27 @@ reduced model still runs and its table is in the report.
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, METRICS, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_report import report_outcome, skipped_outcome
 from oocyte_fe.kinds.microchannel_vof_runs import RunSpec, run_specs
+from oocyte_fe.microchannel.elastic_iteration import DeformRecompute, deform_recompute
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.microchannel.viscosity import Rheology
-from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase
+from oocyte_fe.microchannel.vof.casewriter import Numerics, Phase, VofSetup
 from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
-from oocyte_fe.microchannel.vof.junction import junction_setup, liquid_cell_setup, run_junction
+from oocyte_fe.microchannel.vof.junction import (
+    JunctionRun,
+    junction_setup,
+    liquid_cell_setup,
+    run_junction,
+)
 from oocyte_fe.microchannel.vof.pool import run_concurrently
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
@@ -90,9 +98,9 @@ def _kelvin_voigt(inp: VofInputs, source: str) -> tuple[np.ndarray, np.ndarray]:
     return table.pressure, fit.ratio
 
 
-def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
-    """Arguments of :func:`run_junction` for one run (plain data: they may go to a remote
-    Dask worker)."""
+def _setup(inp: VofInputs, spec: RunSpec, outline: np.ndarray | None = None) -> VofSetup:
+    """The OpenFOAM case of one run; ``outline`` (um about the cell's centre): the liquid
+    cell starts in that shape (the deform-recompute passes)."""
     channel = inp.channel.to_internal()
     u = float(channel.mean_velocity(spec.pressure_hPa * HPA))
     end = inp.travel_um / u
@@ -108,11 +116,46 @@ def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
         iso=inp.isoadvector.to_controls(),
     )
     phases = _phases(inp, spec.cap, spec.model, spec.curve)
-    build = liquid_cell_setup if spec.model == LIQUID_CELL else junction_setup
-    setup = build(inp.geometry.to_geometry(), spec.dx, *phases, u, inp.b_ratio * u, numerics)
+    geometry, ub = inp.geometry.to_geometry(), inp.b_ratio * u
+    if spec.model == LIQUID_CELL:
+        return liquid_cell_setup(geometry, spec.dx, *phases, u, ub, numerics, outline=outline)
+    return junction_setup(geometry, spec.dx, *phases, u, ub, numerics)
+
+
+def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
+    """Arguments of :func:`run_junction` for one run (plain data: they may go to a remote
+    Dask worker)."""
+    setup = _setup(inp, spec)
     foam = find_openfoam(inp.openfoam)
+    end = setup.numerics.end_time
     ctx.step(f"{spec.label}: {spec.model}, {setup.layout.n_cells} cells, {end * 1e3:.3g} ms")
     return (foam, ctx.output(f"openfoam/{spec.label}"), setup, inp.ranks, inp.nice)
+
+
+def _recompute(
+    ctx: CaseContext, inp: VofInputs, spec: RunSpec, first: JunctionRun
+) -> DeformRecompute | str:
+    """The deform-recompute passes at the first pressure (pass 0 is its run ``first``), or
+    why they did not run."""
+    foam = find_openfoam(inp.openfoam)
+
+    def run_flow(outline: np.ndarray | None, folder: Path) -> tuple:
+        setup = _setup(inp, spec, outline)
+        run = first
+        if outline is not None:
+            ctx.step(f"deform-recompute: {folder.parent.name}, the flow past the FE's shape")
+            run = run_junction(foam, folder, setup, inp.ranks, inp.nice)
+        return run.case, run.time_at_junction, setup.layout, run.ratio_at_junction
+
+    try:
+        return deform_recompute(
+            run_flow,
+            ctx.output("recompute"),
+            inp.channel.viscosity_Pa_s * PA_S,
+            max_passes=inp.recompute_passes,
+        )
+    except (InputError, SolverError) as exc:
+        return f"not computed: {exc}"
 
 
 def run_scheduler(ctx: CaseContext, inp: VofInputs) -> str | None:
@@ -155,4 +198,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     main = runs[: len(pressures)]
     n = len(pressures)
     extra = {s.label: r for s, r in zip(specs[n:], runs[n:], strict=True)}
-    return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra)
+    recompute = None
+    if inp.recompute_passes and inp.model == LIQUID_CELL:
+        recompute = _recompute(ctx, inp, specs[0], main[0])
+    return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra, recompute)

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, PA_S, VofInputs
+from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.elastic_junction import compare_table4, elastic_cells_at_junction
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.runner.registry import CaseContext
@@ -97,3 +98,43 @@ def elastic_section(
         "flow is not recomputed around the deformed cell. Nothing is tuned to Table 4."
     )
     return text, metrics
+
+
+def recompute_section(
+    result: DeformRecompute | str, pressure_hPa: float
+) -> tuple[str, dict[str, float | list[float]]]:
+    """The deform-recompute passes' table and metrics ``recompute_b_over_a`` (each pass's
+    b/a, NaN where the FE did not carry its traction) and ``recompute_last_change_pct``."""
+    if isinstance(result, str):
+        return result, {}
+    rows = [
+        "| pass | the flow's cell shape, b/a at the junction | traction taken at x (um) "
+        "| FE b/a | traction carried | change of b/a |",
+        "|---|---|---|---|---|---|",
+    ]
+    carried = []
+    for k, ps in enumerate(result.passes):
+        cell = ps.elastic
+        change = "-"
+        if carried and cell.experiment.success:
+            change = f"{100 * (cell.b_over_a / carried[-1] - 1):+.1f} %"
+        rows.append(
+            f"| {k} | {ps.flow_b_over_a:.4f} | {ps.traction_x_um:+.1f} | {cell.b_over_a:.4f} "
+            f"| {cell.load_fraction:.0%} | {change} |"
+        )
+        if cell.experiment.success:
+            carried.append(cell.b_over_a)
+    ratios = [
+        p.elastic.b_over_a if p.elastic.experiment.success else math.nan for p in result.passes
+    ]
+    last = 100 * (carried[-1] / carried[-2] - 1) if len(carried) > 1 else math.nan
+    text = (
+        f"At {pressure_hPa:g} hPa: pass 0 is the one-way cell (the traction of the write "
+        "nearest the junction crossing); pass k runs the flow again with the liquid cell "
+        "started in the FE's deformed outline of pass k - 1 and loads the undeformed FE cell "
+        "with the new traction, until b/a changes by less than "
+        f"{100 * result.tolerance:g} %.\n\n" + "\n".join(rows) + f"\n\n**{result.stopped}**."
+    )
+    if not result.converged and len(carried) > 1:
+        text += f" The last carried pass changed b/a by {last:+.1f} %."
+    return text, {"recompute_b_over_a": ratios, "recompute_last_change_pct": last}

@@ -123,6 +123,14 @@ class VofInputs(CaseInputs):
     zp_bound: bool = _f(
         False, "liquid cell: one more run with the ZP's curve for the whole cell", "1"
     )
+    recompute_passes: int = _f(
+        0,
+        "liquid cell: deform-recompute passes at the first pressure, the flow run again past "
+        "the AFM-elastic cell's deformed shape (0: one-way only)",
+        "1",
+        ge=0,
+        le=10,
+    )
     beside_model: Model | None = _f(
         None, "a second model run beside the first (reported, not the headline)", "name"
     )
@@ -218,6 +226,8 @@ METRICS = {
     "interface, -sum sigma . grad(alpha) dA: |miss| / load on the band, %",
     "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
     "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
+    "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",
+    "recompute_last_change_pct": "deform-recompute: change of b/a in the last carried pass, %",
     "liquid_mae": "liquid cell (VOF): mean |b/a - experiment| over the pressures",
     "paper_vof_mae": "paper's VOF: mean |b/a - experiment| over the same pressures",
     "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",

@@ -9,10 +9,11 @@ import math
 import numpy as np
 
 from oocyte_fe.errors import InputError
-from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section
+from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section, recompute_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
 from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes, traction_study
+from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
@@ -58,6 +59,7 @@ def report_outcome(
     pressures: np.ndarray,
     runs: list[JunctionRun],
     extra: dict[str, JunctionRun],
+    recompute: DeformRecompute | str | None = None,
 ) -> CaseOutcome:
     beside = {k: v for k, v in extra.items() if k.startswith(BESIDE) and "_dt" not in k}
     beside_at = {round(float(r.velocity_a), 3): r for r in beside.values()}
@@ -186,6 +188,12 @@ def report_outcome(
         (f"Beside: {inp.beside_model or 'no second model'}", beside_text),
         (f"Traction on the cell at the junction ({pressures[0] / HPA:g} hPa)", traction_text),
         ("The AFM-elastic cell under the flow's traction (one-way)", elastic_text),
+    ]
+    if recompute is not None:
+        text, more = recompute_section(recompute, float(pressures[0] / HPA))
+        metrics.update(more)
+        sections.append(("Deform and recompute: the flow past the deformed cell", text))
+    sections += [
         (
             "Files",
             "Each run's OpenFOAM case is in `openfoam/<run>/` (open `case.foam` in ParaView for "
