@@ -13,7 +13,8 @@ frames to recover after occlusion, fps), the gains over KCF (HOG) next to the se
 (precision) and +49.89 % (success), and frames per second for a 128 x 128 search window on one
 core (goal >= 200). Several minutes (CSRT is slow); run it niced:
 ``nice -n 10 python3 benchmarks/tracking.py [--frames 300] [--no-opencv] [--only NAME ...]
-[--seed-offset N ...] [--model heldout|turn --seed0 N ...]`` (``--seed-offset 1000 2000``:
+[--seed-offset N ...] [--model heldout|turn --seed0 N ...] [--trackers NAME ...]``
+(``--seed-offset 1000 2000``:
 the same 24 sequences drawn anew, :func:`oocyte_fe.tracking.benchmark.reseeded`; ``--model
 heldout``: the 12 conditions of the second, independent video model of
 :mod:`oocyte_fe.tracking.heldout`, one draw per ``--seed0``; ``--model turn``: the four
@@ -33,16 +34,6 @@ import time
 from oocyte_fe.tracking import benchmark as bench
 from oocyte_fe.tracking.heldout import generate_heldout, heldout_grid
 from oocyte_fe.tracking.synthetic import benchmark_grid, generate, turning_grid
-from oocyte_fe.tracking.tracker import (
-    MFAKCF,
-    MFAKCF_HOLD,
-    MFAKCF_NO_ANCHOR,
-    MFAKCF_RATE_002,
-    MFAKCF_ROTATION,
-    MFAKCF_SCALE,
-    MFAKCF_SIGNATURE,
-    SINGLE_KCF,
-)
 
 
 def main() -> None:
@@ -54,6 +45,13 @@ def main() -> None:
         "--seed-offset", type=int, nargs="*", default=[0], help="draws: seed + N (0: own)"
     )
     parser.add_argument("--model", choices=("own", "heldout", "turn"), default="own")
+    parser.add_argument(
+        "--trackers",
+        nargs="*",
+        choices=sorted(bench.ABLATION),
+        default=None,
+        help="our trackers to run (default: all of them)",
+    )
     parser.add_argument(
         "--seed0", type=int, nargs="*", default=[50_000], help="heldout / turn draws"
     )
@@ -71,9 +69,8 @@ def main() -> None:
         specs = [s for n in args.seed_offset for s in (bench.reseeded(grid, n) if n else grid)]
         render = generate
     t0 = time.perf_counter()
-    result = bench.run_benchmark(
-        specs, not args.no_opencv, bench.ABLATION, notify=print, render=render
-    )
+    ours = {k: v for k, v in bench.ABLATION.items() if not args.trackers or k in args.trackers}
+    result = bench.run_benchmark(specs, not args.no_opencv, ours, notify=print, render=render)
     print(f"\n{len(specs)} sequences x {args.frames} frames in {time.perf_counter() - t0:.0f} s")
     print(f"OpenCV: {result.opencv or 'not used'}\n")
     names = [
@@ -87,6 +84,7 @@ def main() -> None:
     print(bench.draw_table(result, [n for n in names if n in result.trackers]) + "\n")
     csrt = "OpenCV CSRT" if "OpenCV CSRT" in result.trackers else None
     trackers = ["MFAKCF", "MFAKCF (rotation)", "MFAKCF (signature)", "MFAKCF (scale)"]
+    trackers = [t for t in trackers if t in result.trackers]
     print(bench.group_table(result, trackers, csrt) + "\n")
     if args.model != "own":
         print(f"1-min load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
@@ -95,16 +93,7 @@ def main() -> None:
     print("\nMFAKCF over KCF (HOG), % (seed 000: precision +45.63, success +49.89):")
     for key, value in bench.gains(result).items():
         print(f"  {key}: {value:+.1f}")
-    for name, config in (
-        ("MFAKCF", MFAKCF),
-        ("MFAKCF (rate 0.02)", MFAKCF_RATE_002),
-        ("MFAKCF (no anchor)", MFAKCF_NO_ANCHOR),
-        ("MFAKCF (no motion)", MFAKCF_HOLD),
-        ("MFAKCF (signature)", MFAKCF_SIGNATURE),
-        ("MFAKCF (scale)", MFAKCF_SCALE),
-        ("MFAKCF (rotation)", MFAKCF_ROTATION),
-        ("KCF (HOG)", SINGLE_KCF),
-    ):
+    for name, config in ours.items():
         cpu, wall = bench.fps_at_window(config, 128)
         print(
             f"{name}: 128 x 128 window: {cpu:.0f} frames per CPU second (one core), "
