@@ -122,7 +122,8 @@ class TorqueRelief:
         sum_i (x_i f_iy - y_i f_ix) = 0   over the displacement nodes at x_i = X_i + u_i
 
     It is the d'Alembert force of the cell's angular acceleration, spread over the reference
-    section rather than the deformed one. ``dc/du`` is left out of the tangent (Newton then
-    converges linearly in the last digits where the moment arms change quickly)."""
+    section rather than the deformed one. Newton's tangent includes its derivative, the
+    rank-one ``g (grad M_f + c grad M_g)^T / M_g`` (``g`` the mode's load vector, ``M`` the
+    moments above), solved by Sherman-Morrison on the one factorisation."""
 
     name: str = "torque relief"

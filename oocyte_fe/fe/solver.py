@@ -205,7 +205,7 @@ class Problem:
         self._pressure_ops = [FacetOperators.of(fb) for _, fb in self.pressures]
         self.dead_loads = [(load, dead_load_vector(body, load)) for load in dead_loads]
         self._torque = None if torque_relief is None else self._torque_mode(torque_relief)
-        self.torque_relief_coefficient = 0.0  # c of the last residual (TorqueRelief)
+        self._split = body.ubasis.split_indices()  # the x and y displacement dofs
         self._contact_ops = [FacetOperators.of(fb) for _, fb in self.contacts]
         self._ops = [
             RegionOperators.of(r.ubasis, r.pbasis, bool(body.axisym)) for r in body.regions
@@ -242,7 +242,7 @@ class Problem:
 
     def _moment(self, x: NDArray, f: NDArray) -> float:
         """``sum_i (x_i f_iy - y_i f_ix)`` [nN um] of nodal forces ``f`` at the nodes of ``x``."""
-        sx, sy = self.body.ubasis.split_indices()
+        sx, sy = self._split
         X = self.body.ubasis.doflocs
         return float(np.sum((X[0, sx] + x[sx]) * f[sy] - (X[1, sy] + x[sy]) * f[sx]))
 
@@ -253,8 +253,7 @@ class Problem:
         (axisymmetric: the ring sum, x is 0 by symmetry)."""
         for load, vec in self.dead_loads:
             if load.name == name:
-                split = self.body.ubasis.split_indices()
-                total = np.array([vec[d].sum() for d in split])
+                total = np.array([vec[d].sum() for d in self._split])
                 return load.scale(t) * total * ([0.0, 1.0] if self.body.axisym else 1.0)
         raise KeyError(name)
 
@@ -341,10 +340,9 @@ class Problem:
             g = self._torque
             m_g = self._moment(x, g)
             c = -self._moment(x, f_ext) / m_g
-            self.torque_relief_coefficient = c
             # d(-c g)/du = g (grad M_f + c grad M_g) / M_g, grad M_f = (f_y, -f_x) per node
             w = np.zeros(body.n_dofs)
-            sx, sy = body.ubasis.split_indices()
+            sx, sy = self._split
             w[sx] = (f_ext[sy] + c * g[sy]) / m_g
             w[sy] = -(f_ext[sx] + c * g[sx]) / m_g
             rank_one = (np.concatenate([g, np.zeros(body.n_dofs - body.n_u)]), w)
