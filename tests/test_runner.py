@@ -108,6 +108,20 @@ def test_parallel_run_matches_serial(tmp_path: Path) -> None:
     assert y == pytest.approx(6.0)
 
 
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_full_overrides_reach_every_case_process(tmp_path: Path, jobs: int) -> None:
+    """``--full``'s overrides apply whether the cases run here or in processes of their own
+    (the worker processes reload the case: they once dropped ``[full]``)."""
+    cases = tmp_path / "cases"
+    for name in ("a", "b"):
+        make_case(cases, name, GOOD.replace("x_um = 2.0", "x_um = 1.0") + "[full]\nx_um = 2.0\n")
+    results = run_cases(plan([cases], full=True), tmp_path / "out", jobs=jobs)
+    assert {r.name: r.status for r in results} == {"a": "PASS", "b": "PASS"}
+    for name in ("a", "b"):
+        y = json.loads((tmp_path / "out" / name / "metrics.json").read_text())["metrics"]["y_um"]
+        assert y == pytest.approx(4.0, rel=1e-12)  # y = 2 x with the [full] x = 2.0
+
+
 # --- malformed input: one line naming file, field and expectation -----------------------
 
 

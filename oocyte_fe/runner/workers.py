@@ -44,11 +44,13 @@ def _child(
     verbose: bool,
     q: object,
     scheduler: str | None = None,
+    full: bool = False,
 ) -> None:
-    """Process entry point: reload the case and run it into ``tmp``."""
+    """Process entry point: reload the case (with the ``[quick]`` / ``[full]`` overrides it
+    was planned with) and run it into ``tmp``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     put = q.put  # type: ignore[attr-defined]
-    case = load_case(directory, quick=quick, kind_module=kind_module)
+    case = load_case(directory, quick=quick, kind_module=kind_module, full=full)
     result = execute_case(case, tmp, quick, lambda ev: put(("event", ev)), verbose, scheduler)
     put(("result", result))
 
@@ -132,11 +134,12 @@ def run_in_processes(
             while todo and len(running) < jobs:
                 case = todo.pop(0)
                 tmp = partial_folder(out_root, case.name)
-                args = (case.directory, tmp, quick, case.kind.module, verbose, q, scheduler)
+                module = case.kind.module
+                args = (case.directory, tmp, quick, module, verbose, q, scheduler, case.full)
                 process = mp.Process(target=_child, args=args, name=f"case-{case.name}")
                 process.start()
                 running[case.name] = _Running(case, process, tmp, time.monotonic())
-                events(ProgressEvent(case.name, "start", "started (quick)" if quick else "started"))
+                events(ProgressEvent(case.name, "start", case.started(quick)))
             drain(0.2)
             for name, run in list(running.items()):
                 limit = (run.case.spec.timeout_s or float("inf")) + GRACE_S
