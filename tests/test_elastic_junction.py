@@ -16,8 +16,10 @@ import pytest
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.elastic_junction import elastic_cell_at_junction
+from oocyte_fe.microchannel.vof.band_traction import Fluids
 
 R = 70.0
+FLUIDS = Fluids(1.02e-12, 1.008e-12, 1.66e-6)  # 1020, 1008 kg/m^3 (nN s^2/um^4); 1.66e-3 Pa s
 
 
 def _vof_csv(path: Path, s_kPa: float, p0_kPa: float = 0.0, centre=(-8.0, -19.0)) -> Path:
@@ -51,10 +53,10 @@ def test_a_table_without_the_columns_is_refused(tmp_path: Path):
         elastic_cell_at_junction(tmp_path / "t.csv", tmp_path)
 
 
-def _synthetic_run(case: Path, layout, s: float, p0: float, outline=None) -> Path:
+def _synthetic_run(case: Path, layout, s: float, p0: float, outline=None, grad=0.0) -> Path:
     """Written times 0 and 0.001 s of a cell at rest (U = 0) at (-300, 0) um, the disk of
-    radius R (or ``outline`` about that centre), in the pressure p0 - s (x^2 - y^2) / R^2
-    (kPa), with the solver's per-step moments file."""
+    radius R (or ``outline`` about that centre), in the pressure p0 - s (x^2 - y^2) / R^2 +
+    grad x (kPa, x from the centre), with the solver's per-step moments file."""
     from oocyte_fe.microchannel.vof.casewriter import Disk, Outline
     from oocyte_fe.microchannel.vof.foamfile import write_field
 
@@ -65,7 +67,7 @@ def _synthetic_run(case: Path, layout, s: float, p0: float, outline=None) -> Pat
     )
     alpha = region.fraction(c, layout.dx)
     d = c - centre
-    p = (p0 - s * (d[:, 0] ** 2 - d[:, 1] ** 2) / R**2) * 1e3  # Pa
+    p = (p0 - s * (d[:, 0] ** 2 - d[:, 1] ** 2) / R**2 + grad * d[:, 0]) * 1e3  # Pa
     for name in ("0", "0.001"):
         write_field(case / name / "alpha.cell", "[0 0 0 0 0 0 0]", alpha, {})
         write_field(case / name / "p", "[1 -1 -2 0 0 0 0]", p, {})
@@ -84,9 +86,9 @@ def _synthetic_run(case: Path, layout, s: float, p0: float, outline=None) -> Pat
 def test_vof_fields_to_the_elastic_cell_end_to_end(tmp_path: Path):
     """Synthetic VOF fields on the junction lattice (dx 5 um): a disk at rest (U = 0) in the
     pressure p = p0 - s (x^2 - y^2) / R^2, whose traction on the contour of radius r is the
-    normal ``s (r/R)^2 cos 2 theta`` less p0. The traction read from the fields (pressure
-    extrapolated to the contour from 1 and 2 cells: error 2 (h/r)^2 = 1 %) loads the FE cell:
-    the Airy ellipse within 2 %."""
+    normal ``s (r/R)^2 cos 2 theta`` less p0. The traction of the diffuse band
+    (:mod:`.vof.band_traction`) loads the FE cell: the Airy ellipse within 2 % (the band's
+    pressure is sampled across the smeared interface, within a cell of r)."""
     from oocyte_fe.microchannel.elastic_junction import elastic_cells_at_junction
     from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 
@@ -96,7 +98,7 @@ def test_vof_fields_to_the_elastic_cell_end_to_end(tmp_path: Path):
     [cell] = elastic_cells_at_junction(
         [(300.0, case, 0.985)],
         lambda _: layout,
-        1.66e-6,
+        FLUIDS,
         tmp_path / "fe",
         zona_kPa=E,
         cytoplasm_kPa=E,
@@ -124,7 +126,7 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
         shapes.append(outline)
         return _synthetic_run(folder, layout, 0.01, 0.0, outline), 0.001, layout, 1.0
 
-    result = deform_recompute(flow, tmp_path, 1.66e-6, zona_kPa=1.0, cytoplasm_kPa=1.0, frames=2)
+    result = deform_recompute(flow, tmp_path, FLUIDS, zona_kPa=1.0, cytoplasm_kPa=1.0, frames=2)
     assert result.converged and len(result.passes) == 2, result.stopped
     assert shapes[0] is None and shapes[1].shape[1] == 2
     a, b = np.ptp(shapes[1], axis=0)  # the deformed outline, the ellipse's axes along x, y
@@ -199,3 +201,33 @@ def test_elastic_ratio_is_read_at_the_junction_between_two_writes(tmp_path: Path
     assert ElasticAtPressure(300.0, 0.985, three, (-20.0, -4.0, 6.0)).b_over_a == pytest.approx(
         0.66
     )
+
+
+def test_band_traction_carries_the_bands_force_and_its_cos2theta_mode(tmp_path: Path):
+    """The diffuse band's traction (:mod:`.vof.band_traction`) of a disk at rest in
+    p = p0 - s (x^2 - y^2) / R^2 + G x: its net force is the band's (to round-off; here
+    ``-G sum alpha dA`` by summation by parts) and its normal part's cos 2 theta amplitude
+    is the closed form's ``s (r/R)^2`` (r ~ R) within 2 %, whatever p0."""
+    from oocyte_fe.microchannel.vof.band_traction import band_traction
+    from oocyte_fe.microchannel.vof.control_volume import mixture_fields
+    from oocyte_fe.microchannel.vof.diffuse_force import band_force
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+
+    layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
+    s, G = 0.01, 2e-4  # kPa, kPa/um
+    modes = []
+    for p0 in (0.0, 30.0):
+        case = _synthetic_run(tmp_path / f"p{p0:g}", layout, s, p0, grad=G)
+        write = case / "0.001"
+        t = band_traction(write, layout, FLUIDS)
+        band = band_force(mixture_fields(write, layout, "cell", 1.0, 1.0, 1.0), layout.dx)
+        alpha = mixture_fields(write, layout, "cell", 1.0, 1.0, 1.0).alpha
+        area = np.nansum(alpha) * layout.dx**2
+        assert t.force == pytest.approx(band.total, rel=1e-12, abs=1e-12 * G * area)
+        assert t.force[0] == pytest.approx(-G * area, rel=1e-9)
+        assert abs(t.force[1]) < 1e-9 * G * area
+        theta = np.radians(t.angle)
+        tn = np.einsum("ij,ij->i", t.traction, t.normals)
+        modes.append(2.0 * np.mean(tn * np.cos(2 * theta)))  # rows equally spaced in angle
+    assert modes[0] == pytest.approx(s, rel=0.02)
+    assert modes[1] == pytest.approx(modes[0], rel=1e-6)  # p0 = 3000 s: the files' digits

@@ -151,7 +151,7 @@ def _recompute(
         return deform_recompute(
             run_flow,
             ctx.output("recompute"),
-            inp.channel.viscosity_Pa_s * PA_S,
+            inp.fluids,
             max_passes=inp.recompute_passes,
         )
     except (InputError, SolverError) as exc:

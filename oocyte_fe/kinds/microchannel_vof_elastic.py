@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from oocyte_fe.kinds.microchannel_vof_inputs import HPA, PA_S, VofInputs
+from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.elastic_junction import compare_table4, elastic_cells_at_junction
 from oocyte_fe.microchannel.vof.junction import JunctionRun
@@ -34,9 +34,7 @@ def elastic_section(
         return geometry.layout(inp.dx_um, r.velocity_a, r.velocity_b)
 
     jobs = [(p, r.case, r.ratio_at_junction) for p, r in sorted(by_p.items())]
-    cells = elastic_cells_at_junction(
-        jobs, layout_of, inp.channel.viscosity_Pa_s * PA_S, ctx.output(".")
-    )
+    cells = elastic_cells_at_junction(jobs, layout_of, inp.fluids, ctx.output("."))
     rows = [
         "| p (hPa) | experiment | paper VOF | liquid cell (VOF) | **AFM-elastic cell** "
         "| 1 - b/a elastic | writes at x (um): b/a at 0 from the line through them |",
@@ -90,9 +88,11 @@ def elastic_section(
         metrics.update({"elastic_mae": e_el, "liquid_mae": e_liq, "paper_vof_mae": e_pap})
         text += f"\n\nOver the {known.sum()} pressures the FE carries: " + cmp.sentence()
     text += (
-        "\n\nOne-way: the traction of the flow past the LIQUID cell (each write within 12.5 um "
-        "of the junction crossing, pressure extrapolated to the contour) on the layered "
-        "plane-strain "
+        "\n\nOne-way: the force of the flow past the LIQUID cell (each write within 12.5 um "
+        "of the junction crossing) from its diffuse interface, -sum sigma . grad(alpha) dA, "
+        "put on the outline by polar angle (its Fourier harmonics down to four lattice "
+        "spacings; net force exact: the force whose momentum budget is checked above; "
+        "vof.band_traction), on the layered plane-strain "
         "FE cell (ZP 7.0, cytoplasm 1.55 kPa: the instantaneous AFM moduli; the ZP's Prony "
         "series relaxes 0.16 % in the millisecond of the transit), free (inertia relief); the "
         "flow is not recomputed around the deformed cell. Nothing is tuned to Table 4."

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from pydantic import Field
 
@@ -13,6 +13,9 @@ from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.isoadvector import IsoControls
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.schema import CaseInputs, Relation
+
+if TYPE_CHECKING:
+    from oocyte_fe.microchannel.vof.band_traction import Fluids
 
 PA_S = units.VISCOSITY["Pa_s"]
 KG_M3 = units.DENSITY["kg_m3"]
@@ -198,6 +201,19 @@ class VofInputs(CaseInputs):
     def mesh_correctors(self) -> int:
         """Pressure correctors of the second-mesh run."""
         return self.mesh_check_correctors or self.correctors
+
+    @property
+    def fluids(self) -> Fluids:
+        """The liquid cell's density (its ``cell_curve`` phase's), the medium's density and
+        viscosity, in the internal units (the traction of :mod:`.vof.band_traction`)."""
+        from oocyte_fe.microchannel.vof.band_traction import Fluids
+
+        phase = self.cytoplasm if self.cell_curve == "cytoplasm" else self.zp
+        return Fluids(
+            phase.density_kg_m3 * KG_M3,
+            self.channel.density_kg_m3 * KG_M3,
+            self.channel.viscosity_Pa_s * PA_S,
+        )
 
 
 METRICS = {

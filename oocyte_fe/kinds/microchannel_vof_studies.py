@@ -166,7 +166,9 @@ def traction_study(
         f"F = ({f[0]:.2f}, {f[1]:.2f}) nN/um against the cell's momentum rate M a = "
         f"({ma[0]:.2f}, {ma[1]:.2f}) nN/um (M = rho x area {area:.0f} um^2, a from the per-step "
         f"centroid over {window * 1e6:.0f} us): |F - M a| = **{balance.imbalance_pct:.1f} %** "
-        f"of the load sum |t + p_mean n| ds = {balance.gross:.1f} nN/um."
+        f"of the load sum |t + p_mean n| ds = {balance.gross:.1f} nN/um. This reading is "
+        "reported, not loaded: the FE cell takes the diffuse interface's force (below; "
+        "vof.band_traction)."
     )
     metrics = {
         "traction_imbalance_pct": balance.imbalance_pct,

@@ -29,6 +29,7 @@ from oocyte_fe.microchannel.elastic_junction import (
     elastic_cell_at_junction,
     traction_at_junction,
 )
+from oocyte_fe.microchannel.vof.band_traction import Fluids
 from oocyte_fe.microchannel.vof.geometry import Layout
 
 # run_flow(outline about the cell centre or None, folder) -> (case, time at the junction s,
@@ -77,13 +78,14 @@ def _centred_outline(cell: ElasticCellAtJunction) -> np.ndarray:
 def deform_recompute(
     run_flow: FlowRun,
     folder: Path,
-    mu_medium: float,
+    fluids: Fluids,
     max_passes: int = 6,
     tolerance: float = 0.01,
     **cell: float,
 ) -> DeformRecompute:
     """The passes of the module docstring; ``cell``: keywords of
-    :func:`.elastic_junction.elastic_cell_at_junction`; ``mu_medium`` kPa s."""
+    :func:`.elastic_junction.elastic_cell_at_junction`; ``fluids`` what the traction needs
+    (:class:`.vof.band_traction.Fluids`)."""
     passes: list[Pass] = []
     outline = None
     stopped = f"{max_passes} passes spent"
@@ -91,7 +93,7 @@ def deform_recompute(
         sub = Path(folder) / f"pass{k}"
         sub.mkdir(parents=True, exist_ok=True)
         case, t_j, layout, flow_ratio = run_flow(outline, sub / "flow")
-        traction, x_um = traction_at_junction(case, t_j, layout, mu_medium)
+        traction, x_um = traction_at_junction(case, t_j, layout, fluids)
         csv = traction.write_csv(sub / "vof_traction.csv")
         elastic = elastic_cell_at_junction(csv, sub, **cell)
         passes.append(Pass(flow_ratio, x_um, elastic))

@@ -1,7 +1,9 @@
 """The AFM-elastic cell loaded by the flow at the junction (issue 30 part 2, one-way).
 
-The traction of the medium on the cell (:mod:`oocyte_fe.microchannel.vof.traction`: the
-``alpha = 0.5`` contour of a VOF run at the junction crossing, ``t = sigma n``) loads the
+The force of the medium on the cell at the junction crossing of a VOF run, put on the cell's
+``alpha = 0.5`` contour as a traction (:mod:`oocyte_fe.microchannel.vof.band_traction`: the
+diffuse interface's force ``-sum sigma . grad(alpha) dA``, which balances the cell's momentum
+within about 1 %, spread over the contour by polar angle) loads the
 layered plane-strain FE cell (the seed's 140 um cell with a 15 um ZP; the AFM moduli, ZP 7.0
 and cytoplasm 1.55 kPa, nu = 0.5) as a free cell (``support = "inertia_relief"``: the net
 force accelerates it as a rigid body). One-way reading: the traction is put on the undeformed
@@ -15,9 +17,9 @@ elastic one, and not recomputed), elastic: the moduli are the instantaneous ones
 modulus at t = 0 of the AFM route); the traction acts for about a millisecond, and the ZP's
 Prony series ``G(t)/G0 = 0.5 + 0.3 exp(-t/0.2 s) + 0.2 exp(-t/1.5 s)`` has relaxed by
 ``0.3 (1 - e^-0.005) + 0.2 (1 - e^-0.00067) = 0.16 %`` after 1 ms, so it does not matter.
-The VOF traction's net force misses the cell's momentum rate by 3-9 % on 12.5 um and 2-6 % on
-6.25 um (the stress read next to the smeared interface; the flow itself conserves momentum
-around the cell within 1 %, :mod:`.vof.control_volume`).
+(Until 2026-12-03 the load was the traction read next to the smeared interface,
+:mod:`.vof.traction`, whose net force misses the cell's momentum rate by 3-9 % on 12.5 um;
+it is still reported beside.)
 
 :func:`elastic_cells_at_junction` does this for a set of runs (Table 4's pressures), and
 :func:`compare_table4` sets the two models against the experiment: mean absolute error of b/a.
@@ -37,12 +39,10 @@ from oocyte_fe.experiment.analysis import outline_extents_um
 from oocyte_fe.experiment.driver import ExperimentResult
 from oocyte_fe.experiment.loads import write_traction_table
 from oocyte_fe.io.columns import read_columns
+from oocyte_fe.microchannel.vof.band_traction import Fluids, band_traction
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
-from oocyte_fe.microchannel.vof.traction import Traction, surface_traction
-
-GRADIENT_OFFSET_CELLS = 2.0  # the velocity gradient's central stencil lies in the medium
-PRESSURE_OFFSET_CELLS = 1.0  # read at 1 and 2 cells outside and extrapolated to the contour
+from oocyte_fe.microchannel.vof.traction import Traction
 
 COLUMNS = ("arc_angle_deg", "x_um", "y_um", "t_x_kPa", "t_y_kPa")
 
@@ -126,18 +126,16 @@ def elastic_cell_at_junction(
 
 
 def traction_at_junction(
-    case: Path, time: float, layout: Layout, mu_medium: float, cell: str = "cell"
+    case: Path, time: float, layout: Layout, fluids: Fluids, cell: str = "cell"
 ) -> tuple[Traction, float]:
-    """The traction on the liquid cell (:func:`.vof.traction.surface_traction`, the pressure
-    extrapolated to the contour) at the written time of ``case`` nearest ``time`` (s; the
-    junction crossing), and the centroid's x there (um, from the per-step moments)."""
+    """The traction on the liquid cell (:func:`.vof.band_traction.band_traction`) at the
+    written time of ``case`` nearest ``time`` (s; the junction crossing), and the centroid's x
+    there (um, from the per-step moments)."""
     folders = time_directories(case)[1:]
     if not folders:
         raise InputError(case, "time folders", "a written time after t = 0")
     t, folder = min(folders, key=lambda tf: abs(tf[0] - time))
-    traction = surface_traction(
-        folder, layout, cell, mu_medium, GRADIENT_OFFSET_CELLS, PRESSURE_OFFSET_CELLS, True
-    )
+    traction = band_traction(folder, layout, fluids, cell)
     trace = moment_trace(case, [cell])
     return traction, float(np.interp(t, trace.time, trace.centroid[:, 0]))
 
@@ -198,7 +196,7 @@ class ElasticAtPressure:
 def elastic_cells_at_junction(
     runs: list[tuple[float, Path, float]],
     layout_of: Callable[[float], Layout],
-    mu_medium: float,
+    fluids: Fluids,
     folder: Path,
     **cell: float,
 ) -> list[ElasticAtPressure]:
@@ -212,15 +210,7 @@ def elastic_cells_at_junction(
     for pressure, case, liquid in runs:
         cells, xs = [], []
         for k, (write, x_um) in enumerate(writes_around(case)):
-            traction = surface_traction(
-                write,
-                layout_of(pressure),
-                "cell",
-                mu_medium,
-                GRADIENT_OFFSET_CELLS,
-                PRESSURE_OFFSET_CELLS,
-                True,
-            )
+            traction = band_traction(write, layout_of(pressure), fluids)
             sub = Path(folder) / f"elastic_p{pressure:g}hPa" / f"write{k}"
             sub.mkdir(parents=True, exist_ok=True)
             csv = traction.write_csv(sub / "vof_traction.csv")

@@ -57,11 +57,32 @@ def _walled(field: np.ndarray, fluid: np.ndarray, wall_value: float | None) -> n
     return field[tuple(index)]
 
 
-def diffuse_force(f: MixtureFields, dx: float) -> tuple[np.ndarray, float]:
-    """``F = -sum sigma . grad(alpha) dx^2`` (nN/um) and the load (module docstring) of the
-    fields ``f`` on a lattice of spacing ``dx`` (um), summed over the fluid cells; next to a
-    wall the central differences take the wall's conditions (alpha, p: zero normal gradient;
-    U = 0)."""
+@dataclass(frozen=True)
+class BandForce:
+    """The diffuse interface's force cell by cell of its band (per unit depth)."""
+
+    rows: np.ndarray  # (m,) lattice row (y index) of each band cell
+    cols: np.ndarray  # (m,) lattice column (x index)
+    force: np.ndarray  # (m, 2) -sigma . grad(alpha) dx^2, nN/um
+    grad: np.ndarray  # (m, 2) grad(alpha) dx^2, um
+    p_mean: float  # the band's mean pressure (weighted by |grad alpha|), kPa
+
+    @property
+    def total(self) -> np.ndarray:
+        """``F = -sum sigma . grad(alpha) dA`` (nN/um)."""
+        return self.force.sum(axis=0)
+
+    @property
+    def load(self) -> np.ndarray:
+        """Each cell's ``-(sigma + p_m I) . grad(alpha) dA`` (nN/um): its force less the band's
+        mean pressure, which exerts no net force on a closed band."""
+        return self.force - self.p_mean * self.grad
+
+
+def band_force(f: MixtureFields, dx: float) -> BandForce:
+    """:class:`BandForce` of the fields ``f`` on a lattice of spacing ``dx`` (um), over the
+    fluid cells where ``grad alpha`` is not zero; next to a wall the central differences take
+    the wall's conditions (alpha, p: zero normal gradient; U = 0)."""
     fluid = np.isfinite(f.alpha) & np.isfinite(f.p) & np.isfinite(f.ux) & np.isfinite(f.uy)
     if not fluid.any():
         raise InputError("diffuse force", "alpha, p, U", "fluid cells on the lattice")
@@ -72,18 +93,26 @@ def diffuse_force(f: MixtureFields, dx: float) -> tuple[np.ndarray, float]:
     dux_dy, dux_dx = np.gradient(_walled(f.ux, fluid, 0.0), dx)
     duy_dy, duy_dx = np.gradient(_walled(f.uy, fluid, 0.0), dx)
     band = fluid & ((da_dx != 0.0) | (da_dy != 0.0))
-    shear = mu * (dux_dy + duy_dx)
-    sxx, syy = 2.0 * mu * dux_dx, 2.0 * mu * duy_dy  # the viscous part; -p I below
     if not band.any():
         raise InputError("diffuse force", "alpha", "a cell (an interface band) in the fluid")
-    grad = np.hypot(da_dx, da_dy)[band]
-    p_mean = float(np.sum(p[band] * grad) / np.sum(grad))
-    tx = -((sxx - p) * da_dx + shear * da_dy)[band]
-    ty = -(shear * da_dx + (syy - p) * da_dy)[band]
-    force = np.array([tx.sum(), ty.sum()]) * dx * dx
-    load_x = tx - p_mean * da_dx[band]
-    load_y = ty - p_mean * da_dy[band]
-    return force, float(np.hypot(load_x, load_y).sum() * dx * dx)
+    shear = mu * (dux_dy + duy_dx)
+    sxx, syy = 2.0 * mu * dux_dx - p, 2.0 * mu * duy_dy - p
+    tx = -(sxx * da_dx + shear * da_dy)[band]
+    ty = -(shear * da_dx + syy * da_dy)[band]
+    gx, gy = da_dx[band], da_dy[band]
+    p_mean = float(np.sum(p[band] * np.hypot(gx, gy)) / np.sum(np.hypot(gx, gy)))
+    rows, cols = np.nonzero(band)
+    area = dx * dx
+    return BandForce(
+        rows, cols, np.column_stack([tx, ty]) * area, np.column_stack([gx, gy]) * area, p_mean
+    )
+
+
+def diffuse_force(f: MixtureFields, dx: float) -> tuple[np.ndarray, float]:
+    """``F = -sum sigma . grad(alpha) dx^2`` (nN/um) and the load (module docstring) of the
+    fields ``f`` on a lattice of spacing ``dx`` (um) (:func:`band_force`)."""
+    band = band_force(f, dx)
+    return band.total, float(np.linalg.norm(band.load, axis=1).sum())
 
 
 def cell_balance(

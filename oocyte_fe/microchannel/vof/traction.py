@@ -117,19 +117,8 @@ def surface_traction(
     p = _on_lattice(read_internal_field(folder / "p", n) * 1e-3, i, j, shape)  # Pa -> kPa
     u = read_internal_field(folder / "U", n) * 1e6  # m/s -> um/s
     ux, uy = (_on_lattice(u[:, k], i, j, shape) for k in (0, 1))
-    lines = contourpy.contour_generator(x, y, np.nan_to_num(alpha, nan=0.0)).lines(0.5)
-    closed = [ln for ln in lines if len(ln) > 3 and np.allclose(ln[0], ln[-1])]
-    if not closed:
-        raise InputError(folder, f"alpha.{cell}", "a closed alpha = 0.5 contour of the cell")
-    ring = max(closed, key=len)
-    if _signed_area(ring) < 0:
-        ring = ring[::-1]  # counter-clockwise: the outward normal is (dy, -dx)/ds
-    keep = np.concatenate([[True], np.linalg.norm(np.diff(ring, axis=0), axis=1) > 1e-9])
-    ring = ring[keep]  # repeated points (a contour through a lattice point): no empty edges
-    edge = np.diff(ring, axis=0)
-    lengths = np.linalg.norm(edge, axis=1)
-    normals = np.column_stack([edge[:, 1], -edge[:, 0]]) / lengths[:, None]
-    mids = 0.5 * (ring[1:] + ring[:-1])
+    ring = cell_contour(alpha, x, y, folder, cell)
+    mids, normals, lengths = edges(ring)
 
     def at(field: np.ndarray, offset: float) -> np.ndarray:
         """``field`` at ``offset`` cells outside each edge; where that probe (or its
@@ -163,11 +152,42 @@ def surface_traction(
     t = np.column_stack(
         [sxx * normals[:, 0] + sxy * normals[:, 1], sxy * normals[:, 0] + syy * normals[:, 1]]
     )
-    area = _signed_area(ring)
-    centroid = _polygon_centroid(ring, area)
-    d = mids - centroid
-    angle = np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 360.0
+    centroid, angle = polar(ring, mids)
     return Traction(float(folder.name), angle, mids, normals, lengths, t, centroid)
+
+
+def cell_contour(
+    alpha: np.ndarray, x: np.ndarray, y: np.ndarray, folder: Path, cell: str
+) -> np.ndarray:
+    """The cell's ``alpha = 0.5`` contour on the lattice ``(x, y)`` (um): the longest closed
+    line, counter-clockwise, without repeated points, as a closed ring (first point last);
+    ``folder`` and ``cell`` name the field in the error when there is none."""
+    lines = contourpy.contour_generator(x, y, np.nan_to_num(alpha, nan=0.0)).lines(0.5)
+    closed = [ln for ln in lines if len(ln) > 3 and np.allclose(ln[0], ln[-1])]
+    if not closed:
+        raise InputError(folder, f"alpha.{cell}", "a closed alpha = 0.5 contour of the cell")
+    ring = max(closed, key=len)
+    if _signed_area(ring) < 0:
+        ring = ring[::-1]  # counter-clockwise: the outward normal is (dy, -dx)/ds
+    keep = np.concatenate([[True], np.linalg.norm(np.diff(ring, axis=0), axis=1) > 1e-9])
+    return ring[keep]  # repeated points (a contour through a lattice point): no empty edges
+
+
+def edges(ring: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Midpoints (n, 2), outward unit normals (n, 2) and lengths (n,) of a closed
+    counter-clockwise ring's edges."""
+    edge = np.diff(ring, axis=0)
+    lengths = np.linalg.norm(edge, axis=1)
+    normals = np.column_stack([edge[:, 1], -edge[:, 0]]) / lengths[:, None]
+    return 0.5 * (ring[1:] + ring[:-1]), normals, lengths
+
+
+def polar(ring: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The ring's area centroid (um) and the polar angle of ``points`` about it (deg, from
+    +x, counter-clockwise, in [0, 360))."""
+    centroid = _polygon_centroid(ring, _signed_area(ring))
+    d = points - centroid
+    return centroid, np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 360.0
 
 
 def _signed_area(ring: np.ndarray) -> float:
