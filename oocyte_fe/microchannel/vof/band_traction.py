@@ -31,7 +31,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.vof.control_volume import mixture_fields
 from oocyte_fe.microchannel.vof.diffuse_force import band_force
 from oocyte_fe.microchannel.vof.geometry import Layout
-from oocyte_fe.microchannel.vof.traction import Traction, _signed_area, cell_contour, lattice, polar
+from oocyte_fe.microchannel.vof.traction import Traction, cell_contour, lattice, polar, signed_area
 
 HARMONIC_CELLS = 4.0  # the shortest harmonic kept, in lattice spacings
 
@@ -55,10 +55,10 @@ def band_traction(folder: Path, layout: Layout, fluids: Fluids, cell: str = "cel
     x, y, _, _ = lattice(layout)
     ring = cell_contour(f.alpha, x, y, folder, cell)
     centroid, at = polar(ring, np.column_stack([x[band.cols], y[band.rows]]))
-    radius = np.sqrt(_signed_area(ring) / np.pi)
+    radius = np.sqrt(signed_area(ring) / np.pi)
     harmonics = int(2.0 * np.pi * radius / (HARMONIC_CELLS * layout.dx))
     if harmonics < 2:
-        raise InputError(folder, "lattice", "a cell at least 8 lattice spacings across", radius)
+        raise InputError(folder, f"alpha.{cell}", "a cell at least 3 lattice spacings across")
     k = np.arange(-harmonics, harmonics + 1)
     theta_c = np.radians(at)
     coeff = np.exp(-1j * np.outer(k, theta_c)) @ band.load / (2.0 * np.pi)  # (2K+1, 2)
@@ -70,7 +70,7 @@ def band_traction(folder: Path, layout: Layout, fluids: Fluids, cell: str = "cel
     order = np.argsort(ring_angle)
     r_ring = np.linalg.norm(ring[:-1] - centroid, axis=1)[order]
     r = np.interp(np.degrees(theta), ring_angle[order], r_ring, period=360.0)
-    u = np.column_stack([np.cos(theta), np.sin(theta)])
+    u = np.column_stack([np.cos(theta), np.sin(theta)])  # the rows' normals: radial
     return Traction(
         float(folder.name),
         np.degrees(theta),

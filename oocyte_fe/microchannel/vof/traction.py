@@ -167,7 +167,7 @@ def cell_contour(
     if not closed:
         raise InputError(folder, f"alpha.{cell}", "a closed alpha = 0.5 contour of the cell")
     ring = max(closed, key=len)
-    if _signed_area(ring) < 0:
+    if signed_area(ring) < 0:
         ring = ring[::-1]  # counter-clockwise: the outward normal is (dy, -dx)/ds
     keep = np.concatenate([[True], np.linalg.norm(np.diff(ring, axis=0), axis=1) > 1e-9])
     return ring[keep]  # repeated points (a contour through a lattice point): no empty edges
@@ -185,12 +185,13 @@ def edges(ring: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def polar(ring: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The ring's area centroid (um) and the polar angle of ``points`` about it (deg, from
     +x, counter-clockwise, in [0, 360))."""
-    centroid = _polygon_centroid(ring, _signed_area(ring))
+    centroid = _polygon_centroid(ring, signed_area(ring))
     d = points - centroid
     return centroid, np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 360.0
 
 
-def _signed_area(ring: np.ndarray) -> float:
+def signed_area(ring: np.ndarray) -> float:
+    """The area of a closed ring (first point last), positive counter-clockwise (um^2)."""
     x, y = ring[:, 0], ring[:, 1]
     return 0.5 * float(np.sum(x[:-1] * y[1:] - x[1:] * y[:-1]))
 
