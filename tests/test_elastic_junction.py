@@ -231,3 +231,37 @@ def test_band_traction_carries_the_bands_force_and_its_cos2theta_mode(tmp_path: 
         modes.append(2.0 * np.mean(tn * np.cos(2 * theta)))  # rows equally spaced in angle
     assert modes[0] == pytest.approx(s, rel=0.02)
     assert modes[1] == pytest.approx(modes[0], rel=1e-6)  # p0 = 3000 s: the files' digits
+
+
+def test_a_cell_that_stops_short_is_meshed_again(tmp_path: Path, monkeypatch):
+    """Where Newton stops short on the first element size, the next size is tried and its
+    answer taken (the sizes that stopped and the part they carried are kept); where every
+    size stops, the run that carried the most. A run 'stops' here by a stand-in solver that
+    fails on the 4 um mesh (and on every mesh in the second call)."""
+    from dataclasses import replace
+
+    import oocyte_fe.microchannel.elastic_junction as ej
+
+    real = ej.run_experiment
+    failing = {4.0}
+
+    def stand_in(exp):
+        result = real(exp)
+        if exp.cell.mesh_size_um in failing:
+            return replace(result, success=False, reason="stand-in stop")
+        return result
+
+    monkeypatch.setattr(ej, "run_experiment", stand_in)
+    E, s = 1.0, 0.01
+    csv = _vof_csv(tmp_path / "t.csv", s)
+    cell = ej.elastic_cell_at_junction(csv, tmp_path, zona_kPa=E, cytoplasm_kPa=E, frames=2)
+    u = s * R / E
+    assert cell.experiment.success and cell.mesh_um == 3.0
+    assert cell.stopped == ((4.0, 1.0),)
+    assert 1 - cell.b_over_a == pytest.approx(1 - (R - u) / (R + u), rel=0.01)
+    failing.update({3.0, 5.0, 2.0})
+    none = ej.elastic_cell_at_junction(
+        csv, tmp_path, zona_kPa=E, cytoplasm_kPa=E, frames=2, retry_mesh_um=(5.0,)
+    )
+    assert not none.experiment.success
+    assert [m for m, _ in none.stopped] == [4.0, 5.0]

@@ -66,6 +66,21 @@ def elastic_section(
     metrics: dict[str, float | list[float]] = {"elastic_cell_b_over_a": elastic}
     known = np.isfinite(exp) & np.isfinite(elastic)
     text = "\n".join(rows)
+    remeshed = [
+        f"{c.pressure_hPa:g} hPa, write at {x:+.1f} um: "
+        + ", ".join(f"{m:g} um stopped at {f:.0%}" for m, f in cell.stopped)
+        + (f", carried on {cell.mesh_um:g} um" if cell.experiment.success else ", none carried")
+        for c in cells
+        for cell, x in zip(c.cells, c.traction_x_um, strict=True)
+        if cell.stopped
+    ]
+    if remeshed:
+        text += (
+            "\n\nMeshed again where Newton stopped short on the first element size (the "
+            "answer does not depend on the size where two carry the load; the stalls do): "
+            + "; ".join(remeshed)
+            + "."
+        )
     if failed:
         text += (
             "\n\nThe FE cell does not carry the whole traction at "
