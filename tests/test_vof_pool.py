@@ -55,6 +55,27 @@ def test_a_failed_run_raises_its_own_error() -> None:
         run_concurrently(_fail_on_two, [(1.0,), (2.0,), (3.0,)], concurrent=2)
 
 
+def test_a_single_run_stays_in_this_process() -> None:
+    guard = threading.Lock()  # unpicklable: fine, nothing is pickled without Dask
+    said: list[str] = []
+    threads: list[str] = []
+
+    def square(x: float, progress=None) -> float:
+        threads.append(threading.current_thread().name)
+        progress(f"squaring {x:g}")
+        with guard:
+            return x * x
+
+    assert run_concurrently(square, [(3.0,)], concurrent=2, progress=[said.append]) == [9.0]
+    assert said == ["squaring 3"]
+    assert threads == [threading.current_thread().name]  # no Dask worker thread
+
+
+def test_a_single_failed_run_raises_its_own_error() -> None:
+    with pytest.raises(RuntimeError, match="run 2 diverged"):
+        run_concurrently(_fail_on_two, [(2.0,)], concurrent=1)
+
+
 def test_corrector_tolerance_and_time_scheme_reach_the_dictionaries() -> None:
     num = Numerics(correctors=24, pressure_rel_tol=0.05, ddt="CrankNicolson 0.9")
     sol = solution(num)

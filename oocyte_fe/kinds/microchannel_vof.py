@@ -187,7 +187,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
 
     specs = run_specs(inp, [p / HPA for p in pressures])
     scheduler = run_scheduler(ctx, inp)
-    ctx.step(f"{len(specs)} runs on " + (scheduler or f"a local cluster of {inp.concurrent}"))
+    where = scheduler or (f"a local cluster of {inp.concurrent}" if len(specs) > 1 else "")
+    ctx.step(f"{len(specs)} runs on {where}" if where else "1 run in this process")
     runs = run_concurrently(
         run_junction,
         [_job(ctx, inp, spec) for spec in specs],

@@ -3,12 +3,14 @@
 Each task is one OpenFOAM run (``ranks`` MPI ranks of its own); ``concurrent`` of them run at
 the same time, so a machine needs ``concurrent x ranks`` cores.
 
-* **Local** (no scheduler): a ``distributed.LocalCluster`` of ``concurrent`` single-thread
-  workers inside this process. A task only waits on its OpenFOAM subprocesses, so threads cost
-  nothing; each task gets its ``progress`` callback (Dask pickles a task's arguments even in
-  process, so the callbacks stay in this process and the task looks its own up by key); a
-  stop (a failed run, the case's ``timeout_s``) reaches every solver this process started
-  (:func:`.runner.terminate_active`).
+* **In this process** (no scheduler, a single run): the run without Dask (a local cluster
+  costs about 1.5 CPU s to start, nothing to gain for one run).
+* **Local** (no scheduler, several runs): a ``distributed.LocalCluster`` of
+  ``concurrent`` single-thread workers inside this process. A task only waits on its OpenFOAM
+  subprocesses, so threads cost nothing; each task gets its ``progress`` callback (Dask
+  pickles a task's arguments even in process, so the callbacks stay in this process and the
+  task looks its own up by key); a stop (a failed run, the case's ``timeout_s``) reaches
+  every solver this process started (:func:`.runner.terminate_active`).
 * **Remote** (``scheduler = "tcp://host:8786"``): the tasks go to a running Dask scheduler, e.g.
   one started by dask-jobqueue on a cluster (docs/microchannel.md, "On a cluster"); its
   workers must import ``oocyte_fe``, find OpenFOAM and see the case's output folder at the same
@@ -62,6 +64,17 @@ def _with_progress(task: Callable[..., T], key: str, *job: object) -> T:
     return task(*job, progress=_PROGRESS.get(key))
 
 
+def _in_this_process(
+    task: Callable[..., T], job: tuple, progress: Callable[[str], None] | None
+) -> list[T]:
+    """The one job here; a stop (its failure, a timeout) terminates its solvers."""
+    try:
+        return [task(*job, progress=progress)]
+    except BaseException:
+        terminate_active()
+        raise
+
+
 def run_concurrently(
     task: Callable[..., T],
     jobs: Sequence[tuple],
@@ -76,6 +89,8 @@ def run_concurrently(
     The first task that raises stops the others (cancelled; local solvers terminated) and its
     exception is raised here.
     """
+    if not scheduler and len(jobs) == 1:
+        return _in_this_process(task, jobs[0], progress[0] if progress else None)
     keys = [uuid.uuid4().hex for _ in jobs]
     if progress is not None and not scheduler:
         _PROGRESS.update({k: p for k, p in zip(keys, progress, strict=True) if p is not None})
