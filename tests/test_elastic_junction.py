@@ -265,3 +265,21 @@ def test_a_cell_that_stops_short_is_meshed_again(tmp_path: Path, monkeypatch):
     )
     assert not none.experiment.success
     assert [m for m, _ in none.stopped] == [4.0, 5.0]
+
+
+def test_the_flow_mesh_note_compares_the_elastic_cell_on_two_meshes(tmp_path: Path):
+    """b/a 0.64 on 12.5 um against 0.72 on 6.25 um: +12.5 %; no figure when one FE run did
+    not carry its load."""
+    from types import SimpleNamespace
+
+    from oocyte_fe.kinds.microchannel_vof_elastic import mesh_note
+    from oocyte_fe.microchannel.elastic_junction import ElasticAtPressure, ElasticCellAtJunction
+
+    def at(ratio: float, ok: bool = True) -> ElasticAtPressure:
+        cell = ElasticCellAtJunction(SimpleNamespace(success=ok), ratio, tmp_path)  # type: ignore[arg-type]
+        return ElasticAtPressure(300.0, 0.985, (cell,), (0.0,))
+
+    text, metrics = mesh_note(at(0.64), at(0.72), 12.5, 6.25)
+    assert metrics["elastic_mesh_change_pct"] == pytest.approx(12.5)
+    assert "0.7200 against 0.6400 on 12.5 um" in text
+    assert mesh_note(at(0.64), at(0.72, ok=False), 12.5, 6.25)[1] == {}

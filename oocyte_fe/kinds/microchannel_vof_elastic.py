@@ -11,7 +11,11 @@ import numpy as np
 
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
-from oocyte_fe.microchannel.elastic_junction import compare_table4, elastic_cells_at_junction
+from oocyte_fe.microchannel.elastic_junction import (
+    ElasticAtPressure,
+    compare_table4,
+    elastic_cells_at_junction,
+)
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.runner.registry import CaseContext
 
@@ -21,11 +25,38 @@ def _lookup(p: np.ndarray, values: np.ndarray, at: float) -> float:
     return float(values[hit[0]]) if len(hit) else math.nan
 
 
+def mesh_note(
+    base: ElasticAtPressure, other: ElasticAtPressure, dx_um: float, other_dx_um: float
+) -> tuple[str, dict[str, float]]:
+    """The elastic cell under the second mesh's flow against the first mesh's (same pressure):
+    a sentence and ``elastic_mesh_change_pct`` = 100 (b/a_other / b/a - 1), where both carry."""
+    head = (
+        f"**Flow mesh**: the same FE cell under the traction of the {other_dx_um:g} um flow "
+        f"({other.pressure_hPa:g} hPa)"
+    )
+    if not (base.carried and other.carried):
+        return head + ": not compared (the FE did not carry one of the two loads).", {}
+    change = 100.0 * (other.b_over_a / base.b_over_a - 1.0)
+    text = (
+        f"{head}: b/a {other.b_over_a:.4f} against {base.b_over_a:.4f} on {dx_um:g} um "
+        f"(**{change:+.1f} %**; 1 - b/a {1 - other.b_over_a:.4f} against "
+        f"{1 - base.b_over_a:.4f}). The flow's mesh, not the FE's, sets this spread "
+        "(docs/microchannel.md, mesh study)."
+    )
+    return text, {"elastic_mesh_change_pct": change}
+
+
 def elastic_section(
-    ctx: CaseContext, inp: VofInputs, table, pressures: np.ndarray, runs: list[JunctionRun]
+    ctx: CaseContext,
+    inp: VofInputs,
+    table,
+    pressures: np.ndarray,
+    runs: list[JunctionRun],
+    mesh_run: JunctionRun | None = None,
 ) -> tuple[str, dict[str, float | list[float]]]:
     """The section text and metrics ``elastic_cell_b_over_a`` (per pressure) and the mean
-    absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment."""
+    absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment;
+    with ``mesh_run`` (the first pressure on ``mesh_check_dx_um``) also :func:`mesh_note`."""
     by_p = {float(p / HPA): r for p, r in zip(pressures, runs, strict=True)}
     geometry = inp.geometry.to_geometry()
 
@@ -102,6 +133,19 @@ def elastic_section(
         e_el, e_liq, e_pap = cmp.errors.values()
         metrics.update({"elastic_mae": e_el, "liquid_mae": e_liq, "paper_vof_mae": e_pap})
         text += f"\n\nOver the {known.sum()} pressures the FE carries: " + cmp.sentence()
+    if mesh_run is not None and inp.mesh_check_dx_um:
+        m = inp.mesh_check_dx_um
+        first = float(pressures[0] / HPA)
+        [other] = elastic_cells_at_junction(
+            [(first, mesh_run.case, mesh_run.ratio_at_junction)],
+            lambda _: geometry.layout(m, mesh_run.velocity_a, mesh_run.velocity_b),
+            inp.fluids,
+            ctx.output(f"mesh_dx{m:g}"),
+        )
+        base = next(c for c in cells if c.pressure_hPa == first)
+        note, more = mesh_note(base, other, inp.dx_um, m)
+        metrics.update(more)
+        text += "\n\n" + note
     text += (
         "\n\nOne-way: the force of the flow past the LIQUID cell (each write within 12.5 um "
         "of the junction crossing) from its diffuse interface, -sum sigma . grad(alpha) dA, "

@@ -148,7 +148,10 @@ def report_outcome(
         except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
             traction_text = f"not computed: {exc}"
         try:
-            elastic_text, more = elastic_section(ctx, inp, table, pressures, runs)
+            mesh_run = next(
+                (r for k, r in extra.items() if "_dx" in k and not k.startswith(BESIDE)), None
+            )
+            elastic_text, more = elastic_section(ctx, inp, table, pressures, runs, mesh_run)
             metrics.update(more)
         except InputError as exc:
             elastic_text = f"not computed: {exc}"
