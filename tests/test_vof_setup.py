@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -172,3 +173,29 @@ def test_initial_velocity_carries_the_inflow_through_each_arm() -> None:
     assert u[up, 0].sum() * 5.0 == pytest.approx(7e5 * 250.0, rel=1e-3)
     assert u[down, 0].sum() * 5.0 == pytest.approx(1e6 * 250.0, rel=1e-3)
     assert u[branch, 1].sum() * 5.0 == pytest.approx(-3e5 * 250.0, rel=1e-3)
+
+
+def test_monitor_keeps_the_largest_courant_numbers_of_the_run() -> None:
+    """A leap of the Courant number from 0.86 to 1.9 and back (under the failure bound of
+    10 x 0.21) is kept as the run's largest, with the interface's 0.84; the case's
+    ``max_courant`` check fails on it and passes on the calm run."""
+    from oocyte_fe.kinds.microchannel_vof_report import courant_check
+    from oocyte_fe.microchannel.vof.junction import JunctionRun
+
+    mon = SolverMonitor(1e-4, 1e-6, 5e-6, 1.05, Limits())
+    for co, ico in ((0.2, 0.3), (0.86, 0.52), (1.9, 0.84), (0.5, 0.4)):
+        assert mon.feed(f"Courant Number mean: 0.01 max: {co}") is None
+        assert mon.feed(f"Interface Courant Number mean: 0.001 max: {ico}") is None
+    assert (mon.largest_courant, mon.largest_interface_courant) == (1.9, 0.84)
+    assert mon.courant == 0.5  # the progress line's: the latest
+
+    def run(co: float) -> JunctionRun:
+        return JunctionRun(Path("."), 1.0, 1.0, 1, 1, 0.0, None, 0.9, 0.0, 0.9, co, co / 2)  # type: ignore[arg-type]
+
+    inp = SimpleNamespace(max_courant=1.0)
+    metrics: dict = {}
+    [check] = courant_check(inp, [run(0.3), run(1.9)], metrics)  # type: ignore[arg-type]
+    assert not check.passed and check.computed == 1.9 and metrics["max_interface_courant"] == 0.95
+    [check] = courant_check(inp, [run(0.3), run(0.7)], {})  # type: ignore[arg-type]
+    assert check.passed
+    assert courant_check(inp, [run(math.nan)], {}) == []  # type: ignore[arg-type]

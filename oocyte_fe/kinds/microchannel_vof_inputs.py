@@ -196,6 +196,9 @@ class VofInputs(CaseInputs):
     )
     max_volume_error: float = _f(1e-3, "check: |phase volume change| of the cell phases", "1", gt=0)
     max_mesh_change_pct: float = _f(2.0, "check: ratio change between the two meshes", "%", gt=0)
+    max_courant: float = _f(
+        1.0, "check: largest Courant number of any run (an unstable episode)", "1", gt=0
+    )
 
     @property
     def mesh_correctors(self) -> int:
@@ -251,4 +254,8 @@ METRICS = {
     "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",
     "deformation_dt_limit": "1 - b/a at x = 0 extrapolated to dt -> 0 (first pressure)",
     "ratio_dt_error_pct": "b/a at x = 0 with the case's dt against its dt -> 0 limit, %",
+    "elastic_mesh_change_pct": "AFM-elastic cell: b/a under the second mesh's flow against the "
+    "first's (first pressure), %",
+    "max_courant": "largest Courant number over every run of the case (the solvers' logs)",
+    "max_interface_courant": "largest interface Courant number over every run",
 }

@@ -46,6 +46,22 @@ def skipped_outcome(inp: VofInputs, table, kv_p: np.ndarray, kv_ratio: np.ndarra
     )
 
 
+def courant_check(
+    inp: VofInputs, runs: list[JunctionRun], metrics: dict[str, float | list[float]]
+) -> list[Check]:
+    """``max_courant``: the largest Courant number of any run within ``inp.max_courant`` (the
+    runs take fixed steps; a 3.125 um run whose Courant number leapt from 0.86 to 2.1 for 0.1
+    ms elongated its cell sevenfold in that time: docs/microchannel.md). None without logs."""
+    co = [r.max_courant for r in runs if math.isfinite(r.max_courant)]
+    ico = [r.max_interface_courant for r in runs if math.isfinite(r.max_interface_courant)]
+    if ico:
+        metrics["max_interface_courant"] = max(ico)
+    if not co:
+        return []
+    metrics["max_courant"] = max(co)
+    return [Check("max_courant", max(co), max(co) <= inp.max_courant, f"<= {inp.max_courant:g}")]
+
+
 def _pct(a: float, b: float) -> float:
     return 100.0 * abs(a / b - 1.0)
 
@@ -115,6 +131,7 @@ def report_outcome(
             "0 < b/a <= 1",
         ),
     ]
+    checks += courant_check(inp, [*runs, *extra.values()], metrics)
     if "mesh_change_pct" in metrics:
         change = float(metrics["mesh_change_pct"])  # type: ignore[arg-type]
         checks.append(

@@ -17,6 +17,7 @@ the run.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -65,6 +66,8 @@ class JunctionRun:
     ratio_at_junction: float
     time_at_junction: float
     min_ratio: float
+    max_courant: float = math.nan  # largest over the run (the solver's log)
+    max_interface_courant: float = math.nan
 
     @property
     def seconds_per_ms(self) -> float:
@@ -157,6 +160,8 @@ def run_junction(
         r_j,
         t_j,
         float(min(trace.ratio.min(), history.ratio.min())),
+        monitor.largest_courant,
+        monitor.largest_interface_courant,
     )
 
 

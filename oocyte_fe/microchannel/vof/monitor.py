@@ -13,7 +13,11 @@ first of these, with the time and the numbers:
   ``1 + alpha_tolerance``.
 
 Progress is the simulated time over the end time, the Courant number and an ETA from the
-wall-clock rate so far.
+wall-clock rate so far. The monitor also keeps the largest Courant number of the run and the
+largest interface Courant number (the solver's ``Interface Courant Number`` line, cells of
+the interface only): a fixed-step run whose Courant number leaps during the run has gone
+through an unstable episode even when none of the failures above fires (the cases check it,
+``max_courant``).
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ _NUM = r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|-?nan|-?inf)"
 _TIME = re.compile(rf"^Time = {_NUM}")
 _DT = re.compile(rf"^deltaT = {_NUM}")
 _CO = re.compile(rf"^Courant Number mean: {_NUM} max: {_NUM}")
+_ICO = re.compile(rf"^Interface Courant Number mean: {_NUM} max: {_NUM}")
 _LO, _HI = _NUM.replace("(", "(?P<lo>", 1), _NUM.replace("(", "(?P<hi>", 1)
 _ALPHA = re.compile(rf"^(?P<name>[\w.-]+) volume fraction, min, max = {_NUM} {_LO} {_HI}")
 # interIsoFoam: "Phase-1 volume fraction = v  Min(alpha.x) = a  Max(alpha.x) = b"
@@ -45,6 +50,13 @@ class Limits:
     courant_factor: float = 10.0
     velocity_factor: float = 5.0
     alpha_tolerance: float = 1e-2
+
+
+def _larger(so_far: float, value: str) -> float:
+    """The larger of ``so_far`` (nan: none yet) and ``value`` (a nan Courant number fails the
+    run by the Courant check)."""
+    v = float(value)
+    return v if math.isnan(so_far) or not v <= so_far else so_far
 
 
 @dataclass(frozen=True)
@@ -70,6 +82,8 @@ class SolverMonitor:
     delta_t: float = math.nan
     courant: float = math.nan
     max_velocity: float = math.nan
+    largest_courant: float = math.nan  # over the run so far
+    largest_interface_courant: float = math.nan
     steps: int = 0
     clock_start: float = field(default_factory=monotonic)
     failure: Failure | None = None
@@ -100,8 +114,11 @@ class SolverMonitor:
                     f"deltaT = {self.delta_t:.3g} s < {self.limits.dt_collapse:g} x the set "
                     f"{self.time_step:.3g} s",
                 )
+        elif m := _ICO.match(line):
+            self.largest_interface_courant = _larger(self.largest_interface_courant, m.group(2))
         elif m := _CO.match(line):
             self.courant = float(m.group(2))
+            self.largest_courant = _larger(self.largest_courant, m.group(2))
             if not self.courant <= max(self.courant_bound, 1e-12):
                 return self._fail(
                     "Courant",
