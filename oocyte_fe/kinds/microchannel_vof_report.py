@@ -50,8 +50,9 @@ def courant_check(
     inp: VofInputs, runs: list[JunctionRun], metrics: dict[str, float | list[float]]
 ) -> list[Check]:
     """``max_courant``: the largest Courant number of any run within ``inp.max_courant`` (the
-    runs take fixed steps; a 3.125 um run whose Courant number leapt from 0.86 to 2.1 for 0.1
-    ms elongated its cell sevenfold in that time: docs/microchannel.md). None without logs."""
+    runs take fixed steps; in a 3.125 um run whose Courant number leapt from 0.86 to 2.1 for
+    0.1 ms the cell's 1 - b/a went from 0.001 to 0.067: docs/microchannel.md). None without
+    logs."""
     co = [r.max_courant for r in runs if math.isfinite(r.max_courant)]
     ico = [r.max_interface_courant for r in runs if math.isfinite(r.max_interface_courant)]
     if ico:
