@@ -88,7 +88,8 @@ def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) ->
 def test_quick_vof_case_passes(tmp_path: Path) -> None:
     """The quick junction case (300 hPa, 12.5 um): the momentum budgets of a box around the
     cell and of the cell's diffuse interface balance within 1 % of their loads (measured
-    0.42 % and 0.88 %), and the four checks of the case pass."""
+    0.42 % and 0.88 %), the largest Courant number stays below 1 (measured 0.24), and the
+    five checks of the case pass."""
     import json
 
     from oocyte_fe.runner.run import plan, run_cases
@@ -98,8 +99,9 @@ def test_quick_vof_case_passes(tmp_path: Path) -> None:
     metrics = json.loads((tmp_path / "microchannel_vof_quick" / "metrics.json").read_text())
     assert metrics["metrics"]["cv_imbalance_pct"] < 1.0
     assert metrics["metrics"]["diffuse_imbalance_pct"] < 1.0
+    assert metrics["metrics"]["max_courant"] < 1.0
     assert result.status == "PASS", result.reason
-    assert result.total == 4
+    assert result.total == 5
 
 
 def test_cell_order_matches_blockmesh(tmp_path: Path) -> None:
