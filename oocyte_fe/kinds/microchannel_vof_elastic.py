@@ -52,11 +52,13 @@ def elastic_section(
     table,
     pressures: np.ndarray,
     runs: list[JunctionRun],
-    mesh_run: JunctionRun | None = None,
+    meshes: list[tuple[float, JunctionRun]] = (),
 ) -> tuple[str, dict[str, float | list[float]]]:
     """The section text and metrics ``elastic_cell_b_over_a`` (per pressure) and the mean
     absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment;
-    with ``mesh_run`` (the first pressure on ``mesh_check_dx_um``) also :func:`mesh_note`."""
+    with ``meshes`` (the first pressure on each of ``mesh_check_dx_um``: (dx, run)) also
+    :func:`mesh_note` for each (``elastic_mesh_change_pct``: the first of them) and
+    ``elastic_mesh_b_over_a`` (b/a under each mesh's flow, NaN where the FE stops)."""
     by_p = {float(p / HPA): r for p, r in zip(pressures, runs, strict=True)}
     geometry = inp.geometry.to_geometry()
 
@@ -133,19 +135,23 @@ def elastic_section(
         e_el, e_liq, e_pap = cmp.errors.values()
         metrics.update({"elastic_mae": e_el, "liquid_mae": e_liq, "paper_vof_mae": e_pap})
         text += f"\n\nOver the {known.sum()} pressures the FE carries: " + cmp.sentence()
-    if mesh_run is not None and inp.mesh_check_dx_um:
-        m = inp.mesh_check_dx_um
-        first = float(pressures[0] / HPA)
+    first = float(pressures[0] / HPA)
+    base = next(c for c in cells if c.pressure_hPa == first)
+    on_meshes = []
+    for m, mesh_run in meshes:
         [other] = elastic_cells_at_junction(
             [(first, mesh_run.case, mesh_run.ratio_at_junction)],
-            lambda _: geometry.layout(m, mesh_run.velocity_a, mesh_run.velocity_b),
+            lambda _, m=m, r=mesh_run: geometry.layout(m, r.velocity_a, r.velocity_b),
             inp.fluids,
             ctx.output(f"mesh_dx{m:g}"),
         )
-        base = next(c for c in cells if c.pressure_hPa == first)
+        on_meshes.append(other.b_over_a if other.carried else math.nan)
         note, more = mesh_note(base, other, inp.dx_um, m)
-        metrics.update(more)
+        for key, value in more.items():
+            metrics.setdefault(key, value)
         text += "\n\n" + note
+    if meshes:
+        metrics["elastic_mesh_b_over_a"] = on_meshes
     text += (
         "\n\nOne-way: the force of the flow past the LIQUID cell (each write within 12.5 um "
         "of the junction crossing) from its diffuse interface, -sum sigma . grad(alpha) dA, "

@@ -2,17 +2,18 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import Field
+from pydantic import Field, PositiveFloat, PositiveInt, field_validator
 
+from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.isoadvector import IsoControls
 from oocyte_fe.runner.casefile import DataFile
-from oocyte_fe.runner.schema import CaseInputs, Relation
+from oocyte_fe.runner.schema import CaseInputs, Refining, Relation, Setup
 
 if TYPE_CHECKING:
     from oocyte_fe.microchannel.vof.band_traction import Fluids
@@ -154,9 +155,17 @@ class VofInputs(CaseInputs):
     )
     b_ratio: float = _f(1.0, "mean velocity of inlet B over that of inlet A", "1", gt=0)
     dx_um: float = _f(10.0, "cell size", "um", gt=0)
-    mesh_check_dx_um: float | None = _f(None, "second mesh, first pressure", "um", gt=0)
-    mesh_check_correctors: int | None = _f(
-        None, "pressure correctors on the second mesh (none: correctors)", "1", ge=1
+    mesh_check_dx_um: tuple[PositiveFloat, ...] = _f(
+        (),
+        "finer meshes run at the first pressure (one number or a list, each finer than the "
+        "one before; three meshes or more: the observed order and the h -> 0 limit)",
+        "um",
+    )
+    mesh_check_correctors: tuple[PositiveInt, ...] = _f(
+        (),
+        "pressure correctors on the finer meshes: one count for all, or one per mesh "
+        "(none: correctors)",
+        "1",
     )
     time_step_s: float = _f(1e-6, "time step (fixed)", "s", gt=0)
     dt_refinements: int = _f(
@@ -200,10 +209,41 @@ class VofInputs(CaseInputs):
         1.0, "check: largest Courant number of any run (an unstable episode)", "1", gt=0
     )
 
+    rules = (
+        Relation("mesh_check_dx_um", "<", lambda m: m.dx_um, "dx_um", measure="max"),
+        Refining("mesh_check_dx_um"),
+        Setup(lambda m: m.mesh_checks),
+        Setup(lambda m: m.lattices()),
+    )
+
+    @field_validator("mesh_check_dx_um", "mesh_check_correctors", mode="before")
+    @classmethod
+    def _one_or_a_list(cls, value: Any) -> Any:
+        return (value,) if isinstance(value, int | float) and not isinstance(value, bool) else value
+
     @property
-    def mesh_correctors(self) -> int:
-        """Pressure correctors of the second-mesh run."""
-        return self.mesh_check_correctors or self.correctors
+    def mesh_checks(self) -> list[tuple[float, int]]:
+        """The finer meshes of the first pressure and their pressure correctors."""
+        n, meshes = self.mesh_check_correctors, self.mesh_check_dx_um
+        if len(n) > 1 and len(n) != len(meshes):
+            raise InputError(
+                "inputs",
+                "mesh_check_correctors",
+                f"one count, or one per mesh of mesh_check_dx_um ({len(meshes)})",
+                list(n),
+            )
+        counts = n if len(n) > 1 else (n[0] if n else self.correctors,) * len(meshes)
+        return list(zip(meshes, counts, strict=True))
+
+    def lattices(self) -> None:
+        """Every mesh's lattice must fit the geometry (its lengths multiples of dx)."""
+        geometry = self.geometry.to_geometry()
+        for field, sizes in (("dx_um", [self.dx_um]), ("mesh_check_dx_um", self.mesh_check_dx_um)):
+            for dx in sizes:
+                try:
+                    geometry.layout(dx, 1.0, 1.0)
+                except InputError as exc:
+                    raise InputError("inputs", field, exc.expected, dx) from None
 
     @property
     def fluids(self) -> Fluids:
@@ -256,6 +296,12 @@ METRICS = {
     "ratio_dt_error_pct": "b/a at x = 0 with the case's dt against its dt -> 0 limit, %",
     "elastic_mesh_change_pct": "AFM-elastic cell: b/a under the second mesh's flow against the "
     "first's (first pressure), %",
+    "elastic_mesh_b_over_a": "AFM-elastic cell: b/a under each finer mesh's flow (first pressure)",
+    "mesh_dx_um": "mesh study: the cell sizes, the case's mesh first (um)",
+    "mesh_deformation": "mesh study: 1 - b/a at x = 0 on each mesh (first pressure)",
+    "mesh_order": "mesh study: observed order p of e(h) = e0 + C h^p (finest three meshes)",
+    "deformation_mesh_limit": "mesh study: 1 - b/a extrapolated to h -> 0 (first pressure)",
+    "deformation_mesh_error_pct": "mesh study: the case's 1 - b/a against its h -> 0 limit, %",
     "max_courant": "largest Courant number over every run of the case (the solvers' logs)",
     "max_interface_courant": "largest interface Courant number over every run",
 }

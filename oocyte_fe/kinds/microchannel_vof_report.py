@@ -12,7 +12,12 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section, recompute_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
-from oocyte_fe.kinds.microchannel_vof_studies import dt_study, sensitivity_notes, traction_study
+from oocyte_fe.kinds.microchannel_vof_studies import (
+    dt_study,
+    mesh_study,
+    sensitivity_notes,
+    traction_study,
+)
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
@@ -118,6 +123,12 @@ def report_outcome(
     correctors = {label: n for label, n in _correctors(inp, pressures).items()}
     notes, sens = sensitivity_notes(extra, runs[0], correctors)
     metrics.update(sens)
+    first_hpa = float(pressures[0] / HPA)
+    meshes = [(m, extra[f"p{first_hpa:g}hPa_dx{m:g}"]) for m, _ in inp.mesh_checks]
+    if meshes:
+        mesh_text, more = mesh_study(inp.dx_um, runs[0], meshes)
+        metrics.update(more)
+        notes = [*notes, "", "**Mesh study** (the first pressure):", "", mesh_text]
     checks = [
         Check(
             "max_volume_error",
@@ -166,10 +177,7 @@ def report_outcome(
         except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
             traction_text = f"not computed: {exc}"
         try:
-            mesh_run = next(
-                (r for k, r in extra.items() if "_dx" in k and not k.startswith(BESIDE)), None
-            )
-            elastic_text, more = elastic_section(ctx, inp, table, pressures, runs, mesh_run)
+            elastic_text, more = elastic_section(ctx, inp, table, pressures, runs, meshes)
             metrics.update(more)
         except InputError as exc:
             elastic_text = f"not computed: {exc}"

@@ -3,7 +3,7 @@
 One :class:`RunSpec` per OpenFOAM run, labelled so that the report can tell them apart:
 
 - ``p<P>hPa``: the case's model at each pressure (``dx_um``, ``time_step_s``, ``correctors``);
-- ``..._dx<dx>``: the first pressure on the second mesh, with ``mesh_check_correctors``;
+- ``..._dx<dx>``: the first pressure on each finer mesh, with ``mesh_check_correctors``;
 - ``..._cap<c>``: a second zero-shear cap; ``..._zp``: the liquid cell with the ZP's curve
   (the bound on the ZP's effect);
 - ``..._dt<dt>``: the first pressure at dt/2, dt/4, ... (``dt_refinements``);
@@ -48,9 +48,8 @@ def run_specs(inp: VofInputs, pressures_hPa: list[float]) -> list[RunSpec]:
 
     specs = [spec(f"p{p:g}hPa", p) for p in pressures_hPa]
     first = pressures_hPa[0]
-    if inp.mesh_check_dx_um:
-        m = inp.mesh_check_dx_um
-        specs.append(spec(f"p{first:g}hPa_dx{m:g}", first, dx=m, correctors=inp.mesh_correctors))
+    for m, n_mesh in inp.mesh_checks:
+        specs.append(spec(f"p{first:g}hPa_dx{m:g}", first, dx=m, correctors=n_mesh))
     if inp.cap_sensitivity_Pa_s:
         c = inp.cap_sensitivity_Pa_s
         specs.append(spec(f"p{first:g}hPa_cap{c:g}", first, cap=c))

@@ -369,6 +369,8 @@ def _broken(rule: Relation, value: Any, bound: float, factor: float) -> Any:
     if rule.measure == "norm":
         norm = math.hypot(*value)
         return [target, 0.0] if norm == 0 else [v * target / norm for v in value]
+    if not len(value):  # an empty list breaks no rule: one element at the target
+        return [target]
     top = max(value)
     return [v * target / top for v in value] if top > 0 else [target] * len(value)
 

@@ -15,6 +15,16 @@ sources of opposite sign can make the same pattern). With ``|q| >= 1`` the solut
 converge and there is no limit (nan). The VOF Table 4 case applies it to the axis ratio at
 the junction over dt, dt/2, dt/4 (docs/microchannel.md, "Mesh, corrector and time-step
 convergence").
+
+Meshes refined by unequal ratios (12.5, 6.25, 4.17 um: r = 2 then 1.5) take the same power law
+``f(h) = f0 + C h^p`` through three solutions at ``h1 > h2 > h3`` (:func:`power_law`): the
+order solves
+
+    (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)
+
+(the right side grows from ``ln(h1/h2) / ln(h2/h3)`` at p -> 0 without bound, so there is one
+root when the left side exceeds that), and ``f0 = f3 - (f2 - f3) h3^p / (h2^p - h3^p)``.
+With ``h2/h1 = h3/h2 = 1/r`` it is :func:`richardson`.
 """
 
 from __future__ import annotations
@@ -22,6 +32,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+
+from scipy.optimize import brentq
 
 from oocyte_fe.errors import InputError
 
@@ -67,6 +79,39 @@ def richardson(values: Sequence[float], ratio: float = 2.0) -> Extrapolation:
     order = -math.log(q) / math.log(ratio) if 0 < q < 1 else (math.inf if q == 0 else math.nan)
     limit = f3 - d23 * q / (1 - q) if abs(q) < 1 else math.nan
     return Extrapolation(q, order, limit, f3, ratio)
+
+
+def power_law(steps: Sequence[float], values: Sequence[float]) -> Extrapolation:
+    """Observed order and limit (module docstring) of ``values`` = f(h1), f(h2), f(h3) at
+    ``steps`` h1 > h2 > h3 > 0 (any unit). ``factor`` is ``(f2 - f3) / (f1 - f2)``, ``ratio``
+    ``h2 / h3``; order and limit are nan unless the differences keep their sign and shrink
+    fast enough for an order above 0 (``monotone``)."""
+    h = [float(v) for v in steps]
+    f = [float(v) for v in values]
+    if len(h) != 3 or len(f) != 3 or not all(math.isfinite(v) for v in h + f):
+        raise InputError("power_law", "values", "three finite solutions at three steps", f)
+    if not h[0] > h[1] > h[2] > 0:
+        raise InputError("power_law", "steps", "steps h1 > h2 > h3 > 0", got=h)
+    d12, d23 = f[0] - f[1], f[1] - f[2]
+    factor = d23 / d12 if d12 else (0.0 if d23 == 0 else math.copysign(math.inf, d23))
+    nan = Extrapolation(factor, math.nan, math.nan, f[2], h[1] / h[2])
+    if d23 == 0 or not 0 < factor:
+        return nan
+    target = d12 / d23
+
+    def gap(p: float) -> float:
+        return (h[0] ** p - h[1] ** p) / (h[1] ** p - h[2] ** p) - target
+
+    low, high = 1e-6, 1.0
+    if gap(low) >= 0:  # the differences shrink too slowly for a positive order
+        return nan
+    while gap(high) < 0:
+        high *= 2.0
+        if high > 64:
+            return nan
+    p = brentq(gap, low, high, xtol=1e-12)
+    limit = f[2] - d23 * h[2] ** p / (h[1] ** p - h[2] ** p)
+    return Extrapolation(1.0 / target, p, limit, f[2], h[1] / h[2])
 
 
 @dataclass(frozen=True)
