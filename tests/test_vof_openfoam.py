@@ -25,6 +25,7 @@ pytestmark = pytest.mark.skipif(
 
 PA_S = units.VISCOSITY["Pa_s"]
 RHO = 1000.0 * units.DENSITY["kg_m3"]
+CASES = Path(__file__).resolve().parents[1] / "cases"
 H, LENGTH, DX, U = 50.0, 1000.0, 5.0, 1e4  # um, um, um, um/s (1 cm/s)
 STEADY = Numerics(time_step=2e-7, end_time=4e-5, write_interval=2e-5)
 
@@ -84,24 +85,64 @@ def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) ->
     assert math.isfinite(exact.flow_rate)
 
 
-@pytest.mark.slow
-def test_quick_vof_case_passes(tmp_path: Path) -> None:
-    """The quick junction case (300 hPa, 12.5 um): the momentum budgets of a box around the
-    cell and of the cell's diffuse interface balance within 1 % of their loads (measured
-    0.42 % and 0.88 %), the largest Courant number stays below 1 (measured 0.24), and the
-    five checks of the case pass."""
+@pytest.fixture(scope="module")
+def quick_case(tmp_path_factory: pytest.TempPathFactory):
+    """The quick junction case, run once: (its result, its metrics)."""
     import json
 
     from oocyte_fe.runner.run import plan, run_cases
 
-    cases = Path(__file__).resolve().parents[1] / "cases"
-    [result] = run_cases(plan([cases / "microchannel_vof_quick"], quick=True), tmp_path, quick=True)
-    metrics = json.loads((tmp_path / "microchannel_vof_quick" / "metrics.json").read_text())
-    assert metrics["metrics"]["cv_imbalance_pct"] < 1.0
-    assert metrics["metrics"]["diffuse_imbalance_pct"] < 1.0
-    assert metrics["metrics"]["max_courant"] < 1.0
+    out = tmp_path_factory.mktemp("quick")
+    [result] = run_cases(plan([CASES / "microchannel_vof_quick"], quick=True), out, quick=True)
+    metrics = json.loads((out / "microchannel_vof_quick" / "metrics.json").read_text())
+    return result, metrics["metrics"]
+
+
+@pytest.mark.slow
+def test_quick_vof_case_passes(quick_case) -> None:
+    """The quick junction case (300 hPa, 12.5 um): the momentum budgets of a box around the
+    cell and of the cell's diffuse interface balance within 1 % of their loads (measured
+    0.42 % and 0.88 %), the largest Courant number stays below 1 (measured 0.24), and the
+    five checks of the case pass."""
+    result, metrics = quick_case
+    assert metrics["cv_imbalance_pct"] < 1.0
+    assert metrics["diffuse_imbalance_pct"] < 1.0
+    assert metrics["max_courant"] < 1.0
     assert result.status == "PASS", result.reason
     assert result.total == 5
+
+
+@pytest.mark.slow
+def test_a_finer_mesh_run_is_the_case_run_on_that_mesh(tmp_path: Path, quick_case) -> None:
+    """The mesh study's runs are the case's own runs on the finer lattices: the quick case on
+    25 um with 12.5 um as its finer mesh (1 x 24 correctors, as the quick case) reads, on
+    12.5 um, the quick case's own b/a and AFM-elastic b/a (deterministic runs: to 1e-9), and
+    25 um deforms more (the liquid cell's mesh error has one sign, docs/microchannel.md)."""
+    import json
+    import shutil
+
+    from oocyte_fe.runner.run import plan, run_cases
+
+    study = tmp_path / "study"
+    shutil.copytree(CASES / "microchannel_vof_quick", study)
+    toml = study / "case.toml"
+    text = toml.read_text().replace("\ndx_um = 12.5", "\ndx_um = 25.0", 1)
+    text = text.replace(
+        "\ncorrectors = 24",
+        "\ncorrectors = 12\nmesh_check_dx_um = 12.5\nmesh_check_correctors = 24",
+        1,
+    )
+    toml.write_text(text)
+    run_cases(plan([study], quick=True), tmp_path / "out", quick=True)
+    mesh = json.loads((tmp_path / "out" / "study" / "metrics.json").read_text())["metrics"]
+    _, quick = quick_case
+    assert mesh["mesh_dx_um"] == [25.0, 12.5]
+    assert mesh["mesh_deformation"][1] == pytest.approx(1 - quick["ratio_at_junction"][0], rel=1e-9)
+    assert mesh["elastic_mesh_b_over_a"][0] == pytest.approx(
+        quick["elastic_cell_b_over_a"][0], rel=1e-9
+    )
+    assert mesh["mesh_deformation"][0] > 1.5 * mesh["mesh_deformation"][1]  # 0.0285 / 0.0148
+    assert "mesh_order" not in mesh  # two meshes: no power law
 
 
 def test_cell_order_matches_blockmesh(tmp_path: Path) -> None:
