@@ -165,3 +165,18 @@ def test_the_mesh_section_gives_the_limit_of_three_meshes_or_more() -> None:
     obs = [(6.25, _run(0.9899, 1)), (THIRD, _run(0.9909, 1)), (3.125, _run(0.9908, 1))]
     text, m3 = mesh_study(12.5, _run(0.9852, 1), obs)
     assert "no observed order" in text and "mesh_order" not in m3
+
+
+def test_an_order_whose_differences_grow_with_unequal_ratios() -> None:
+    """Steps 10, 9, 2 um: a power law of order 0.5 has a second difference ten times the first
+    (factor 9.8, not "monotone" in Richardson's sense) and still an order and a limit, which
+    the mesh section reports."""
+    steps = (10.0, 9.0, 2.0)
+    e = [0.008 + 3e-4 * h**0.5 for h in steps]
+    fit = power_law(steps, e)
+    assert fit.factor > 1
+    assert fit.order == pytest.approx(0.5, rel=1e-8)
+    assert fit.limit == pytest.approx(0.008, rel=1e-9)
+    meshes = [(h, _run(1 - v, 1)) for h, v in zip(steps[1:], e[1:], strict=True)]
+    text, m = mesh_study(steps[0], _run(1 - e[0], 1), meshes)
+    assert m["mesh_order"] == pytest.approx(0.5, rel=1e-6) and "p = 0.50" in text

@@ -11,7 +11,7 @@ import numpy as np
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section, recompute_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
-from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, run_specs
+from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, mesh_label, run_specs
 from oocyte_fe.kinds.microchannel_vof_studies import (
     dt_study,
     mesh_study,
@@ -124,7 +124,7 @@ def report_outcome(
     notes, sens = sensitivity_notes(extra, runs[0], correctors)
     metrics.update(sens)
     first_hpa = float(pressures[0] / HPA)
-    meshes = [(m, extra[f"p{first_hpa:g}hPa_dx{m:g}"]) for m, _ in inp.mesh_checks]
+    meshes = [(m, extra[mesh_label(first_hpa, m)]) for m, _ in inp.mesh_checks]
     if meshes:
         mesh_text, more = mesh_study(inp.dx_um, runs[0], meshes)
         metrics.update(more)

@@ -37,6 +37,11 @@ class RunSpec:
     correctors: int
 
 
+def mesh_label(pressure_hPa: float, dx: float) -> str:
+    """The label of the run of ``pressure_hPa`` on the finer mesh ``dx`` (um)."""
+    return f"p{pressure_hPa:g}hPa_dx{dx:g}"
+
+
 def run_specs(inp: VofInputs, pressures_hPa: list[float]) -> list[RunSpec]:
     """The case's runs: first one per pressure (in the given order), then the studies."""
     dt, cap, dx, n = inp.time_step_s, inp.zero_shear_cap_Pa_s, inp.dx_um, inp.correctors
@@ -49,7 +54,7 @@ def run_specs(inp: VofInputs, pressures_hPa: list[float]) -> list[RunSpec]:
     specs = [spec(f"p{p:g}hPa", p) for p in pressures_hPa]
     first = pressures_hPa[0]
     for m, n_mesh in inp.mesh_checks:
-        specs.append(spec(f"p{first:g}hPa_dx{m:g}", first, dx=m, correctors=n_mesh))
+        specs.append(spec(mesh_label(first, m), first, dx=m, correctors=n_mesh))
     if inp.cap_sensitivity_Pa_s:
         c = inp.cap_sensitivity_Pa_s
         specs.append(spec(f"p{first:g}hPa_cap{c:g}", first, cap=c))

@@ -110,7 +110,7 @@ def mesh_study(
     h = [dx for dx, _ in runs[-3:]]
     fit = power_law(h, e[-3:])
     hs = ", ".join(f"{v:.4g}" for v in h)
-    if not fit.monotone or not math.isfinite(fit.limit):
+    if not math.isfinite(fit.order):
         text += (
             f"\n\nOn {hs} um the differences of 1 - b/a do not shrink monotonically (factor "
             f"{fit.factor:.2f}): no observed order, no h -> 0 limit; the finest mesh reads "

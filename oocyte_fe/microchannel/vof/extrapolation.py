@@ -85,7 +85,8 @@ def power_law(steps: Sequence[float], values: Sequence[float]) -> Extrapolation:
     """Observed order and limit (module docstring) of ``values`` = f(h1), f(h2), f(h3) at
     ``steps`` h1 > h2 > h3 > 0 (any unit). ``factor`` is ``(f2 - f3) / (f1 - f2)``, ``ratio``
     ``h2 / h3``; order and limit are nan unless the differences keep their sign and shrink
-    fast enough for an order above 0 (``monotone``)."""
+    fast enough for an order above 0 (with unequal ratios ``factor`` may then exceed 1: test
+    the order, not ``monotone``)."""
     h = [float(v) for v in steps]
     f = [float(v) for v in values]
     if len(h) != 3 or len(f) != 3 or not all(math.isfinite(v) for v in h + f):
@@ -111,7 +112,7 @@ def power_law(steps: Sequence[float], values: Sequence[float]) -> Extrapolation:
             return nan
     p = brentq(gap, low, high, xtol=1e-12)
     limit = f[2] - d23 * h[2] ** p / (h[1] ** p - h[2] ** p)
-    return Extrapolation(1.0 / target, p, limit, f[2], h[1] / h[2])
+    return Extrapolation(factor, p, limit, f[2], h[1] / h[2])
 
 
 @dataclass(frozen=True)
