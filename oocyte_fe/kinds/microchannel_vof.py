@@ -20,7 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from oocyte_fe.errors import InputError, SolverError
-from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, METRICS, PA_S, VofInputs
+from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
+from oocyte_fe.kinds.microchannel_vof_metrics import METRICS
 from oocyte_fe.kinds.microchannel_vof_report import report_outcome, skipped_outcome
 from oocyte_fe.kinds.microchannel_vof_runs import RunSpec, run_specs
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute, deform_recompute

@@ -1,4 +1,4 @@
-"""Inputs and metrics of the case kind ``microchannel_vof`` (its schema, apart from its run)."""
+"""Inputs of the case kind ``microchannel_vof`` (its schema, apart from its run and metrics)."""
 
 from __future__ import annotations
 
@@ -257,51 +257,3 @@ class VofInputs(CaseInputs):
             self.channel.density_kg_m3 * KG_M3,
             self.channel.viscosity_Pa_s * PA_S,
         )
-
-
-METRICS = {
-    "ratio_at_junction": "axis ratio b/a when the centroid crosses x = 0, per pressure",
-    "ratio_end": "axis ratio b/a at the end of the run, per pressure",
-    "mean_error_experiment_pct": "mean |ratio_at_junction / experiment - 1| over the run, %",
-    "mean_error_paper_vof_pct": "mean |ratio_at_junction / paper VOF - 1|, %",
-    "kelvin_voigt_mean_error_pct": "reduced model against the experiment, same pressures, %",
-    "max_volume_error": "largest |relative volume change| of the ZP and cytoplasm phases",
-    "mesh_change_pct": "ratio change between the two meshes at x = 0 (else at the end), %",
-    "cap_change_pct": "ratio change between the two caps at x = 0 (else at the end), %",
-    "seconds_per_ms": "wall seconds per simulated ms (first pressure, one run)",
-    "dt_change_pct": "change of 1 - b/a at x = 0 from dt to dt/2 (first pressure), %",
-    "dt_change_max_pct": "largest change of 1 - b/a between successive dt halvings, %",
-    "mesh_deformation_change_pct": "change of 1 - b/a at x = 0 between the two meshes, %",
-    "zp_change_pct": "change of 1 - b/a at x = 0, the ZP's curve for the whole cell, %",
-    "beside_ratio_at_junction": "the beside model's b/a at x = 0, per beside pressure",
-    "beside_mean_error_experiment_pct": "the beside model against the experiment, mean %",
-    "beside_dt_change_pct": "the beside model: change of 1 - b/a from dt to dt/2, %",
-    "traction_imbalance_pct": "|net traction force - cell momentum rate| / load on the cell, %",
-    "traction_force_x": "net traction force on the cell per unit depth, x (nN/um)",
-    "traction_force_y": "net traction force on the cell per unit depth, y (nN/um)",
-    "traction_at_x_um": "centroid x of the written time the traction is taken at (um)",
-    "cv_imbalance_pct": "momentum budget of a box around the cell: |miss| / load on its faces, %",
-    "diffuse_imbalance_pct": "the cell's momentum rate against the force of its diffuse "
-    "interface, -sum sigma . grad(alpha) dA: |miss| / load on the band, %",
-    "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
-    "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
-    "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",
-    "recompute_last_change_pct": "deform-recompute: change of b/a in the last carried pass, %",
-    "liquid_mae": "liquid cell (VOF): mean |b/a - experiment| over the pressures",
-    "paper_vof_mae": "paper's VOF: mean |b/a - experiment| over the same pressures",
-    "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",
-    "dt_factor": "ratio of successive differences of b/a over dt, dt/2, dt/4 (< 0: alternating)",
-    "ratio_dt_limit": "b/a at x = 0 extrapolated to dt -> 0 (Richardson, first pressure)",
-    "deformation_dt_limit": "1 - b/a at x = 0 extrapolated to dt -> 0 (first pressure)",
-    "ratio_dt_error_pct": "b/a at x = 0 with the case's dt against its dt -> 0 limit, %",
-    "elastic_mesh_change_pct": "AFM-elastic cell: b/a under the second mesh's flow against the "
-    "first's (first pressure), %",
-    "elastic_mesh_b_over_a": "AFM-elastic cell: b/a under each finer mesh's flow (first pressure)",
-    "mesh_dx_um": "mesh study: the cell sizes, the case's mesh first (um)",
-    "mesh_deformation": "mesh study: 1 - b/a at x = 0 on each mesh (first pressure)",
-    "mesh_order": "mesh study: observed order p of e(h) = e0 + C h^p (finest three meshes)",
-    "deformation_mesh_limit": "mesh study: 1 - b/a extrapolated to h -> 0 (first pressure)",
-    "deformation_mesh_error_pct": "mesh study: the case's 1 - b/a against its h -> 0 limit, %",
-    "max_courant": "largest Courant number over every run of the case (the solvers' logs)",
-    "max_interface_courant": "largest interface Courant number over every run",
-}
