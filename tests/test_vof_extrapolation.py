@@ -12,7 +12,7 @@ import pytest
 
 import oocyte_fe.kinds.microchannel_vof as vof_kind
 from oocyte_fe.errors import InputError
-from oocyte_fe.microchannel.vof.extrapolation import richardson, time_step_study
+from oocyte_fe.microchannel.vof.extrapolation import common_reading, richardson, time_step_study
 from oocyte_fe.microchannel.vof.runner import OpenFoam
 from oocyte_fe.runner.run import plan, run_cases
 
@@ -80,8 +80,16 @@ def test_time_step_study_gives_the_limit_next_to_the_case_dt() -> None:
     )
     # x = 0 not reached by a run (the short quick window): read at the end of the runs
     short = time_step_study(dt, [0.99, math.nan, 0.99], [0.97, 0.98, 0.985])
-    assert short.where == "the end of the run"
+    assert short.where == "the end of the runs"
     assert short.metrics()["ratio_dt_limit"] == pytest.approx(0.99, rel=1e-12)
+
+
+def test_runs_are_read_at_x0_only_when_every_run_reaches_it() -> None:
+    # the one rule of the dt, mesh and sensitivity comparisons
+    assert common_reading([0.91, 0.92], [0.95, 0.96]) == ("x = 0", (0.91, 0.92))
+    assert common_reading([0.91, math.nan], [0.95, 0.96]) == ("the end of the runs", (0.95, 0.96))
+    with pytest.raises(InputError, match="common_reading: at_end: expected 2 ratios, one per run"):
+        common_reading([0.91, 0.92], [0.95])
 
 
 def test_time_step_study_needs_two_runs() -> None:

@@ -17,7 +17,7 @@ import pytest
 import oocyte_fe.kinds.microchannel_vof as vof_kind
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_vof_inputs import VofInputs
-from oocyte_fe.kinds.microchannel_vof_studies import mesh_study
+from oocyte_fe.kinds.microchannel_vof_studies import mesh_study, sensitivity_notes
 from oocyte_fe.microchannel.vof.extrapolation import power_law, richardson
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.runner import OpenFoam
@@ -180,3 +180,18 @@ def test_an_order_whose_differences_grow_with_unequal_ratios() -> None:
     meshes = [(h, _run(1 - v, 1)) for h, v in zip(steps[1:], e[1:], strict=True)]
     text, m = mesh_study(steps[0], _run(1 - e[0], 1), meshes)
     assert m["mesh_order"] == pytest.approx(0.5, rel=1e-6) and "p = 0.50" in text
+
+
+def test_each_mesh_is_listed_once_and_the_mesh_check_reads_the_first_finer_mesh() -> None:
+    base = _run(0.9726, 25)
+    extra = {
+        "p600hPa_dx6.25": _run(0.9815, 100),
+        "p600hPa_dx3.125": _run(0.9839, 400),
+        "p600hPa_cap1000": _run(0.9730, 25),
+    }
+    notes, m = sensitivity_notes(extra, base, {})
+    assert len(notes) == 1 and notes[0].startswith("- p600hPa_cap1000")
+    assert m["mesh_change_pct"] == pytest.approx(100 * (0.9815 / 0.9726 - 1), rel=1e-12)
+    assert m["mesh_deformation_change_pct"] == pytest.approx(100 * (0.0185 / 0.0274 - 1), rel=1e-9)
+    text, _ = mesh_study(12.5, base, [(6.25, extra["p600hPa_dx6.25"])])
+    assert "| 6.25 | 100 | 0.98150 | 0.01850 | -32.5 % |" in text

@@ -19,7 +19,12 @@ from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE
 from oocyte_fe.microchannel.vof.control_volume import box_balance
 from oocyte_fe.microchannel.vof.diffuse_force import cell_balance
-from oocyte_fe.microchannel.vof.extrapolation import TimeStepStudy, power_law, time_step_study
+from oocyte_fe.microchannel.vof.extrapolation import (
+    TimeStepStudy,
+    common_reading,
+    power_law,
+    time_step_study,
+)
 from oocyte_fe.microchannel.vof.foamfile import read_internal_field
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.junction import JunctionRun
@@ -34,11 +39,17 @@ PRESSURE_OFFSET = 1.0  # cells: outside the smeared interface (the inner pressur
 ACCELERATION_WINDOW_S = 4e-5  # the centroid's acceleration: a parabola over +-20 us
 
 
+def readings(runs: list[JunctionRun]) -> tuple[str, tuple[float, ...]]:
+    """Where the runs are read together and their b/a there (:func:`.common_reading`)."""
+    return common_reading(
+        [r.ratio_at_junction for r in runs], [float(r.history.ratio[-1]) for r in runs]
+    )
+
+
 def _pair(run: JunctionRun, base: JunctionRun) -> tuple[str, float, float]:
-    """Where both are read (x = 0 when both reach it, else the end) and their b/a there."""
-    if math.isfinite(run.ratio_at_junction * base.ratio_at_junction):
-        return "x = 0", run.ratio_at_junction, base.ratio_at_junction
-    return "end", float(run.history.ratio[-1]), float(base.history.ratio[-1])
+    """Where both are read and their b/a there (:func:`readings`)."""
+    where, (ours, theirs) = readings([run, base])
+    return where, ours, theirs
 
 
 def deformation_change_pct(run: JunctionRun, base: JunctionRun) -> float:
@@ -50,9 +61,10 @@ def deformation_change_pct(run: JunctionRun, base: JunctionRun) -> float:
 def sensitivity_notes(
     extra: dict[str, JunctionRun], base: JunctionRun, correctors: dict[str, int]
 ) -> tuple[list[str], dict[str, float]]:
-    """One line per mesh / cap / ZP run against ``base`` (the first pressure), and their
-    metrics: ``mesh_change_pct`` (b/a, %), ``mesh_deformation_change_pct``,
-    ``cap_change_pct`` (b/a), ``zp_change_pct`` (1 - b/a)."""
+    """One line per cap / ZP run against ``base`` (the first pressure), and the metrics
+    ``mesh_change_pct`` (b/a, %) and ``mesh_deformation_change_pct`` of the first finer mesh
+    (its line is in :func:`mesh_study`'s table), ``cap_change_pct`` (b/a),
+    ``zp_change_pct`` (1 - b/a)."""
     notes, metrics = [], {}
     for label, r in extra.items():
         if label.startswith(BESIDE) or "_dt" in label:
@@ -60,10 +72,11 @@ def sensitivity_notes(
         where, ours, theirs = _pair(r, base)
         ratio_change = 100.0 * abs(ours / theirs - 1.0)
         deformation = deformation_change_pct(r, base)
-        if "_dx" in label:  # the first finer mesh: the mesh check
+        if "_dx" in label:  # the first finer mesh: the mesh check (listed in the mesh table)
             metrics.setdefault("mesh_change_pct", ratio_change)
             metrics.setdefault("mesh_deformation_change_pct", deformation)
-        elif "_cap" in label:
+            continue
+        if "_cap" in label:
             metrics["cap_change_pct"] = ratio_change
         else:
             metrics["zp_change_pct"] = deformation
@@ -86,19 +99,18 @@ def mesh_study(
     ``deformation_mesh_limit`` and ``deformation_mesh_error_pct`` (the case's mesh against
     the limit) when the finest three converge monotonically."""
     runs = [(base_dx, base), *meshes]
-    at_zero = all(math.isfinite(r.ratio_at_junction) for _, r in runs)
-    where = "x = 0" if at_zero else "the end of the runs"
-    e = [1.0 - (r.ratio_at_junction if at_zero else float(r.history.ratio[-1])) for _, r in runs]
+    where, ratios = readings([r for _, r in runs])
+    e = [1.0 - v for v in ratios]
     rows = [
-        f"| dx (um) | cells | 1 - b/a at {where} | change against the previous mesh "
-        "| largest Courant number | wall (s) |",
-        "|---|---|---|---|---|---|",
+        f"| dx (um) | cells | b/a at {where} | 1 - b/a | change of 1 - b/a against the "
+        "previous mesh | largest Courant number | wall (s) |",
+        "|---|---|---|---|---|---|---|",
     ]
     for k, (dx, r) in enumerate(runs):
         change = f"{100 * (e[k] / e[k - 1] - 1):+.1f} %" if k else ""
         rows.append(
-            f"| {dx:.4g} | {r.n_cells} | {e[k]:.5f} | {change} | {r.max_courant:.2f} "
-            f"| {r.wall_seconds:.0f} |"
+            f"| {dx:.4g} | {r.n_cells} | {ratios[k]:.5f} | {e[k]:.5f} | {change} "
+            f"| {r.max_courant:.2f} | {r.wall_seconds:.0f} |"
         )
     metrics: dict[str, float | list[float]] = {
         "mesh_dx_um": [dx for dx, _ in runs],

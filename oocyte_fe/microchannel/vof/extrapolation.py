@@ -118,7 +118,7 @@ def power_law(steps: Sequence[float], values: Sequence[float]) -> Extrapolation:
 @dataclass(frozen=True)
 class TimeStepStudy:
     """The axis ratio b/a at dt, dt/2, dt/4, ...: where it was read (``"x = 0"``, or ``"the
-    end of the run"`` when a run does not reach the junction), the change of 1 - b/a from dt
+    end of the runs"`` when a run does not reach the junction), the change of 1 - b/a from dt
     to dt/2 (%), and with three or more runs the limit dt -> 0 of the finest three."""
 
     dt_s: float
@@ -143,18 +143,30 @@ class TimeStepStudy:
         return out
 
 
+def common_reading(
+    at_junction: Sequence[float], at_end: Sequence[float]
+) -> tuple[str, tuple[float, ...]]:
+    """Where runs compared with each other are read, and their b/a there: at the junction
+    (x = 0) when every run reaches it, else at the end of the runs (a nan in ``at_junction``
+    marks a run that did not reach x = 0). Returns ``("x = 0", at_junction)`` or ``("the end
+    of the runs", at_end)``."""
+    if len(at_end) != len(at_junction):
+        raise InputError("common_reading", "at_end", f"{len(at_junction)} ratios, one per run")
+    if all(math.isfinite(v) for v in at_junction):
+        return "x = 0", tuple(float(v) for v in at_junction)
+    return "the end of the runs", tuple(float(v) for v in at_end)
+
+
 def time_step_study(
     dt_s: float, at_junction: Sequence[float], at_end: Sequence[float]
 ) -> TimeStepStudy:
-    """b/a per time step dt, dt/2, ... read at the junction (x = 0), or at the end of the runs
-    when one of them did not reach it (nan in ``at_junction``); at least two runs."""
+    """b/a per time step dt, dt/2, ... read where :func:`common_reading` says (x = 0, or the
+    end of the runs when one of them did not reach it); at least two runs."""
     if len(at_junction) < 2 or len(at_end) != len(at_junction):
         raise InputError(
             "time_step_study", "at_junction", "ratios of two or more runs (dt, dt/2, ...)"
         )
-    ratios, where = tuple(at_junction), "x = 0"
-    if not all(math.isfinite(v) for v in ratios):
-        ratios, where = tuple(at_end), "the end of the run"
+    where, ratios = common_reading(at_junction, at_end)
     change = 100 * abs((1 - ratios[1]) / (1 - ratios[0]) - 1)
     ex = richardson(ratios[-3:]) if len(ratios) >= 3 else None
     return TimeStepStudy(dt_s, ratios, where, change, ex)
