@@ -7,7 +7,8 @@ Trackers: ``MFAKCF`` (:data:`.tracker.MFAKCF`, with the Kalman prediction of
 (:data:`.tracker.MFAKCF_HOLD`), the options ``MFAKCF (signature)`` and ``MFAKCF (scale)``
 (:data:`.tracker.MFAKCF_SCALE`, the 1-D scale filter of :mod:`.scale`) and
 ``MFAKCF (rotation)`` (:data:`.tracker.MFAKCF_ROTATION`, the anchor bank over orientations
-of :mod:`.rotation`), ``KCF (HOG)`` (our
+of :mod:`.rotation`), ``MFAKCF (moving)`` (:data:`.tracker.MFAKCF_MOVING`, lower loss
+thresholds while the target moves), ``KCF (HOG)`` (our
 single-feature KCF with a fixed learning rate, the seed's "original KCF",
 :data:`.tracker.SINGLE_KCF`) and, when opencv-contrib is installed,
 ``OpenCV KCF`` and ``OpenCV CSRT``. Gains are relative, ``100 (P_MFAKCF - P_KCF) / P_KCF`` %,
@@ -30,6 +31,7 @@ from oocyte_fe.tracking.synthetic import Sequence, SequenceSpec, generate
 from oocyte_fe.tracking.tracker import (
     MFAKCF,
     MFAKCF_HOLD,
+    MFAKCF_MOVING,
     MFAKCF_NO_ANCHOR,
     MFAKCF_RATE_002,
     MFAKCF_ROTATION,
@@ -56,6 +58,7 @@ ABLATION = {
     "MFAKCF (signature)": MFAKCF_SIGNATURE,
     "MFAKCF (scale)": MFAKCF_SCALE,
     "MFAKCF (rotation)": MFAKCF_ROTATION,
+    "MFAKCF (moving)": MFAKCF_MOVING,
 }
 
 TUNING_SUBSET = (
