@@ -23,7 +23,8 @@ def fast_push() -> Sequence:
 
 @pytest.mark.parametrize(
     "fields", [{"moving_relax": 0.0}, {"moving_relax": 1.5}, {"moving_relax": float("nan")},
-               {"moving_speed_px": -1.0}, {"moving_speed_px": float("nan")}],
+               {"moving_speed_px": -1.0}, {"moving_speed_px": float("nan")},
+               {"moving_relax": 0.5}],  # no motion model: its speed is what the option reads
 )  # fmt: skip
 def test_moving_thresholds_refuse_nonsense(fields: dict) -> None:
     with pytest.raises(ValueError, match="moving_relax"):

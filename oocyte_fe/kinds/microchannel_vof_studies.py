@@ -97,7 +97,7 @@ def mesh_study(
     ``e(h) = e0 + C h^p`` through the finest three (:func:`.extrapolation.power_law`).
     Metrics ``mesh_dx_um``, ``mesh_deformation`` (per mesh); ``mesh_order``,
     ``deformation_mesh_limit`` and ``deformation_mesh_error_pct`` (the case's mesh against
-    the limit) when the finest three converge monotonically."""
+    the limit) when the finest three give an order (:func:`.power_law`)."""
     runs = [(base_dx, base), *meshes]
     where, ratios = readings([r for _, r in runs])
     e = [1.0 - v for v in ratios]

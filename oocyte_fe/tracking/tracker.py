@@ -154,6 +154,8 @@ class TrackerConfig:
             raise ValueError("the rotation bank needs the anchor check (verify > 0) and motion")
         if not 0 < self.moving_relax <= 1 or not self.moving_speed_px >= 0:
             raise ValueError("expected 0 < moving_relax <= 1 and moving_speed_px >= 0")
+        if self.moving_relax < 1 and (self.motion is None or not self.adaptive):
+            raise ValueError("moving_relax < 1 needs the motion model's speed (motion, adaptive)")
         if not self.max_step_px >= 0:
             raise ValueError(f"max_step_px must be >= 0, got {self.max_step_px}")
 
