@@ -171,6 +171,8 @@ def test_elastic_ratio_is_read_at_the_junction_between_two_writes(tmp_path: Path
     """Writes with the centroid at x = -20, -4 and +6 um: within +-12.5 um of x = 0 the last
     two (and with a 2 um window the pair around 0); b/a at 0 from the line through the
     writes (0.70 at -4, 0.60 at +6 -> 0.66; three points on a line -> its value at 0)."""
+    from types import SimpleNamespace
+
     from oocyte_fe.microchannel.elastic_junction import (
         ElasticAtPressure,
         ElasticCellAtJunction,
@@ -188,7 +190,8 @@ def test_elastic_ratio_is_read_at_the_junction_between_two_writes(tmp_path: Path
     around = writes_around(tmp_path)
     assert [f.name for f, _ in around] == ["0.002", "0.003"]
     assert [x for _, x in around] == pytest.approx([-4.0, 6.0])
-    cells = tuple(ElasticCellAtJunction(None, r, tmp_path) for r in (0.70, 0.60))  # type: ignore[arg-type]
+    done = SimpleNamespace(success=True)
+    cells = tuple(ElasticCellAtJunction(done, r, tmp_path) for r in (0.70, 0.60))  # type: ignore[arg-type]
     at = ElasticAtPressure(300.0, 0.985, cells, (-4.0, 6.0))
     assert at.b_over_a == pytest.approx(0.66)
     assert [f.name for f, _ in writes_around(tmp_path, half_window=2.0)] == ["0.002", "0.003"]
@@ -197,7 +200,7 @@ def test_elastic_ratio_is_read_at_the_junction_between_two_writes(tmp_path: Path
         "0.002",
         "0.003",
     ]
-    three = tuple(ElasticCellAtJunction(None, r, tmp_path) for r in (0.86, 0.70, 0.60))  # type: ignore[arg-type]
+    three = tuple(ElasticCellAtJunction(done, r, tmp_path) for r in (0.86, 0.70, 0.60))  # type: ignore[arg-type]
     assert ElasticAtPressure(300.0, 0.985, three, (-20.0, -4.0, 6.0)).b_over_a == pytest.approx(
         0.66
     )
@@ -283,3 +286,36 @@ def test_the_flow_mesh_note_compares_the_elastic_cell_on_two_meshes(tmp_path: Pa
     assert metrics["elastic_mesh_change_pct"] == pytest.approx(12.5)
     assert "0.7200 against 0.6400 on 12.5 um" in text
     assert mesh_note(at(0.64), at(0.72, ok=False), 12.5, 6.25)[1] == {}
+
+
+def test_a_stalled_write_between_two_that_carried_is_left_out_and_said(tmp_path: Path):
+    """Writes at -6 (b/a 0.70), +2 (stopped at 80 %, 0.20) and +10 um (0.60): b/a at 0 from the
+    line through the two that carried, 0.70 - 0.10 * 6 / 16 = 0.6625, and the report names the
+    write left out; with both carried writes on one side of x = 0 nothing is read."""
+    from types import SimpleNamespace
+
+    from oocyte_fe.kinds.microchannel_vof_elastic import left_out_note, mesh_note
+    from oocyte_fe.microchannel.elastic_junction import ElasticAtPressure, ElasticCellAtJunction
+
+    def cell(ratio: float, ok: bool) -> ElasticCellAtJunction:
+        exp = SimpleNamespace(
+            success=ok,
+            times_s=[1.0 if ok else 0.8],
+            experiment=SimpleNamespace(time=SimpleNamespace(duration_s=1.0)),
+        )
+        return ElasticCellAtJunction(exp, ratio, tmp_path)  # type: ignore[arg-type]
+
+    three = (cell(0.70, True), cell(0.20, False), cell(0.60, True))
+    at = ElasticAtPressure(900.0, 0.965, three, (-6.0, 2.0, 10.0))
+    assert at.carried and at.read_from == (0, 2) and at.left_out == (1,)
+    assert at.b_over_a == pytest.approx(0.6625, abs=1e-12)
+    note = left_out_note(at)
+    assert "-6.0, +10.0 um" in note and "+2.0 um (at most 80% of its load" in note
+    base = ElasticAtPressure(900.0, 0.965, (cell(0.5, True),), (0.0,))
+    text, metrics = mesh_note(base, at, 12.5, 6.25)
+    assert metrics["elastic_mesh_change_pct"] == pytest.approx(32.5)
+    assert "leaving out the write at +2.0 um" in text
+    one_side = ElasticAtPressure(900.0, 0.965, three, (-6.0, 2.0, -1.0))
+    assert not one_side.carried and one_side.left_out == () and left_out_note(one_side) == ""
+    whole = ElasticAtPressure(900.0, 0.965, (three[0], three[2]), (-6.0, 10.0))
+    assert whole.read_from == (0, 1) and whole.left_out == ()

@@ -25,6 +25,23 @@ def _lookup(p: np.ndarray, values: np.ndarray, at: float) -> float:
     return float(values[hit[0]]) if len(hit) else math.nan
 
 
+def left_out_note(at: ElasticAtPressure) -> str:
+    """A sentence for a pressure whose b/a is read from some of its writes (empty when it is
+    read from all or from none): which writes stopped short, and how far they carried."""
+    if not at.left_out:
+        return ""
+    kept = ", ".join(f"{at.traction_x_um[k]:+.1f}" for k in at.read_from)
+    out = "; ".join(
+        f"{at.traction_x_um[k]:+.1f} um (at most {at.cells[k].load_fraction:.0%} of its load "
+        f"on any element size; b/a {at.cells[k].b_over_a:.3f} there)"
+        for k in at.left_out
+    )
+    return (
+        f"At {at.pressure_hPa:g} hPa b/a at x = 0 is read from the line through the writes at "
+        f"{kept} um, which carried their whole traction, leaving out the write at {out}."
+    )
+
+
 def mesh_note(
     base: ElasticAtPressure, other: ElasticAtPressure, dx_um: float, other_dx_um: float
 ) -> tuple[str, dict[str, float]]:
@@ -43,6 +60,8 @@ def mesh_note(
         f"{1 - base.b_over_a:.4f}). The flow's mesh, not the FE's, sets this spread "
         "(docs/microchannel.md, mesh study)."
     )
+    if other.left_out:
+        text += " " + left_out_note(other)
     return text, {"elastic_mesh_change_pct": change}
 
 
@@ -114,6 +133,9 @@ def elastic_section(
             + "; ".join(remeshed)
             + "."
         )
+    partial = [left_out_note(c) for c in cells if c.left_out]
+    if partial:
+        text += "\n\n" + " ".join(partial)
     if failed:
         text += (
             "\n\nThe FE cell does not carry the whole traction at "

@@ -201,19 +201,42 @@ class ElasticAtPressure:
     traction_x_um: tuple[float, ...]  # the centroid's x at those writes
 
     @property
+    def read_from(self) -> tuple[int, ...]:
+        """The writes that b/a at x = 0 is read from: all of them when every FE run carried
+        its whole traction; else those that did, when at least two did and they lie on both
+        sides of x = 0 (a stall between two writes that carried: the crushed cell of the
+        highest pressures, where a ZP element inverts or Newton cycles at one load shape and
+        not at its neighbours'); else none."""
+        ok = [k for k, c in enumerate(self.cells) if c.experiment.success]
+        if len(ok) == len(self.cells):
+            return tuple(ok)
+        xs = [self.traction_x_um[k] for k in ok]
+        return tuple(ok) if len(ok) >= 2 and min(xs) <= 0.0 <= max(xs) else ()
+
+    @property
     def carried(self) -> bool:
-        """Every FE run carried its whole traction."""
-        return all(c.experiment.success for c in self.cells)
+        """b/a at x = 0 is known: every FE run carried its whole traction, or writes on both
+        sides of x = 0 did (:attr:`read_from`)."""
+        return bool(self.read_from)
+
+    @property
+    def left_out(self) -> tuple[int, ...]:
+        """Writes whose FE run stopped short while the others give b/a (:attr:`read_from`)."""
+        use = self.read_from
+        return tuple(k for k in range(len(self.cells)) if use and k not in use)
 
     @property
     def b_over_a(self) -> float:
         """b/a at x = 0 from a straight line through the writes' b/a against their x (the
         traction, like the liquid's per-step b/a, jitters from one write to the next as the
-        interface crosses the grid); the single write's when there is one."""
-        if len(self.cells) == 1:
-            return self.cells[0].b_over_a
-        ratios = [c.b_over_a for c in self.cells]
-        slope, intercept = np.polyfit(np.array(self.traction_x_um), ratios, 1)
+        interface crosses the grid), over :attr:`read_from` (all writes when none is known);
+        the single write's when there is one."""
+        use = self.read_from or tuple(range(len(self.cells)))
+        if len(use) == 1:
+            return self.cells[use[0]].b_over_a
+        ratios = [self.cells[k].b_over_a for k in use]
+        x = np.array([self.traction_x_um[k] for k in use])
+        slope, intercept = np.polyfit(x, ratios, 1)
         return float(intercept)
 
 
