@@ -167,7 +167,20 @@ class VofInputs(CaseInputs):
         "(none: correctors)",
         "1",
     )
-    time_step_s: float = _f(1e-6, "time step (fixed)", "s", gt=0)
+    mesh_check_pressures: Literal["first", "all"] = _f(
+        "first",
+        "which pressures run on the finer meshes: the first (a mesh study), or all of them "
+        "(each pressure's h -> 0 limit and a Table 4 row of the limits; three meshes or more)",
+        "name",
+    )
+    time_step_s: float = _f(1e-6, "time step (fixed) at the first pressure", "s", gt=0)
+    time_step_scaling: Literal["fixed", "inverse_pressure"] = _f(
+        "fixed",
+        "fixed: time_step_s at every pressure; inverse_pressure: time_step_s x (first "
+        "pressure / p), so that the Courant number is alike at every pressure (the cell's "
+        "speed grows about in proportion to p)",
+        "name",
+    )
     dt_refinements: int = _f(
         0,
         "extra runs at dt/2, dt/4, ... (first pressure, dx_um); 2 or more: the dt -> 0 limit",
@@ -213,6 +226,7 @@ class VofInputs(CaseInputs):
         Relation("mesh_check_dx_um", "<", lambda m: m.dx_um, "dx_um", measure="max"),
         Refining("mesh_check_dx_um"),
         Setup(lambda m: m.mesh_checks),
+        Setup(lambda m: m.all_pressures_need_three_meshes()),
         Setup(lambda m: m.lattices()),
     )
 
@@ -220,6 +234,12 @@ class VofInputs(CaseInputs):
     @classmethod
     def _one_or_a_list(cls, value: Any) -> Any:
         return (value,) if isinstance(value, int | float) and not isinstance(value, bool) else value
+
+    def time_step_at(self, pressure_hPa: float) -> float:
+        """The fixed time step of the runs at ``pressure_hPa`` (s; ``time_step_scaling``)."""
+        if self.time_step_scaling == "fixed":
+            return self.time_step_s
+        return self.time_step_s * self.pressures_hPa[0] / pressure_hPa
 
     @property
     def mesh_checks(self) -> list[tuple[float, int]]:
@@ -234,6 +254,17 @@ class VofInputs(CaseInputs):
             )
         counts = n if len(n) > 1 else (n[0] if n else self.correctors,) * len(meshes)
         return list(zip(meshes, counts, strict=True))
+
+    def all_pressures_need_three_meshes(self) -> None:
+        """``mesh_check_pressures = "all"`` fits each pressure's limit: three meshes at least."""
+        if self.mesh_check_pressures == "all" and len(self.mesh_check_dx_um) < 2:
+            raise InputError(
+                "inputs",
+                "mesh_check_dx_um",
+                "two finer meshes or more with mesh_check_pressures = 'all' (three meshes "
+                "give each pressure's order and h -> 0 limit)",
+                list(self.mesh_check_dx_um),
+            )
 
     def lattices(self) -> None:
         """Every mesh's lattice must fit the geometry (its lengths multiples of dx)."""

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.microchannel_vof_converged import converged_section, pressure_limits
 from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section, recompute_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, mesh_label, run_specs
@@ -121,9 +122,10 @@ def report_outcome(
         "seconds_per_ms": runs[0].seconds_per_ms,
     }
     correctors = {label: n for label, n in _correctors(inp, pressures).items()}
-    notes, sens = sensitivity_notes(extra, runs[0], correctors)
-    metrics.update(sens)
     first_hpa = float(pressures[0] / HPA)
+    of_first = {k: v for k, v in extra.items() if k.split("_")[0] == f"p{first_hpa:g}hPa"}
+    notes, sens = sensitivity_notes(of_first, runs[0], correctors)
+    metrics.update(sens)
     meshes = [(m, extra[mesh_label(first_hpa, m)]) for m, _ in inp.mesh_checks]
     if meshes:
         mesh_text, more = mesh_study(inp.dx_um, runs[0], meshes)
@@ -218,6 +220,17 @@ def report_outcome(
         (f"Traction on the cell at the junction ({pressures[0] / HPA:g} hPa)", traction_text),
         ("The AFM-elastic cell under the flow's traction (one-way)", elastic_text),
     ]
+    if inp.mesh_check_pressures == "all":
+        limits = pressure_limits(
+            inp.dx_um, [float(p / HPA) for p in pressures], runs, extra, list(inp.mesh_check_dx_um)
+        )
+        text, more = converged_section(
+            limits,
+            [_lookup(table.pressure, table.ratio_experiment, p) for p in pressures],
+            [_lookup(table.pressure, table.ratio_simulation, p) for p in pressures],
+        )
+        metrics.update(more)
+        sections.insert(1, ("Table 4 from the mesh limits (every pressure on every mesh)", text))
     if recompute is not None:
         text, more = recompute_section(recompute, float(pressures[0] / HPA))
         metrics.update(more)
@@ -275,7 +288,8 @@ def _beside(inp: VofInputs, table, beside: dict, extra: dict, metrics: dict) -> 
     text = "\n".join(rows)
     dt_runs = [r for k, r in extra.items() if k.startswith(BESIDE) and "_dt" in k]
     if dt_runs:
-        dt_text, study, _ = dt_study(inp.time_step_s, [next(iter(beside.values())), *dt_runs])
+        step = inp.time_step_at(inp.beside_pressures_hPa[0])
+        dt_text, study, _ = dt_study(step, [next(iter(beside.values())), *dt_runs])
         metrics["beside_dt_change_pct"] = study.change_pct
         text += f"\n\nIts time step (first beside pressure):\n\n{dt_text}"
     return text

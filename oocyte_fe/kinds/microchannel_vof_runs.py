@@ -3,7 +3,8 @@
 One :class:`RunSpec` per OpenFOAM run, labelled so that the report can tell them apart:
 
 - ``p<P>hPa``: the case's model at each pressure (``dx_um``, ``time_step_s``, ``correctors``);
-- ``..._dx<dx>``: the first pressure on each finer mesh, with ``mesh_check_correctors``;
+- ``..._dx<dx>``: the first pressure (every pressure with ``mesh_check_pressures = "all"``)
+  on each finer mesh, with ``mesh_check_correctors``;
 - ``..._cap<c>``: a second zero-shear cap; ``..._zp``: the liquid cell with the ZP's curve
   (the bound on the ZP's effect);
 - ``..._dt<dt>``: the first pressure at dt/2, dt/4, ... (``dt_refinements``);
@@ -48,20 +49,24 @@ def run_specs(inp: VofInputs, pressures_hPa: list[float]) -> list[RunSpec]:
     model, curve = inp.model, inp.cell_curve
 
     def spec(label: str, p: float, **kw: object) -> RunSpec:
-        base = {"dx": dx, "cap": cap, "dt": dt, "model": model, "curve": curve, "correctors": n}
-        return RunSpec(label, p, **{**base, **kw})  # type: ignore[arg-type]
+        step = inp.time_step_at(p)
+        base = {"dx": dx, "cap": cap, "dt": step, "model": model, "curve": curve, "correctors": n}
+        factor = float(kw.pop("dt_factor", 1.0))  # type: ignore[arg-type]
+        return RunSpec(label, p, **{**base, **kw, "dt": step * factor})  # type: ignore[arg-type]
 
     specs = [spec(f"p{p:g}hPa", p) for p in pressures_hPa]
     first = pressures_hPa[0]
-    for m, n_mesh in inp.mesh_checks:
-        specs.append(spec(mesh_label(first, m), first, dx=m, correctors=n_mesh))
+    on_meshes = pressures_hPa if inp.mesh_check_pressures == "all" else [first]
+    for p in on_meshes:
+        for m, n_mesh in inp.mesh_checks:
+            specs.append(spec(mesh_label(p, m), p, dx=m, correctors=n_mesh))
     if inp.cap_sensitivity_Pa_s:
         c = inp.cap_sensitivity_Pa_s
         specs.append(spec(f"p{first:g}hPa_cap{c:g}", first, cap=c))
     if inp.zp_bound and model == LIQUID_CELL:
         specs.append(spec(f"p{first:g}hPa_zp", first, curve="zp"))
     for k in range(1, inp.dt_refinements + 1):
-        specs.append(spec(f"p{first:g}hPa_dt{dt / 2**k:g}", first, dt=dt / 2**k))
+        specs.append(spec(f"p{first:g}hPa_dt{dt / 2**k:g}", first, dt_factor=0.5**k))
     if inp.beside_model and inp.beside_pressures_hPa:
         other = {
             "model": inp.beside_model,
@@ -73,5 +78,6 @@ def run_specs(inp: VofInputs, pressures_hPa: list[float]) -> list[RunSpec]:
             specs.append(spec(f"{BESIDE}p{p:g}hPa", p, **other))
         b = inp.beside_pressures_hPa[0]
         for k in range(1, inp.beside_dt_refinements + 1):
-            specs.append(spec(f"{BESIDE}p{b:g}hPa_dt{dt / 2**k:g}", b, dt=dt / 2**k, **other))
+            label = f"{BESIDE}p{b:g}hPa_dt{dt / 2**k:g}"
+            specs.append(spec(label, b, dt_factor=0.5**k, **other))
     return specs
