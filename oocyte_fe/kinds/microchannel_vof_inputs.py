@@ -157,8 +157,9 @@ class VofInputs(CaseInputs):
     dx_um: float = _f(10.0, "cell size", "um", gt=0)
     mesh_check_dx_um: tuple[PositiveFloat, ...] = _f(
         (),
-        "finer meshes run at the first pressure (one number or a list, each finer than the "
-        "one before; three meshes or more: the observed order and the h -> 0 limit)",
+        "finer meshes run at the first pressure (at every pressure with mesh_check_pressures "
+        "= 'all'; one number or a list, each finer than the one before; three meshes or "
+        "more: the observed order and the h -> 0 limit)",
         "um",
     )
     mesh_check_correctors: tuple[PositiveInt, ...] = _f(
@@ -243,7 +244,8 @@ class VofInputs(CaseInputs):
 
     @property
     def mesh_checks(self) -> list[tuple[float, int]]:
-        """The finer meshes of the first pressure and their pressure correctors."""
+        """The finer meshes (of the first pressure, or of every pressure with
+        ``mesh_check_pressures = "all"``) and their pressure correctors."""
         n, meshes = self.mesh_check_correctors, self.mesh_check_dx_um
         if len(n) > 1 and len(n) != len(meshes):
             raise InputError(

@@ -78,6 +78,6 @@ def run_specs(inp: VofInputs, pressures_hPa: list[float]) -> list[RunSpec]:
             specs.append(spec(f"{BESIDE}p{p:g}hPa", p, **other))
         b = inp.beside_pressures_hPa[0]
         for k in range(1, inp.beside_dt_refinements + 1):
-            label = f"{BESIDE}p{b:g}hPa_dt{dt / 2**k:g}"
+            label = f"{BESIDE}p{b:g}hPa_dt{inp.time_step_at(b) / 2**k:g}"
             specs.append(spec(label, b, dt_factor=0.5**k, **other))
     return specs
