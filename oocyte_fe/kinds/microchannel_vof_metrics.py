@@ -43,6 +43,11 @@ METRICS = {
     "mesh_order": "mesh study: observed order p of e(h) = e0 + C h^p (finest three meshes)",
     "deformation_mesh_limit": "mesh study: 1 - b/a extrapolated to h -> 0 (first pressure)",
     "deformation_mesh_error_pct": "mesh study: the case's 1 - b/a against its h -> 0 limit, %",
+    "converged_b_over_a": "Table 4 from the mesh limits: b/a of each pressure's h -> 0 limit "
+    "(nan: no order)",
+    "converged_order": "Table 4 from the mesh limits: each pressure's observed order in h",
+    "converged_mean_error_experiment_pct": "the limits' mean |b/a / experiment - 1|, %",
+    "converged_liquid_mae": "the limits' mean |b/a - experiment|",
     "max_courant": "largest Courant number over every run of the case (the solvers' logs)",
     "max_interface_courant": "largest interface Courant number over every run",
 }

@@ -46,15 +46,8 @@ def readings(runs: list[JunctionRun]) -> tuple[str, tuple[float, ...]]:
     )
 
 
-def _pair(run: JunctionRun, base: JunctionRun) -> tuple[str, float, float]:
-    """Where both are read and their b/a there (:func:`readings`)."""
-    where, (ours, theirs) = readings([run, base])
-    return where, ours, theirs
-
-
-def deformation_change_pct(run: JunctionRun, base: JunctionRun) -> float:
-    """Signed change of 1 - b/a of ``run`` against ``base`` (module docstring), %."""
-    _, ours, theirs = _pair(run, base)
+def deformation_change_pct(ours: float, theirs: float) -> float:
+    """Signed change of 1 - b/a from b/a ``theirs`` to b/a ``ours`` (module docstring), %."""
     return 100.0 * ((1.0 - ours) / (1.0 - theirs) - 1.0)
 
 
@@ -69,9 +62,9 @@ def sensitivity_notes(
     for label, r in extra.items():
         if label.startswith(BESIDE) or "_dt" in label:
             continue
-        where, ours, theirs = _pair(r, base)
+        where, (ours, theirs) = readings([r, base])
         ratio_change = 100.0 * abs(ours / theirs - 1.0)
-        deformation = deformation_change_pct(r, base)
+        deformation = deformation_change_pct(ours, theirs)
         if "_dx" in label:  # the first finer mesh: the mesh check (listed in the mesh table)
             metrics.setdefault("mesh_change_pct", ratio_change)
             metrics.setdefault("mesh_deformation_change_pct", deformation)
