@@ -118,7 +118,8 @@ def test_the_limits_per_pressure_are_the_closed_form_power_laws() -> None:
 
 
 def test_the_converged_case_runs_every_pressure_on_three_meshes() -> None:
-    """The heavy case: seven pressures on 12.5 / 6.25 / 4.17 um at 1e-6 s x 300 / p."""
+    """The heavy case: seven pressures on 12.5 / 6.25 / 4.17 um at 1e-6 s x 300 / p, at most
+    1e-6 s."""
     case = load_case(CASES / "microchannel_vof_table4_converged")
     inp = case.inputs
     assert case.spec.heavy and inp.mesh_check_pressures == "all"
@@ -126,3 +127,5 @@ def test_the_converged_case_runs_every_pressure_on_three_meshes() -> None:
     assert len(specs) == 7 * 3
     by = {s.label: s for s in specs}
     assert by[mesh_label(900, THIRD)].dt == pytest.approx(1e-6 / 3, rel=1e-9)
+    assert by[mesh_label(300, THIRD)].dt == pytest.approx(1e-6, rel=1e-9)
+    assert by[mesh_label(200, THIRD)].dt == 1e-6  # the bound, not 1.5e-6

@@ -182,6 +182,13 @@ class VofInputs(CaseInputs):
         "speed grows about in proportion to p)",
         "name",
     )
+    max_time_step_s: float | None = _f(
+        None,
+        "largest step of any run (the scaled step grows at low pressure, and with it the "
+        "viscous number nu dt / dx^2; none: no bound)",
+        "s",
+        gt=0,
+    )
     dt_refinements: int = _f(
         0,
         "extra runs at dt/2, dt/4, ... (first pressure, dx_um); 2 or more: the dt -> 0 limit",
@@ -237,10 +244,12 @@ class VofInputs(CaseInputs):
         return (value,) if isinstance(value, int | float) and not isinstance(value, bool) else value
 
     def time_step_at(self, pressure_hPa: float) -> float:
-        """The fixed time step of the runs at ``pressure_hPa`` (s; ``time_step_scaling``)."""
-        if self.time_step_scaling == "fixed":
-            return self.time_step_s
-        return self.time_step_s * self.pressures_hPa[0] / pressure_hPa
+        """The fixed time step of the runs at ``pressure_hPa`` (s; ``time_step_scaling``, at
+        most ``max_time_step_s``)."""
+        step = self.time_step_s
+        if self.time_step_scaling == "inverse_pressure":
+            step *= self.pressures_hPa[0] / pressure_hPa
+        return step if self.max_time_step_s is None else min(step, self.max_time_step_s)
 
     @property
     def mesh_checks(self) -> list[tuple[float, int]]:
