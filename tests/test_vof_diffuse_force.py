@@ -66,13 +66,15 @@ def test_a_wall_next_to_the_band_takes_the_walls_conditions():
 FACES = ((0, 1, "x", 1), (0, -1, "x", -1), (1, 0, "y", 1), (-1, 0, "y", -1))
 
 
-def _solver_divergence_force(alpha, p, ux, uy, mu):
+def _solver_divergence_force(alpha, p, ux, uy, mu, start=None):
     """A peer written cell by cell: sum_c alpha_c (div_h sigma)_c dA with the finite-volume
     divergence of interFoam's stress on a uniform lattice: the Laplacian part
     mu_f (u_nb - u_c) / dx on each face (mu_f the two cells' mean), the transposed part
     mu (grad u^T - 2/3 div u I) and the pressure at the cells (central differences),
-    averaged to the faces."""
-    d_uy, d_ux = np.gradient(uy, DX), np.gradient(ux, DX)  # each: (d/dy, d/dx)
+    averaged to the faces; ``start`` (ux, uy): the velocity of the transposed part (the
+    solver's explicit term, from the step's start)."""
+    t_ux, t_uy = (ux, uy) if start is None else start
+    d_uy, d_ux = np.gradient(t_uy, DX), np.gradient(t_ux, DX)  # each: (d/dy, d/dx)
     g = {("x", "x"): d_ux[1], ("x", "y"): d_ux[0], ("y", "x"): d_uy[1], ("y", "y"): d_uy[0]}
     div = g["x", "x"] + g["y", "y"]
 
@@ -132,3 +134,25 @@ def test_the_band_force_is_the_solvers_own_divergence_of_the_stress_summed_with_
     )
     viscous = peer - (-np.array([np.sum(-p * da_dx), np.sum(-p * da_dy)]) * DX * DX)
     assert np.linalg.norm(central - peer) > 0.05 * np.linalg.norm(viscous)
+
+
+def test_the_explicit_transposed_part_takes_the_steps_starting_velocity():
+    """``band_force(f, dx, start)``: the transposed part of the stress from ``start``'s
+    velocity, the Laplacian part and the pressure from ``f``: the peer with the same split
+    to 1e-9; with ``start = f`` the force of ``f`` alone."""
+    from oocyte_fe.microchannel.vof.diffuse_force import band_force
+
+    xx, yy, alpha = _disc(n=50, radius=20.0, width=2.0)
+    mu = alpha * 1e-3 + (1.0 - alpha) * 1e-6
+    ux, uy = 40.0 * yy + 0.3 * xx**2, 200.0 * np.cos(xx / 12.0)
+    ux0, uy0 = 3000.0 * np.sin(xx / 15.0), 5.0 * xx * yy  # the step's start
+    p = np.full_like(alpha, 1.0)  # no net pressure force: the force is the viscous one
+    rho = np.full_like(alpha, 1e-15)
+    f = MixtureFields(alpha, p, ux, uy, rho, mu)
+    start = MixtureFields(alpha, p, ux0, uy0, rho, mu)
+    peer = _solver_divergence_force(alpha, p, ux, uy, mu, start=(ux0, uy0))
+    explicit = band_force(f, DX, start=start).total
+    assert np.allclose(explicit, peer, rtol=0.0, atol=1e-9 * np.abs(peer).max())
+    same = band_force(f, DX, start=f).total
+    assert np.allclose(same, band_force(f, DX).total, rtol=0.0, atol=1e-12 * np.abs(peer).max())
+    assert np.linalg.norm(explicit - same) > 0.05 * np.linalg.norm(same)

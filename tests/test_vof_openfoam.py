@@ -102,11 +102,13 @@ def quick_case(tmp_path_factory: pytest.TempPathFactory):
 def test_quick_vof_case_passes(quick_case) -> None:
     """The quick junction case (300 hPa, 12.5 um): the momentum budgets of a box around the
     cell and of the cell's diffuse interface balance within 1 % of their loads (measured
-    0.42 % and 0.88 %), the largest Courant number stays below 1 (measured 0.24), and the
-    five checks of the case pass."""
+    0.42 % and 0.39 %; the latter 0.68 % with the transposed viscous part at the first
+    step, as the solver takes it), the largest Courant number stays below 1 (measured 0.24),
+    and the five checks of the case pass."""
     result, metrics = quick_case
     assert metrics["cv_imbalance_pct"] < 1.0
     assert metrics["diffuse_imbalance_pct"] < 1.0
+    assert metrics["diffuse_explicit_imbalance_pct"] < 1.0
     assert metrics["max_courant"] < 1.0
     assert result.status == "PASS", result.reason
     assert result.total == 5

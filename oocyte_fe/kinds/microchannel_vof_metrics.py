@@ -24,6 +24,8 @@ METRICS = {
     "cv_imbalance_pct": "momentum budget of a box around the cell: |miss| / load on its faces, %",
     "diffuse_imbalance_pct": "the cell's momentum rate against the force of its diffuse "
     "interface, -sum sigma . grad(alpha) dA: |miss| / load on the band, %",
+    "diffuse_explicit_imbalance_pct": "the same with the transposed part of the viscous stress "
+    "at the first step's velocity (the solver's explicit term), %",
     "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
     "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
     "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",

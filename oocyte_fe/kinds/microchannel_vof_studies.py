@@ -264,9 +264,13 @@ def traction_study(
             f"({cb.momentum_rate[0]:.2f}, {cb.momentum_rate[1]:.2f}) nN/um: miss "
             f"**{cb.imbalance_pct:.2f} %** of the load on the band, {cb.load:.1f} nN/um "
             f"({100 * np.linalg.norm(cb.force - cb.momentum_rate) / balance.gross:.2f} % of the "
-            "contour's load above)."
+            "contour's load above). With the transposed part of the viscous stress at the "
+            "first step's velocity, as the solver integrates it (explicitly): "
+            f"({cb.force_explicit[0]:.2f}, {cb.force_explicit[1]:.2f}) nN/um, miss "
+            f"**{cb.explicit_imbalance_pct:.2f} %**."
         )
         metrics["diffuse_imbalance_pct"] = cb.imbalance_pct
+        metrics["diffuse_explicit_imbalance_pct"] = cb.explicit_imbalance_pct
     return text, metrics
 
 
