@@ -2,9 +2,10 @@
 
 The force of the medium on the cell is the band integral ``F = -sum sigma . grad(alpha) dA``
 (:mod:`.diffuse_force`; it balances the cell's momentum rate within 0.1-0.8 % on 12.5 um,
-where the traction read next to the smeared interface, :mod:`.traction`, misses by 3-9 %). Each band
-cell's share ``f_c = -(sigma + p_m I) . grad(alpha) dA`` (nN/um; ``p_m`` the band's mean
-pressure) sits at the polar angle ``theta_c`` about the centroid of the ``alpha = 0.5``
+where the traction read next to the smeared interface, :mod:`.traction`, misses by 3-9 %).
+Each band cell's share ``f_c = -(sigma + p_m I) . grad(alpha) dA`` (nN/um; ``p_m`` the band's
+mean pressure; each face's Laplacian part halved between its two cells) sits at the polar
+angle ``theta_c`` about the centroid of the ``alpha = 0.5``
 contour. The force per unit angle is the truncated Fourier series of these point forces::
 
     c_k = (1 / 2 pi) sum_c f_c exp(-i k theta_c),      |k| <= K
