@@ -129,16 +129,20 @@ def band_force(f: MixtureFields, dx: float, start: MixtureFields | None = None) 
     p = _walled(f.p, fluid, None)
     mu = _walled(f.mu, fluid, None)
     da_dy, da_dx = np.gradient(alpha, dx)
-    g = f if start is None else start
-    dux_dy, dux_dx = np.gradient(_walled(g.ux, fluid, 0.0), dx)
-    duy_dy, duy_dx = np.gradient(_walled(g.uy, fluid, 0.0), dx)
+    ux, uy = _walled(f.ux, fluid, 0.0), _walled(f.uy, fluid, 0.0)
+    if start is not None:  # the transposed part from the step's starting velocity
+        ux0, uy0 = _walled(start.ux, fluid, 0.0), _walled(start.uy, fluid, 0.0)
+    else:
+        ux0, uy0 = ux, uy
+    dux_dy, dux_dx = np.gradient(ux0, dx)
+    duy_dy, duy_dx = np.gradient(uy0, dx)
     div = dux_dx + duy_dy
     # pressure and the transposed part at the cells (central differences)
     sxx, syy = mu * (dux_dx - 2.0 * div / 3.0) - p, mu * (duy_dy - 2.0 * div / 3.0) - p
     tx = -(sxx * da_dx + mu * duy_dx * da_dy)
     ty = -(mu * dux_dy * da_dx + syy * da_dy)
     # the Laplacian part on the faces, each face's force shared by its two cells
-    lx, ly = _face_laplacian(alpha, _walled(f.ux, fluid, 0.0), _walled(f.uy, fluid, 0.0), mu)
+    lx, ly = _face_laplacian(alpha, ux, uy, mu)
     tx, ty = tx + lx / dx**2, ty + ly / dx**2  # (nN/um) / area: times area below
     band = fluid & ((da_dx != 0.0) | (da_dy != 0.0) | (lx != 0.0) | (ly != 0.0))
     if not band.any():
