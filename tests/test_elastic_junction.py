@@ -47,6 +47,39 @@ def test_cosine_traction_gives_the_ellipse(tmp_path: Path, p0: float):
     assert 1 - cell.b_over_a == pytest.approx(1 - (R - u) / (R + u), rel=0.01)
 
 
+@pytest.mark.parametrize("s_over_mu", [0.3, 0.9])
+def test_pure_shear_traction_at_finite_strain(tmp_path: Path, s_over_mu: float):
+    """The dead traction ``P N = (s cos theta, -s sin theta)`` of the nominal stress
+    ``diag(s, -s)`` on a homogeneous incompressible neo-Hookean disc (``mu = E / 3``) gives the
+    homogeneous pure shear ``F = diag(lambda, 1 / lambda)`` with ``s = mu (lambda - 1 / lambda)``
+    (from ``P = mu F - p F^-T``): b/a = ``lambda^-2`` and the smallest principal stretch
+    ``1 / lambda``, within 0.1 % (b/a 0.74 and 0.42 at s/mu = 0.3 and 0.9; measured within
+    2e-5)."""
+    E = 1.0
+    s = s_over_mu * E / 3.0
+    theta = np.radians(np.arange(0.0, 360.0, 1.0))
+    x, y = R * np.cos(theta), R * np.sin(theta)
+    rows = [
+        f"{np.degrees(a):.6f},{xa:.9f},{ya:.9f},{s * np.cos(a):.12g},{-s * np.sin(a):.12g}"
+        for a, xa, ya in zip(theta, x, y, strict=True)
+    ]
+    csv = tmp_path / "t.csv"
+    csv.write_text("arc_angle_deg,x_um,y_um,t_x_kPa,t_y_kPa\n" + "\n".join(rows) + "\n")
+    cell = elastic_cell_at_junction(csv, tmp_path, zona_kPa=E, cytoplasm_kPa=E)
+    lam = (s_over_mu + np.sqrt(s_over_mu**2 + 4.0)) / 2.0
+    assert cell.experiment.success
+    assert cell.b_over_a == pytest.approx(lam**-2, rel=1e-3)
+    assert cell.smallest_stretch == pytest.approx(1.0 / lam, rel=1e-3)
+    from oocyte_fe.kinds.microchannel_vof_elastic import stretch_note
+    from oocyte_fe.microchannel.elastic_junction import ElasticAtPressure
+
+    note = stretch_note([ElasticAtPressure(300.0, 0.985, (cell,), (0.0,))])
+    if 1.0 / lam < 0.65:  # the report names the pressure past the crease (s/mu = 0.9: 0.647)
+        assert "falls below 0.65" in note and "300 hPa (0.65)" in note
+    else:
+        assert "stays above 0.65" in note
+
+
 def test_a_table_without_the_columns_is_refused(tmp_path: Path):
     (tmp_path / "t.csv").write_text("x,y\n1,2\n")
     with pytest.raises(InputError, match="arc_angle_deg"):

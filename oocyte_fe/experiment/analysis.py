@@ -16,7 +16,10 @@ For the first tool of each type (the metrics of kind ``fe_experiment``):
 * surface loads (a flow's traction, a pressure): the deformed section's aspect ratio ``b/a``
   at the last frame, ``a`` and ``b`` the outline's extents along the principal axes of its
   area moment (plane strain; axisymmetric: the equatorial diameter and the axial height,
-  ``a >= b``), and the deformation ``1 - b/a``.
+  ``a >= b``), and the deformation ``1 - b/a``;
+* every region: its smallest principal stretch ``lambda_min = sqrt(min eig(F^T F))`` over the
+  quadrature points (how far the FE's answer reaches into compression; the instantaneous AFM
+  moduli are measured at small strain).
 
 Forces are the compressive (approach-direction) component on the tool [nN], depths its advance
 beyond the clearance [um], pressures kPa.
@@ -117,6 +120,21 @@ def outline_extents_um(result: ExperimentResult, frame: int = -1) -> tuple[float
         proj = axes.T @ d
         extents = list(proj.max(axis=1) - proj.min(axis=1))
     return max(extents), min(extents)
+
+
+def smallest_stretch(result: ExperimentResult, frame: int = -1) -> dict[str, float]:
+    """Each region's smallest principal stretch [-] at output ``frame``: the square root of
+    the smallest eigenvalue of ``C = F^T F`` over its quadrature points (plane strain: the
+    in-plane pair and ``F_zz = 1``; axisymmetric: with the hoop stretch ``F_zz = r / R``).
+    A homogeneous plane-strain pure shear ``F = diag(lambda, 1 / lambda)`` gives
+    ``1 / lambda``."""
+    problem, x = result.problem, result.frames[frame].x
+    out = {}
+    for k, region in enumerate(problem.body.regions):
+        F = problem.region_kinematics(x, k)[0].F  # (3, 3, nel, nqp)
+        C = np.einsum("kiEq,kjEq->Eqij", F, F)
+        out[region.name] = float(np.sqrt(np.linalg.eigvalsh(C)[..., 0].min()))
+    return out
 
 
 def section_outline_um(result: ExperimentResult, frame: int = -1) -> np.ndarray:

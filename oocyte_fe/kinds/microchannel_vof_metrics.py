@@ -27,6 +27,8 @@ METRICS = {
     "diffuse_explicit_imbalance_pct": "the same with the transposed part of the viscous stress "
     "at the first step's velocity (the solver's explicit term), %",
     "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
+    "elastic_min_stretch": "the smallest principal stretch in the AFM-elastic FE cell, per "
+    "pressure (below 0.65 a compressed neo-Hookean surface creases)",
     "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
     "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",
     "recompute_last_change_pct": "deform-recompute: change of b/a in the last carried pass, %",

@@ -35,7 +35,7 @@ import numpy as np
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment import Experiment, run_experiment
-from oocyte_fe.experiment.analysis import outline_extents_um
+from oocyte_fe.experiment.analysis import outline_extents_um, smallest_stretch
 from oocyte_fe.experiment.driver import ExperimentResult
 from oocyte_fe.experiment.loads import write_traction_table
 from oocyte_fe.io.columns import read_columns
@@ -64,6 +64,12 @@ class ElasticCellAtJunction:
         """The part of the traction carried at the last converged frame (1: all of it; the
         load ramps linearly over the FE's time)."""
         return float(self.experiment.times_s[-1] / self.experiment.experiment.time.duration_s)
+
+    @property
+    def smallest_stretch(self) -> float:
+        """The smallest principal stretch anywhere in the cell at the last converged frame
+        (:func:`.experiment.analysis.smallest_stretch`; :data:`CREASE_STRETCH`)."""
+        return min(smallest_stretch(self.experiment).values())
 
 
 def read_vof_traction(path: Path) -> np.ndarray:
@@ -164,6 +170,13 @@ def traction_at_junction(
     return traction, float(np.interp(t, trace.time, trace.centroid[:, 0]))
 
 
+CREASE_STRETCH = 0.65
+"""The principal stretch below which the surface of a compressed neo-Hookean solid creases
+(plane strain, compressive strain 0.35: Hong, Zhao & Suo 2009, Appl. Phys. Lett. 95, 111901;
+Biot's wrinkles follow at 0.54). The FE follows the smooth solution past it: an elastic
+answer there is one the solid need not keep, far outside the small strains of the AFM
+indentations that gave the moduli."""
+
 READ_WINDOW_UM = 12.5  # the elastic b/a at x = 0: a line through the writes within +-12.5 um
 
 
@@ -238,6 +251,13 @@ class ElasticAtPressure:
         x = np.array([self.traction_x_um[k] for k in use])
         slope, intercept = np.polyfit(x, ratios, 1)
         return float(intercept)
+
+    @property
+    def smallest_stretch(self) -> float:
+        """The smallest principal stretch of the FE runs b/a is read from
+        (:attr:`ElasticCellAtJunction.smallest_stretch`)."""
+        use = self.read_from or tuple(range(len(self.cells)))
+        return min(self.cells[k].smallest_stretch for k in use)
 
 
 def elastic_cells_at_junction(
