@@ -177,25 +177,37 @@ def test_initial_velocity_carries_the_inflow_through_each_arm() -> None:
 
 def test_monitor_keeps_the_largest_courant_numbers_of_the_run() -> None:
     """A leap of the Courant number from 0.86 to 1.9 and back (under the failure bound of
-    10 x 0.21) is kept as the run's largest, with the interface's 0.84; the case's
-    ``max_courant`` check fails on it and passes on the calm run."""
+    10 x 0.21) is kept as the run's largest, with the interface's 0.84, and by time: up to
+    t = 2e-6 s the largest is 0.86. The case's ``max_courant_read`` check takes each run's
+    largest until its cell passed the read window (the whole run's where that is unknown):
+    it fails on a leap before, passes on a leap after (the whole runs' largest still in the
+    metric ``max_courant`` and the check's text) and on a calm run."""
     from oocyte_fe.kinds.microchannel_vof_report import courant_check
     from oocyte_fe.microchannel.vof.junction import JunctionRun
 
     mon = SolverMonitor(1e-4, 1e-6, 5e-6, 1.05, Limits())
-    for co, ico in ((0.2, 0.3), (0.86, 0.52), (1.9, 0.84), (0.5, 0.4)):
+    for k, (co, ico) in enumerate(((0.2, 0.3), (0.86, 0.52), (1.9, 0.84), (0.5, 0.4))):
+        assert mon.feed(f"Time = {(k + 1) * 1e-6:g}") is None
         assert mon.feed(f"Courant Number mean: 0.01 max: {co}") is None
         assert mon.feed(f"Interface Courant Number mean: 0.001 max: {ico}") is None
     assert (mon.largest_courant, mon.largest_interface_courant) == (1.9, 0.84)
     assert mon.courant == 0.5  # the progress line's: the latest
+    assert mon.largest_courant_until(2e-6) == 0.86 and mon.largest_courant_until(3e-6) == 1.9
+    assert math.isnan(mon.largest_courant_until(0.5e-6))
 
-    def run(co: float) -> JunctionRun:
-        return JunctionRun(Path("."), 1.0, 1.0, 1, 1, 0.0, None, 0.9, 0.0, 0.9, co, co / 2)  # type: ignore[arg-type]
+    def run(co: float, read: float = math.nan) -> JunctionRun:
+        return JunctionRun(Path("."), 1.0, 1.0, 1, 1, 0.0, None, 0.9, 0.0, 0.9, co, co / 2, read)  # type: ignore[arg-type]
 
     inp = SimpleNamespace(max_courant=1.0)
     metrics: dict = {}
     [check] = courant_check(inp, [run(0.3), run(1.9)], metrics)  # type: ignore[arg-type]
     assert not check.passed and check.computed == 1.9 and metrics["max_interface_courant"] == 0.95
+    [check] = courant_check(inp, [run(0.3), run(1.9, read=1.2)], {})  # type: ignore[arg-type]
+    assert not check.passed and check.computed == 1.2
+    metrics = {}
+    [check] = courant_check(inp, [run(0.3), run(1.3, read=0.95)], metrics)  # type: ignore[arg-type]
+    assert check.passed and check.computed == 0.95 and "whole runs: 1.30" in check.tolerance
+    assert metrics["max_courant"] == 1.3 and metrics["max_courant_read"] == 0.95
     [check] = courant_check(inp, [run(0.3), run(0.7)], {})  # type: ignore[arg-type]
     assert check.passed
     assert courant_check(inp, [run(math.nan)], {}) == []  # type: ignore[arg-type]

@@ -53,5 +53,7 @@ METRICS = {
     "converged_mean_error_experiment_pct": "the limits' mean |b/a / experiment - 1|, %",
     "converged_liquid_mae": "the limits' mean |b/a - experiment|",
     "max_courant": "largest Courant number over every run of the case (the solvers' logs)",
+    "max_courant_read": "largest Courant number of any run until its cell passes x = +25 um "
+    "(the last state b/a at x = 0 is read from; checked)",
     "max_interface_courant": "largest interface Courant number over every run",
 }

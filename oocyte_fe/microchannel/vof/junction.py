@@ -68,6 +68,7 @@ class JunctionRun:
     min_ratio: float
     max_courant: float = math.nan  # largest over the run (the solver's log)
     max_interface_courant: float = math.nan
+    courant_while_read: float = math.nan  # largest until the centroid passes x = +READ_WINDOW_UM
 
     @property
     def seconds_per_ms(self) -> float:
@@ -149,6 +150,8 @@ def run_junction(
     t_j, r_j = trace.at_x(0.0)
     if num.moments:
         r_j = trace.near_x(0.0, READ_WINDOW_UM)
+    t_read = trace.at_x(READ_WINDOW_UM)[0]  # the last state b/a at x = 0 is read from
+    co_read = monitor.largest_courant_until(t_read if math.isfinite(t_read) else math.inf)
     return JunctionRun(
         case,
         inlets[0].velocity,
@@ -162,6 +165,7 @@ def run_junction(
         float(min(trace.ratio.min(), history.ratio.min())),
         monitor.largest_courant,
         monitor.largest_interface_courant,
+        co_read,
     )
 
 

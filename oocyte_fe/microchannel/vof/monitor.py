@@ -15,9 +15,10 @@ first of these, with the time and the numbers:
 Progress is the simulated time over the end time, the Courant number and an ETA from the
 wall-clock rate so far. The monitor also keeps the largest Courant number of the run and the
 largest interface Courant number (the solver's ``Interface Courant Number`` line, cells of
-the interface only): a fixed-step run whose Courant number leaps during the run has gone
-through an unstable episode even when none of the failures above fires (the cases check it,
-``max_courant``).
+the interface only), and each step's largest Courant number with its time
+(:meth:`SolverMonitor.largest_courant_until`): a fixed-step run whose Courant number leaps
+during the run has gone through an unstable episode even when none of the failures above
+fires (the cases check it up to the last state they read, ``max_courant_read``).
 """
 
 from __future__ import annotations
@@ -84,6 +85,7 @@ class SolverMonitor:
     max_velocity: float = math.nan
     largest_courant: float = math.nan  # over the run so far
     largest_interface_courant: float = math.nan
+    courant_trace: list[tuple[float, float]] = field(default_factory=list)  # (t s, max Co)
     steps: int = 0
     clock_start: float = field(default_factory=monotonic)
     failure: Failure | None = None
@@ -93,6 +95,12 @@ class SolverMonitor:
         """``courant_factor`` x the physical Courant number ``U_ref dt / dx``."""
         dt = self.delta_t if math.isfinite(self.delta_t) else self.time_step
         return self.limits.courant_factor * self.velocity_ref * dt / self.dx
+
+    def largest_courant_until(self, time: float) -> float:
+        """The largest Courant number of the steps up to ``time`` (s); nan before any step,
+        or when one of them logged nan (which fails the Courant check, like a large one)."""
+        co = [c for t, c in self.courant_trace if t <= time]
+        return math.nan if not co or any(math.isnan(c) for c in co) else max(co)
 
     def _fail(self, mode: str, message: str) -> Failure:
         self.failure = Failure(mode, self.time, f"{mode} at t = {self.time:.6g} s: {message}")
@@ -118,6 +126,7 @@ class SolverMonitor:
             self.largest_interface_courant = _larger(self.largest_interface_courant, m.group(2))
         elif m := _CO.match(line):
             self.courant = float(m.group(2))
+            self.courant_trace.append((self.time, self.courant))
             self.largest_courant = _larger(self.largest_courant, m.group(2))
             if not self.courant <= max(self.courant_bound, 1e-12):
                 return self._fail(
