@@ -182,7 +182,7 @@ def test_monitor_keeps_the_largest_courant_numbers_of_the_run() -> None:
     largest until its cell passed the read window (the whole run's where that is unknown):
     it fails on a leap before, passes on a leap after (the whole runs' largest still in the
     metric ``max_courant`` and the check's text) and on a calm run."""
-    from oocyte_fe.kinds.microchannel_vof_report import courant_check
+    from oocyte_fe.kinds.microchannel_vof_checks import courant_check
     from oocyte_fe.microchannel.vof.junction import JunctionRun
 
     mon = SolverMonitor(1e-4, 1e-6, 5e-6, 1.05, Limits())

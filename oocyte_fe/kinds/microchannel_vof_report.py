@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.microchannel_vof_checks import courant_check
 from oocyte_fe.kinds.microchannel_vof_converged import converged_section, pressure_limits
 from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section, recompute_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
@@ -21,7 +22,7 @@ from oocyte_fe.kinds.microchannel_vof_studies import (
 )
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
-from oocyte_fe.microchannel.vof.junction import READ_WINDOW_UM, JunctionRun
+from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
 from oocyte_fe.microchannel.vof.post import snapshot, time_directories
 from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, find_openfoam
@@ -50,40 +51,6 @@ def skipped_outcome(inp: VofInputs, table, kv_p: np.ndarray, kv_ratio: np.ndarra
         sections=[("SKIPPED", text), ("Kelvin-Voigt estimate (reduced model)", "\n".join(rows))],
         skipped=f"OpenFOAM is not installed: {INSTALL_HINT}",
     )
-
-
-def courant_check(
-    inp: VofInputs, runs: list[JunctionRun], metrics: dict[str, float | list[float]]
-) -> list[Check]:
-    """``max_courant_read``: the largest Courant number of any run until its cell's centroid
-    passes x = +READ_WINDOW_UM (25 um; the last state b/a at x = 0 is read from; the whole run where the cell
-    does not get there) within ``inp.max_courant`` (the runs take fixed steps; in a 3.125 um
-    run whose Courant number leapt from 0.86 to 2.1 for 0.1 ms the cell's 1 - b/a went from
-    0.001 to 0.067: docs/microchannel.md). The metric ``max_courant`` keeps the largest over
-    whole runs (the three-phase model's at 900 hPa: 1.30 in the outlet arm, after the cell
-    has passed the junction). None without logs."""
-    co = [r.max_courant for r in runs if math.isfinite(r.max_courant)]
-    ico = [r.max_interface_courant for r in runs if math.isfinite(r.max_interface_courant)]
-    if ico:
-        metrics["max_interface_courant"] = max(ico)
-    if not co:
-        return []
-    metrics["max_courant"] = max(co)
-    read = [
-        r.courant_while_read if math.isfinite(r.courant_while_read) else r.max_courant
-        for r in runs
-        if math.isfinite(r.max_courant)
-    ]
-    metrics["max_courant_read"] = max(read)
-    return [
-        Check(
-            "max_courant_read",
-            max(read),
-            max(read) <= inp.max_courant,
-            f"<= {inp.max_courant:g} until the cell passes x = +{READ_WINDOW_UM:g} um "
-            f"(whole runs: {max(co):.2f})",
-        )
-    ]
 
 
 def _pct(a: float, b: float) -> float:
