@@ -148,7 +148,8 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     """A 'flow' whose pressure does not depend on the cell's shape (synthetic fields; the
     second pass starts the cell in the FE's deformed outline): the second pass repeats the
     first's b/a (within 1 %: the traction is read on the deformed contour) and the iteration
-    stops there, converged after 2 passes."""
+    stops there, converged after 2 passes; the report's section and, for several pressures,
+    its summary say so."""
     from oocyte_fe.microchannel.elastic_iteration import deform_recompute
     from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 
@@ -173,6 +174,15 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     assert abs(change) < 1.0
     assert metrics["recompute_last_change_pct"] == pytest.approx(change, rel=1e-12)
     assert "converged after 2 passes" in text and text.count("\n| 1 |") == 1
+    # several pressures (recompute_pressures = "all"): one summary row each
+    from oocyte_fe.kinds.microchannel_vof_elastic import recompute_summary
+
+    text, metrics = recompute_summary([(300.0, result), (600.0, "not computed: stand-in")])
+    assert metrics["recompute_passes_run"] == [2.0, 0.0]
+    assert metrics["recompute_final_b_over_a"][0] == result.ratios[-1]
+    assert np.isnan(metrics["recompute_final_b_over_a"][1])
+    assert f"| 300 | {result.ratios[0]:.4f} | {result.ratios[-1]:.4f} | 2 | yes |" in text
+    assert "| 600 | - | - | 0 | not computed: stand-in |" in text
 
 
 def test_polygon_fraction_of_an_ellipse():

@@ -136,22 +136,25 @@ def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
 def _recompute(
     ctx: CaseContext, inp: VofInputs, spec: RunSpec, first: JunctionRun
 ) -> DeformRecompute | str:
-    """The deform-recompute passes at the first pressure (pass 0 is its run ``first``), or
-    why they did not run."""
+    """The deform-recompute passes at the pressure of ``spec`` (pass 0 is its run ``first``),
+    or why they did not run."""
     foam = find_openfoam(inp.openfoam)
 
     def run_flow(outline: np.ndarray | None, folder: Path) -> tuple:
         setup = _setup(inp, spec, outline)
         run = first
         if outline is not None:
-            ctx.step(f"deform-recompute: {folder.parent.name}, the flow past the FE's shape")
+            ctx.step(
+                f"deform-recompute {spec.pressure_hPa:g} hPa: {folder.parent.name}, the flow "
+                "past the FE's shape"
+            )
             run = run_junction(foam, folder, setup, inp.ranks, inp.nice)
         return run.case, run.time_at_junction, setup.layout, run.ratio_at_junction
 
     try:
         return deform_recompute(
             run_flow,
-            ctx.output("recompute"),
+            ctx.output(f"recompute/p{spec.pressure_hPa:g}hPa"),
             inp.fluids,
             max_passes=inp.recompute_passes,
         )
@@ -200,7 +203,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
     main = runs[: len(pressures)]
     n = len(pressures)
     extra = {s.label: r for s, r in zip(specs[n:], runs[n:], strict=True)}
-    recompute = None
+    recompute = []
     if inp.recompute_passes and inp.model == LIQUID_CELL:
-        recompute = _recompute(ctx, inp, specs[0], main[0])
+        at = range(n) if inp.recompute_pressures == "all" else range(1)
+        recompute = [(specs[k].pressure_hPa, _recompute(ctx, inp, specs[k], main[k])) for k in at]
     return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra, recompute)

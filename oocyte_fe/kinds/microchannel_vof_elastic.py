@@ -252,3 +252,34 @@ def recompute_section(
     if not result.converged and len(carried) > 1:
         text += f" The last carried pass changed b/a by {last:+.1f} %."
     return text, {"recompute_b_over_a": ratios, "recompute_last_change_pct": last}
+
+
+def recompute_summary(
+    results: list[tuple[float, DeformRecompute | str]],
+) -> tuple[str, dict[str, float | list[float]]]:
+    """The passes at several pressures in one table: the one-way b/a, the last carried pass's,
+    how many passes ran and whether they converged; metrics ``recompute_final_b_over_a``
+    (the last carried pass's b/a where the passes converged, NaN elsewhere) and
+    ``recompute_passes_run`` per pressure."""
+    rows = [
+        "| p (hPa) | one-way b/a | after the passes | passes run | converged |",
+        "|---|---|---|---|---|",
+    ]
+    final, count = [], []
+    for p_hpa, r in results:
+        if isinstance(r, str):
+            rows.append(f"| {p_hpa:g} | - | - | 0 | {r} |")
+            final.append(math.nan)
+            count.append(0.0)
+            continue
+        carried = [ps.elastic.b_over_a for ps in r.passes if ps.elastic.experiment.success]
+        first = f"{carried[0]:.4f}" if r.passes[0].elastic.experiment.success else "-"
+        last = f"{carried[-1]:.4f}" if carried else "-"
+        rows.append(
+            f"| {p_hpa:g} | {first} | {last} | {len(r.passes)} "
+            f"| {'yes' if r.converged else 'no: ' + r.stopped} |"
+        )
+        final.append(carried[-1] if r.converged else math.nan)
+        count.append(float(len(r.passes)))
+    text = "Every pressure (each pressure's passes below):\n\n" + "\n".join(rows)
+    return text, {"recompute_final_b_over_a": final, "recompute_passes_run": count}

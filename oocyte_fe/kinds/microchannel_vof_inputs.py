@@ -62,11 +62,15 @@ class VofInputs(CaseInputs):
     )
     recompute_passes: int = _f(
         0,
-        "liquid cell: deform-recompute passes at the first pressure, the flow run again past "
-        "the AFM-elastic cell's deformed shape (0: one-way only)",
+        "liquid cell: deform-recompute passes at most (at the first pressure, or at every one "
+        "with recompute_pressures = 'all'), the flow run again past the AFM-elastic cell's "
+        "deformed shape (0: one-way only)",
         "1",
         ge=0,
         le=10,
+    )
+    recompute_pressures: Literal["first", "all"] = _f(
+        "first", "which pressures the deform-recompute passes run at", "name"
     )
     beside_model: Model | None = _f(
         None, "a second model run beside the first (reported, not the headline)", "name"

@@ -32,6 +32,9 @@ METRICS = {
     "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
     "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",
     "recompute_last_change_pct": "deform-recompute: change of b/a in the last carried pass, %",
+    "recompute_final_b_over_a": "deform-recompute at every pressure (recompute_pressures = "
+    "'all'): the last carried pass's b/a where the passes converged, per pressure",
+    "recompute_passes_run": "deform-recompute at every pressure: the passes run, per pressure",
     "liquid_mae": "liquid cell (VOF): mean |b/a - experiment| over the pressures",
     "paper_vof_mae": "paper's VOF: mean |b/a - experiment| over the same pressures",
     "dt_order": "observed order in dt of b/a at x = 0 (dt, dt/2, dt/4; nan: not monotone)",

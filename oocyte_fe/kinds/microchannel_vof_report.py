@@ -11,7 +11,11 @@ import numpy as np
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.microchannel_vof_checks import courant_check
 from oocyte_fe.kinds.microchannel_vof_converged import converged_section, pressure_limits
-from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section, recompute_section
+from oocyte_fe.kinds.microchannel_vof_elastic import (
+    elastic_section,
+    recompute_section,
+    recompute_summary,
+)
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, mesh_label, run_specs
 from oocyte_fe.kinds.microchannel_vof_studies import (
@@ -66,7 +70,7 @@ def report_outcome(
     pressures: np.ndarray,
     runs: list[JunctionRun],
     extra: dict[str, JunctionRun],
-    recompute: DeformRecompute | str | None = None,
+    recompute: list[tuple[float, DeformRecompute | str]] = (),
 ) -> CaseOutcome:
     beside = {k: v for k, v in extra.items() if k.startswith(BESIDE) and "_dt" not in k}
     beside_at = {round(float(r.velocity_a), 3): r for r in beside.values()}
@@ -215,10 +219,20 @@ def report_outcome(
         )
         metrics.update(more)
         sections.insert(1, ("Table 4 from the mesh limits (every pressure on every mesh)", text))
-    if recompute is not None:
-        text, more = recompute_section(recompute, float(pressures[0] / HPA))
-        metrics.update(more)
-        sections.append(("Deform and recompute: the flow past the deformed cell", text))
+    if recompute:
+        texts = []
+        for p_hpa, result in recompute:
+            text, more = recompute_section(result, p_hpa)
+            texts.append(text)
+            for key, value in more.items():
+                metrics.setdefault(key, value)  # the first pressure's, as with one
+        if len(recompute) > 1:
+            text, more = recompute_summary(recompute)
+            texts.insert(0, text)
+            metrics.update(more)
+        sections.append(
+            ("Deform and recompute: the flow past the deformed cell", "\n\n".join(texts))
+        )
     sections += [
         (
             "Files",
