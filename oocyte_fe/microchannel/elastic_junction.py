@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -65,7 +66,7 @@ class ElasticCellAtJunction:
         load ramps linearly over the FE's time)."""
         return float(self.experiment.times_s[-1] / self.experiment.experiment.time.duration_s)
 
-    @property
+    @cached_property
     def smallest_stretch(self) -> float:
         """The smallest principal stretch anywhere in the cell at the last converged frame
         (:func:`.experiment.analysis.smallest_stretch`; :data:`CREASE_STRETCH`)."""
@@ -252,7 +253,7 @@ class ElasticAtPressure:
         slope, intercept = np.polyfit(x, ratios, 1)
         return float(intercept)
 
-    @property
+    @cached_property
     def smallest_stretch(self) -> float:
         """The smallest principal stretch of the FE runs b/a is read from
         (:attr:`ElasticCellAtJunction.smallest_stretch`)."""
