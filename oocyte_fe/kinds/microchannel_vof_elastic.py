@@ -222,8 +222,9 @@ def recompute_section(
     if isinstance(result, str):
         return result, {}
     rows = [
-        "| pass | the flow's cell shape, b/a at the junction | traction taken at x (um) "
-        "| FE b/a | traction carried | change of b/a |",
+        "| pass | the flow's cell shape, b/a at the junction (area moments) "
+        "| traction taken at x (um) | FE b/a (principal extents) | traction carried "
+        "| change of b/a |",
         "|---|---|---|---|---|---|",
     ]
     carried = []
