@@ -32,12 +32,12 @@ def courant_check(
         for r in runs
         if math.isfinite(r.max_courant)
     ]
-    metrics["max_courant_read"] = max(read)
+    largest = metrics["max_courant_read"] = max(read)
     return [
         Check(
             "max_courant_read",
-            max(read),
-            max(read) <= inp.max_courant,
+            largest,
+            largest <= inp.max_courant,
             f"<= {inp.max_courant:g} until the cell passes x = +{READ_WINDOW_UM:g} um "
             f"(whole runs: {max(co):.2f})",
         )

@@ -227,21 +227,22 @@ def recompute_section(
         "| change of b/a |",
         "|---|---|---|---|---|---|",
     ]
-    carried = []
+    previous = None  # the last carried pass's b/a
     for k, ps in enumerate(result.passes):
         cell = ps.elastic
         change = "-"
-        if carried and cell.experiment.success:
-            change = f"{100 * (cell.b_over_a / carried[-1] - 1):+.1f} %"
+        if previous is not None and cell.experiment.success:
+            change = f"{100 * (cell.b_over_a / previous - 1):+.1f} %"
         rows.append(
             f"| {k} | {ps.flow_b_over_a:.4f} | {ps.traction_x_um:+.1f} | {cell.b_over_a:.4f} "
             f"| {cell.load_fraction:.0%} | {change} |"
         )
         if cell.experiment.success:
-            carried.append(cell.b_over_a)
+            previous = cell.b_over_a
     ratios = [
         p.elastic.b_over_a if p.elastic.experiment.success else math.nan for p in result.passes
     ]
+    carried = result.carried
     last = 100 * (carried[-1] / carried[-2] - 1) if len(carried) > 1 else math.nan
     text = (
         f"At {pressure_hPa:g} hPa: pass 0 is the one-way cell (the traction of the write "
@@ -273,7 +274,7 @@ def recompute_summary(
             final.append(math.nan)
             count.append(0.0)
             continue
-        carried = [ps.elastic.b_over_a for ps in r.passes if ps.elastic.experiment.success]
+        carried = r.carried
         first = f"{carried[0]:.4f}" if r.passes[0].elastic.experiment.success else "-"
         last = f"{carried[-1]:.4f}" if carried else "-"
         rows.append(

@@ -58,6 +58,11 @@ class DeformRecompute:
         return [p.elastic.b_over_a for p in self.passes]
 
     @property
+    def carried(self) -> list[float]:
+        """b/a of the passes whose FE carried its whole traction."""
+        return [p.elastic.b_over_a for p in self.passes if p.elastic.experiment.success]
+
+    @property
     def converged(self) -> bool:
         r = self.ratios
         return len(r) >= 2 and abs(r[-1] / r[-2] - 1.0) < self.tolerance
