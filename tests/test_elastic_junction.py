@@ -362,3 +362,57 @@ def test_a_stalled_write_between_two_that_carried_is_left_out_and_said(tmp_path:
     assert not one_side.carried and one_side.left_out == () and left_out_note(one_side) == ""
     whole = ElasticAtPressure(900.0, 0.965, (three[0], three[2]), (-6.0, 10.0))
     assert whole.read_from == (0, 1) and whole.left_out == ()
+
+
+def test_the_load_two_steps_on_takes_the_transposed_part_from_the_first(tmp_path: Path):
+    """With ``steps`` (two solver steps after a write), the FE's load is the band's force of
+    the second step with the transposed viscous part from the first step's velocity, as the
+    solver integrates it: the rows' net force is ``band_force(second, start=first)`` to
+    round-off, and differs from the second step's own reading (a velocity that changes
+    between the steps); the traction table is that one, and its x the trace's at its time."""
+    from oocyte_fe.microchannel.elastic_junction import elastic_cells_at_junction
+    from oocyte_fe.microchannel.vof.band_traction import band_traction
+    from oocyte_fe.microchannel.vof.control_volume import mixture_fields
+    from oocyte_fe.microchannel.vof.diffuse_force import band_force
+    from oocyte_fe.microchannel.vof.foamfile import write_field
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+
+    layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
+    case = _synthetic_run(tmp_path / "run", layout, 0.0, 0.0)
+    d = layout.cell_centres() - np.array([-300.0, 0.0])
+    zero = np.zeros(len(d))
+    for name, u in (
+        ("0", np.column_stack([0.02 * (d[:, 0] / R) ** 2, 0.01 * np.sin(d[:, 0] / 20.0), zero])),
+        ("0.001", np.column_stack([zero, 0.03 * np.sin(d[:, 1] / 15.0), zero])),
+    ):
+        write_field(case / name / "U", "[0 1 -1 0 0 0 0]", u, {})
+        write_field(case / name / "nu1", "[0 2 -1 0 0 0 0]", np.full(len(d), 0.045), {})
+    first, second = case / "0", case / "0.001"
+    args = (layout, "cell", FLUIDS.rho_cell, FLUIDS.rho_medium, FLUIDS.mu_medium)
+    explicit = band_force(mixture_fields(second, *args), layout.dx, mixture_fields(first, *args))
+    load = band_traction(second, layout, FLUIDS, start=first)
+    own = band_traction(second, layout, FLUIDS)
+    scale = np.linalg.norm(explicit.total)
+    assert np.allclose(load.force, explicit.total, rtol=0.0, atol=1e-12 * scale)
+    assert np.linalg.norm(own.force - load.force) > 0.05 * scale
+    assert np.linalg.norm(own.traction - load.traction) > 0.05 * np.linalg.norm(load.traction)
+    asked = []
+
+    def steps(write: Path) -> tuple[Path, Path]:
+        asked.append(write)
+        return first, second
+
+    [cell] = elastic_cells_at_junction(
+        [(300.0, case, 1.0)],
+        lambda _: layout,
+        FLUIDS,
+        tmp_path / "fe",
+        steps,
+        zona_kPa=1.0,
+        cytoplasm_kPa=1.0,
+        frames=2,
+    )
+    assert asked == [second]  # the one write near the cell's position
+    table = next((tmp_path / "fe").rglob("vof_traction.csv")).read_text()
+    assert table == load.write_csv(tmp_path / "expected.csv").read_text()
+    assert cell.traction_x_um == pytest.approx((-300.0,), abs=0.5)

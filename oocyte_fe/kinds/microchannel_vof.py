@@ -38,6 +38,7 @@ from oocyte_fe.microchannel.vof.junction import (
     run_junction,
 )
 from oocyte_fe.microchannel.vof.pool import run_concurrently
+from oocyte_fe.microchannel.vof.restart import step_pair
 from oocyte_fe.microchannel.vof.rheology import cap_zero_shear
 from oocyte_fe.microchannel.vof.runner import (
     OpenFoamMissing,
@@ -157,6 +158,7 @@ def _recompute(
             ctx.output(f"recompute/p{spec.pressure_hPa:g}hPa"),
             inp.fluids,
             max_passes=inp.recompute_passes,
+            steps=step_pair(foam, inp.nice),
         )
     except (InputError, SolverError) as exc:
         return f"not computed: {exc}"

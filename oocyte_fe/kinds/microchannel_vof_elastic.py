@@ -18,6 +18,8 @@ from oocyte_fe.microchannel.elastic_junction import (
     elastic_cells_at_junction,
 )
 from oocyte_fe.microchannel.vof.junction import JunctionRun
+from oocyte_fe.microchannel.vof.restart import step_pair
+from oocyte_fe.microchannel.vof.runner import find_openfoam
 from oocyte_fe.runner.registry import CaseContext
 
 
@@ -98,7 +100,8 @@ def elastic_section(
     absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment;
     with ``meshes`` (the first pressure on each of ``mesh_check_dx_um``: (dx, run)) also
     :func:`mesh_note` for each (``elastic_mesh_change_pct``: the first of them) and
-    ``elastic_mesh_b_over_a`` (b/a under each mesh's flow, NaN where the FE stops)."""
+    ``elastic_mesh_b_over_a`` (b/a under each mesh's flow, NaN where the FE stops). Each
+    write's load is taken two solver steps later (:func:`.elastic_junction.write_traction`)."""
     by_p = {float(p / HPA): r for p, r in zip(pressures, runs, strict=True)}
     geometry = inp.geometry.to_geometry()
 
@@ -106,8 +109,9 @@ def elastic_section(
         r = by_p[p_hpa]
         return geometry.layout(inp.dx_um, r.velocity_a, r.velocity_b)
 
+    steps = step_pair(find_openfoam(inp.openfoam), inp.nice)
     jobs = [(p, r.case, r.ratio_at_junction) for p, r in sorted(by_p.items())]
-    cells = elastic_cells_at_junction(jobs, layout_of, inp.fluids, ctx.output("."))
+    cells = elastic_cells_at_junction(jobs, layout_of, inp.fluids, ctx.output("."), steps)
     rows = [
         "| p (hPa) | experiment | paper VOF | liquid cell (VOF) | **AFM-elastic cell** "
         "| 1 - b/a elastic | smallest stretch | writes at x (um): b/a at 0 from the line "
@@ -193,6 +197,7 @@ def elastic_section(
             lambda _, m=m, r=mesh_run: geometry.layout(m, r.velocity_a, r.velocity_b),
             inp.fluids,
             ctx.output(f"mesh_dx{m:g}"),
+            steps,
         )
         on_meshes.append(other.b_over_a if other.carried else math.nan)
         note, more = mesh_note(base, other, inp.dx_um, m)

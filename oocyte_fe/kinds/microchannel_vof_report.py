@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from oocyte_fe.errors import InputError
+from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_checks import courant_check
 from oocyte_fe.kinds.microchannel_vof_converged import converged_section, pressure_limits
 from oocyte_fe.kinds.microchannel_vof_elastic import (
@@ -169,7 +169,7 @@ def report_outcome(
         try:
             elastic_text, more = elastic_section(ctx, inp, table, pressures, runs, meshes)
             metrics.update(more)
-        except InputError as exc:
+        except (InputError, SolverError) as exc:  # SolverError: a restart for the load
             elastic_text = f"not computed: {exc}"
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(

@@ -31,6 +31,7 @@ from oocyte_fe.microchannel.elastic_junction import (
 )
 from oocyte_fe.microchannel.vof.band_traction import Fluids
 from oocyte_fe.microchannel.vof.geometry import Layout
+from oocyte_fe.microchannel.vof.restart import StepPair
 
 # run_flow(outline about the cell centre or None, folder) -> (case, time at the junction s,
 # layout, the flow's own b/a at the junction)
@@ -86,11 +87,13 @@ def deform_recompute(
     fluids: Fluids,
     max_passes: int = 6,
     tolerance: float = 0.01,
+    steps: StepPair | None = None,
     **cell: float,
 ) -> DeformRecompute:
     """The passes of the module docstring; ``cell``: keywords of
     :func:`.elastic_junction.elastic_cell_at_junction`; ``fluids`` what the traction needs
-    (:class:`.vof.band_traction.Fluids`)."""
+    (:class:`.vof.band_traction.Fluids`); ``steps`` as in
+    :func:`.elastic_junction.traction_at_junction`."""
     passes: list[Pass] = []
     outline = None
     stopped = f"{max_passes} passes spent"
@@ -98,7 +101,7 @@ def deform_recompute(
         sub = Path(folder) / f"pass{k}"
         sub.mkdir(parents=True, exist_ok=True)
         case, t_j, layout, flow_ratio = run_flow(outline, sub / "flow")
-        traction, x_um = traction_at_junction(case, t_j, layout, fluids)
+        traction, x_um = traction_at_junction(case, t_j, layout, fluids, steps=steps)
         csv = traction.write_csv(sub / "vof_traction.csv")
         elastic = elastic_cell_at_junction(csv, sub, **cell)
         passes.append(Pass(flow_ratio, x_um, elastic))

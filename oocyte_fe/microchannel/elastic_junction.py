@@ -21,6 +21,11 @@ Prony series ``G(t)/G0 = 0.5 + 0.3 exp(-t/0.2 s) + 0.2 exp(-t/1.5 s)`` has relax
 :mod:`.vof.traction`, whose net force misses the cell's momentum rate by 3-9 % on 12.5 um;
 it is still reported beside.)
 
+Given ``steps`` (a :data:`StepPair`, e.g. :func:`.vof.restart.step_pair`), each write's load
+is taken two solver steps later, from the second step's fields with the transposed viscous
+part from the first's velocity: the force that balances the cell's momentum over that step as
+the solver integrates it (:mod:`.vof.band_traction`); without it, from the write alone.
+
 :func:`elastic_cells_at_junction` does this for a set of runs (Table 4's pressures), and
 :func:`compare_table4` sets the two models against the experiment: mean absolute error of b/a.
 """
@@ -43,6 +48,7 @@ from oocyte_fe.io.columns import read_columns
 from oocyte_fe.microchannel.vof.band_traction import Fluids, band_traction
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.post import moment_trace, time_directories
+from oocyte_fe.microchannel.vof.restart import StepPair
 from oocyte_fe.microchannel.vof.traction import Traction
 
 COLUMNS = ("arc_angle_deg", "x_um", "y_um", "t_x_kPa", "t_y_kPa")
@@ -156,19 +162,41 @@ def elastic_cell_at_junction(
     )
 
 
+def write_traction(
+    write: Path, layout: Layout, fluids: Fluids, steps: StepPair | None = None, cell: str = "cell"
+) -> Traction:
+    """The load of the written time ``write`` (:func:`.vof.band_traction.band_traction`):
+    from its own fields, or with ``steps`` from the second step after it with the transposed
+    viscous part from the first (module docstring)."""
+    if steps is None:
+        return band_traction(write, layout, fluids, cell)
+    first, second = steps(write)
+    return band_traction(second, layout, fluids, cell, start=first)
+
+
+def centroid_x(case: Path, time: float, cell: str = "cell") -> float:
+    """The cell's centroid x (um) at ``time`` (s) from the run's per-step moments."""
+    trace = moment_trace(case, [cell])
+    return float(np.interp(time, trace.time, trace.centroid[:, 0]))
+
+
 def traction_at_junction(
-    case: Path, time: float, layout: Layout, fluids: Fluids, cell: str = "cell"
+    case: Path,
+    time: float,
+    layout: Layout,
+    fluids: Fluids,
+    cell: str = "cell",
+    steps: StepPair | None = None,
 ) -> tuple[Traction, float]:
-    """The traction on the liquid cell (:func:`.vof.band_traction.band_traction`) at the
-    written time of ``case`` nearest ``time`` (s; the junction crossing), and the centroid's x
-    there (um, from the per-step moments)."""
+    """The traction on the liquid cell (:func:`write_traction`) at the written time of
+    ``case`` nearest ``time`` (s; the junction crossing), and the centroid's x at the
+    traction's time (um, from the per-step moments)."""
     folders = time_directories(case)[1:]
     if not folders:
         raise InputError(case, "time folders", "a written time after t = 0")
-    t, folder = min(folders, key=lambda tf: abs(tf[0] - time))
-    traction = band_traction(folder, layout, fluids, cell)
-    trace = moment_trace(case, [cell])
-    return traction, float(np.interp(t, trace.time, trace.centroid[:, 0]))
+    _, folder = min(folders, key=lambda tf: abs(tf[0] - time))
+    traction = write_traction(folder, layout, fluids, steps, cell)
+    return traction, centroid_x(case, traction.time, cell)
 
 
 CREASE_STRETCH = 0.65
@@ -266,10 +294,12 @@ def elastic_cells_at_junction(
     layout_of: Callable[[float], Layout],
     fluids: Fluids,
     folder: Path,
+    steps: StepPair | None = None,
     **cell: float,
 ) -> list[ElasticAtPressure]:
     """For each run ``(pressure hPa, case, liquid b/a)``: the traction of each write around
-    the junction crossing (:func:`writes_around`) loads the elastic cell
+    the junction crossing (:func:`writes_around`; :func:`write_traction`, with ``steps`` two
+    steps after the write, x at that time) loads the elastic cell
     (``cell``: keywords of :func:`elastic_cell_at_junction`); ``layout_of(pressure)`` the
     run's mesh layout. One FE folder per pressure and write under ``folder``. The elastic
     cell's 1 - b/a grows by about 0.004 per um of travel there (300 hPa) and jitters by about
@@ -278,12 +308,12 @@ def elastic_cells_at_junction(
     for pressure, case, liquid in runs:
         cells, xs = [], []
         for k, (write, x_um) in enumerate(writes_around(case)):
-            traction = band_traction(write, layout_of(pressure), fluids)
+            traction = write_traction(write, layout_of(pressure), fluids, steps)
             sub = Path(folder) / f"elastic_p{pressure:g}hPa" / f"write{k}"
             sub.mkdir(parents=True, exist_ok=True)
             csv = traction.write_csv(sub / "vof_traction.csv")
             cells.append(elastic_cell_at_junction(csv, sub, **cell))
-            xs.append(x_um)
+            xs.append(x_um if steps is None else centroid_x(case, traction.time))
         out.append(ElasticAtPressure(pressure, liquid, tuple(cells), tuple(xs)))
     return out
 

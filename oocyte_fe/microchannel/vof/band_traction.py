@@ -19,6 +19,13 @@ band's own, none is smoothed (a Gaussian of one lattice spacing would take 6 % o
 ``2 pi c_0 = sum_c f_c`` exactly; the mean pressure's share ``-p_m sum grad(alpha) dA`` (zero
 for a band away from walls) is added to ``c_0``, so ``sum t ds = F``: the FE cell takes the force
 whose momentum budget is checked.
+
+The solver takes the transposed part of the viscous stress, ``div(mu dev2(grad U^T))``,
+explicitly, from the step's starting velocity; on the finer meshes it alternates from step to
+step (0.3-2.4 % of the load between the two readings, docs/elastic_cell_in_flow.md). Given
+``start``, the fields of the step before, the band's force takes that part from them as the
+solver did, and balances the cell's momentum over that step
+(:func:`.diffuse_force.cell_balance`).
 """
 
 from __future__ import annotations
@@ -48,11 +55,15 @@ class Fluids:
     mu_medium: float
 
 
-def band_traction(folder: Path, layout: Layout, fluids: Fluids, cell: str = "cell") -> Traction:
+def band_traction(
+    folder: Path, layout: Layout, fluids: Fluids, cell: str = "cell", start: Path | None = None
+) -> Traction:
     """The band's force as a traction on the contour (module docstring) from the fields of the
-    time ``folder``."""
-    f = mixture_fields(folder, layout, cell, fluids.rho_cell, fluids.rho_medium, fluids.mu_medium)
-    band = band_force(f, layout.dx)
+    time ``folder``; ``start``: the time folder of the solver step before it (the transposed
+    viscous part from its velocity)."""
+    args = (layout, cell, fluids.rho_cell, fluids.rho_medium, fluids.mu_medium)
+    f = mixture_fields(folder, *args)
+    band = band_force(f, layout.dx, start=None if start is None else mixture_fields(start, *args))
     x, y, _, _ = lattice(layout)
     ring = cell_contour(f.alpha, x, y, folder, cell)
     centroid, at = polar(ring, np.column_stack([x[band.cols], y[band.rows]]))

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import re
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 from oocyte_fe.errors import InputError
@@ -56,3 +57,21 @@ def steps_from(
     monitor = SolverMonitor(end, dt, 1.0, 1e9)  # a few steps of a run that already passed
     run_solver(foam, out, monitor, nice=nice, solver=solver)
     return [d for t, d in time_directories(out) if t > start * (1 + 1e-12)]
+
+
+StepPair = Callable[[Path], tuple[Path, Path]]
+"""From a written time folder of a run: the folders of the two solver steps after it."""
+
+
+def step_pair(foam: OpenFoam, nice: int = 0) -> StepPair:
+    """For a load that balances the cell's momentum as the solver does: from a written time
+    folder of a run, two steps after it (under ``<case>/load_steps_<time>``); the second is
+    the first step that starts from a solved flux (module docstring)."""
+
+    def pair(write: Path) -> tuple[Path, Path]:
+        written = steps_from(foam, write.parent, write, 2, f"load_steps_{write.name}", nice)
+        if len(written) < 2:
+            raise InputError(write, "time folders", "two steps written after the restart")
+        return written[0], written[1]
+
+    return pair
