@@ -56,12 +56,15 @@ def test_the_pins_of_a_free_cell_carry_no_moment(tmp_path: Path) -> None:
 
 
 def test_the_tangent_includes_the_relief(tmp_path: Path) -> None:
-    """(K + g w^T) v against central differences of the residual, on a deformed state."""
+    """(K + g w^T) v against central differences of the residual, on a deformed state (the
+    relief's rank-one part: one column of ``tangent.low_rank``)."""
     result = run_experiment(_turning_cell(tmp_path, 200.0))
     problem, last = result.problem, result.frames[-1]
     x = last.x
     r0, tangent, _ = problem.residual(x, last.t, 0.25)
-    g, w = tangent.rank_one
+    G, W = tangent.low_rank
+    assert G.shape[1] == 1  # dead loads: the rotation mode only
+    g, w = G[:, 0], W[:, 0]
     K = tangent()
     rng = np.random.default_rng(0)
     v = np.zeros_like(x)

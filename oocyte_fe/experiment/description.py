@@ -447,6 +447,8 @@ class Experiment(CaseInputs):
                     read_traction_table(load.table, r, axisym)
                 except InputError as exc:
                     raise ValueError(f"loads.{name}.table: {exc}") from None
+                if load.follower and axisym:
+                    raise ValueError(f"loads.{name}.follower: a plane-strain cell (symmetry)")
         if self.support == "inertia_relief":
             if self.tools or not self.loads:
                 raise ValueError("support 'inertia_relief': a free cell with loads, no tools")

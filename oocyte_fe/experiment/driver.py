@@ -61,7 +61,9 @@ class ExperimentResult:
     ``advance_um[tool]`` (k,) its advance towards the cell; ``contact_radius_um[tool]`` (k,);
     ``suction_kPa``, ``aspiration_um`` (apex above the mouth plane) and
     ``aspiration_change_um`` (since t = 0) per pipette with suction; ``load_force_nN[load]``
-    (k, 2) the resultant of each surface load on the cell; ``tracks_um[point]`` (k, 2)
+    (k, 2) the resultant of each surface load on the cell (with a follower traction also
+    ``"translation relief"``: the body force that takes the change of its resultant as the
+    cell deforms, :class:`~oocyte_fe.fe.loads.TorqueRelief`); ``tracks_um[point]`` (k, 2)
     displacement of each material point; ``hold_reaction_nN`` (k, 2) the reaction of the
     holds (of the pins of a free cell: the loads' imbalance left after inertia relief).
     """
@@ -259,6 +261,7 @@ def run_experiment(
                 ctl = tool.suction_control
                 control = ReactionControl(name, f"hold:{ctl.tool}", 1, ctl.target_nN)
     load_pressures, tractions = surface_loads(exp)
+    follows = any(getattr(load, "follower", False) for load in exp.loads.values())
     dead: list = list(tractions)
     if exp.support == "inertia_relief":
         vectors = [(t.name, dead_load_vector(body, t), t.scale) for t in tractions]
@@ -276,7 +279,9 @@ def run_experiment(
         log=log,
         control=control,
         dead_loads=dead,
-        torque_relief=TorqueRelief() if exp.support == "inertia_relief" and not axisym else None,
+        torque_relief=TorqueRelief(translation=follows)
+        if exp.support == "inertia_relief" and not axisym
+        else None,
     )
     probes = point_probes(body, np.array(list(cell.points.values()))) if cell.points else None
     rows: list[dict] = []
@@ -322,9 +327,12 @@ def run_experiment(
                 row[("aspiration", pl.name)] = apex - tl.mouth_height(tool, R)
         for load, _ in problem.dead_loads:
             force = problem.dead_load_force(load.name, frame.t)
-            if load.name in exp.loads:
-                row[("load", load.name)] = force
+            if load.name in exp.loads:  # a follower traction: its normal part is above
+                row[("load", load.name)] = row.get(("load", load.name), 0.0) + force
             net -= force
+        if follows:  # the translation relief takes the follower's change of resultant
+            row[("load", "translation relief")] = net.copy()
+            net = np.zeros(2)
         # the cell's balance: forces on tools + on holds = pull of the suction on the cell
         row["hold"] = -net * ([0.0, 1.0] if axisym else [1.0, 1.0])  # axisym: z is net
         if probes is not None:

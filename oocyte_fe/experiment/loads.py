@@ -10,7 +10,12 @@
   ``scale(t)`` (default: a ramp from 0 to 1 over the experiment). Between the table's points
   the traction is interpolated linearly in the polar angle ``theta = atan2(x, y)`` (periodic on
   the full disc of ``plane_strain``). It is a dead load on the reference surface (the one-way
-  reading of a flow's traction on the undeformed cell): ``f = scale(t) T(Theta) dA``.
+  reading of a flow's traction on the undeformed cell): ``f = scale(t) T(Theta) dA``. With
+  ``follower = true`` (plane strain) its normal part ``p = -T . N`` (``N`` the outline's
+  outward normal at the row) becomes a follower pressure on the current surface, by the
+  current polar angle ``theta`` of each point (about the cell's centre, which the pins
+  hold): ``f = scale(t) p(theta) n da``; the tangential part stays dead. The flow's pressure
+  then acts on the deformed outline, as it does on the cell it was computed around.
 
 A free cell (no tool holds it; ``support = "inertia_relief"``) is held by its own inertia: the
 resultant ``F`` and moment ``M`` (about the centre) of the dead loads accelerate it as a rigid
@@ -21,10 +26,11 @@ body, and the body force ``b = -rho a`` of that acceleration balances them exact
 (axisymmetric: ``b_z = -F_z / V``). The resultant of dead loads does not change as the cell
 deforms, their moment about the deformed cell does: in plane strain the moment left is
 balanced at every Newton iterate by a further body force of the rotation mode
-(:class:`oocyte_fe.fe.loads.TorqueRelief`), so that no pin carries a couple. Three (one)
-vertex components pinned near the centre then only remove the rigid motion; their reaction
-is the imbalance left by the follower pressures' change of direction, reported as
-``hold_reaction_nN``.
+(:class:`oocyte_fe.fe.loads.TorqueRelief`), so that no pin carries a couple; with a
+follower traction also its resultant, which changes as the cell deforms (the relief's
+``translation``). Three (one) vertex components pinned near the centre then only remove the
+rigid motion; their reaction is the imbalance left by the follower pressures' change of
+direction (none with a follower traction in plane strain), reported as ``hold_reaction_nN``.
 """
 
 from __future__ import annotations
@@ -71,6 +77,9 @@ class TractionLoad(CaseInputs):
     type: Literal["traction"]
     table: DataFile = Field(description="CSV: x_um, y_um, tx_Pa, ty_Pa on the outline")
     scale: PathSpec | None = Field(None, description="multiplier against time (default 0 -> 1)")
+    follower: bool = Field(
+        False, description="the normal part a follower pressure by current polar angle"
+    )
 
 
 LOAD_TYPES = {"pressure": PressureLoad, "traction": TractionLoad}

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import skfem
 from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
 
 from oocyte_fe.experiment.description import Experiment
 from oocyte_fe.experiment.loads import (
@@ -58,9 +59,50 @@ def surface_loads(exp: Experiment) -> tuple[list[FollowerPressure], list[Surface
             )
         elif isinstance(load, TractionLoad):
             rows = read_traction_table(load.table, exp.cell.radius_um, axisym)
+            scale = load.scale or ramp
+            if load.follower:
+                rows, normal = split_normal(rows)
+                pressures.append(FollowerPressure("outer_surface", scale, normal, name))
             field = TractionField(rows, axisym)
-            tractions.append(SurfaceTraction("outer_surface", field, load.scale or ramp, name))
+            tractions.append(SurfaceTraction("outer_surface", field, scale, name))
     return pressures, tractions
+
+
+class PolarPressure:
+    """A pressure [kPa] by polar angle (deg from +y towards +x), a periodic cubic spline
+    through the table's rows (its gradient continuous, for Newton's tangent), read at points
+    ``x`` (2, ...): the ``where`` of a follower pressure of magnitude ``scale(t)``."""
+
+    def __init__(self, theta_deg: NDArray, pressure_kPa: NDArray) -> None:
+        theta = np.append(theta_deg, theta_deg[0] + 360.0)
+        self._spline = CubicSpline(
+            theta, np.append(pressure_kPa, pressure_kPa[0]), bc_type="periodic"
+        )
+        self._start = float(theta[0])
+
+    def _at(self, x: NDArray) -> NDArray:
+        return (polar_deg(x) - self._start) % 360.0 + self._start
+
+    def __call__(self, x: NDArray) -> NDArray:
+        return self._spline(self._at(x))
+
+    def gradient(self, x: NDArray) -> NDArray:
+        """``dp/dx`` (2, ...) [kPa/um]: ``dp/dtheta`` times ``grad theta = (180 / pi) (y, -x)
+        / r^2`` [deg/um]."""
+        r2 = x[0] ** 2 + x[1] ** 2
+        return self._spline(self._at(x), 1) * np.degrees(np.stack([x[1], -x[0]]) / r2)
+
+
+def split_normal(rows: NDArray) -> tuple[NDArray, PolarPressure]:
+    """A traction table's rows (theta_deg, tx, ty) [kPa] split into their tangential part
+    (rows of the same form) and their normal part as a pressure ``p = -T . N`` by polar
+    angle (``N = (sin theta, cos theta)``, the outline's outward normal)."""
+    theta = np.radians(rows[:, 0])
+    n = np.column_stack([np.sin(theta), np.cos(theta)])
+    p = -np.einsum("ij,ij->i", rows[:, 1:3], n)
+    return np.column_stack([rows[:, 0], rows[:, 1:3] + p[:, None] * n]), PolarPressure(
+        rows[:, 0], p
+    )
 
 
 @dataclass(frozen=True)

@@ -136,6 +136,10 @@ def dead_load_vector(body: Body, load: SurfaceTraction | BodyForce) -> NDArray:
     return asm(LinearForm(form), body.ubasis)
 
 
+def _one(_t: float) -> float:
+    return 1.0
+
+
 class Problem:
     """A body with its boundary conditions, pressures and contacts; ``solve`` runs the steps."""
 
@@ -205,6 +209,13 @@ class Problem:
         self._pressure_ops = [FacetOperators.of(fb) for _, fb in self.pressures]
         self.dead_loads = [(load, dead_load_vector(body, load)) for load in dead_loads]
         self._torque = None if torque_relief is None else self._torque_mode(torque_relief)
+        self._shift = None  # the unit body forces along x and y: the translation relief
+        if torque_relief is not None and torque_relief.translation:
+            unit = np.eye(2)
+            self._shift = [
+                dead_load_vector(body, BodyForce(lambda X, e=e: e[:, None, None] + 0.0 * X, _one))
+                for e in unit
+            ]
         self._split = body.ubasis.split_indices()  # the x and y displacement dofs
         self._contact_ops = [FacetOperators.of(fb) for _, fb in self.contacts]
         self._ops = [
@@ -264,6 +275,18 @@ class Problem:
             return None
         current = ops.X + ops.interpolate(self.body.displacement(x))[0]
         return np.asarray(load.where(current), dtype=float)
+
+    def _mask_gradient(self, k: int, x: NDArray, t: float) -> NDArray | None:
+        """The gradient [kPa/um] at the current quadrature points of pressure load ``k``
+        whose ``where`` varies smoothly with position and gives its ``gradient`` (a
+        :class:`~oocyte_fe.fe.loads.FollowerPressure` of a flow's normal traction); None for
+        masks (held from the step's start, or a window's 0 / 1)."""
+        load, ops = self.pressures[k][0], self._pressure_ops[k]
+        gradient = getattr(load.where, "gradient", None)
+        if gradient is None or load.lagged:
+            return None
+        current = ops.X + ops.interpolate(self.body.displacement(x))[0]
+        return self._load_value(k, t) * np.asarray(gradient(current), dtype=float)
 
     def _contact_eval(self, k: int, x: NDArray, t: float) -> ct.ContactEval:
         """Contact ``k`` at its quadrature points for the state ``x`` at time ``t``."""
@@ -326,7 +349,7 @@ class Problem:
             mask = self.pressure_mask(k, x)
             if mask is not None:
                 pn = pn * mask
-            fe, Kp = ops.pressure(u, pn, bool(a))
+            fe, Kp = ops.pressure(u, pn, bool(a), self._mask_gradient(k, x, t))
             f_ext += fe
             blocks_uu.append(Kp)
         for k, ops in enumerate(self._contact_ops):
@@ -335,7 +358,16 @@ class Problem:
             blocks_uu.append(Kc)
         for load, vec in self.dead_loads:
             f_ext += load.scale(t) * vec
-        rank_one = None
+        low_rank = []  # the reliefs' K += g w^T
+        stiff = None  # the loads' and contacts' -df/du, for the reliefs' tangents
+        if self._shift is not None:  # the resultant at x, balanced
+            stiff = sp.csr_matrix(sum(blocks_uu)) if blocks_uu else None
+            for d, g in zip(self._split, self._shift, strict=True):
+                f_ext -= (f_ext[d].sum() / g[d].sum()) * g
+                if stiff is not None:  # d(-F_d g / G_d)/du = g (sum_d rows of K_loads) / G_d
+                    w = np.zeros(body.n_dofs)
+                    w[: body.n_u] = -np.asarray(stiff[d].sum(axis=0)).ravel() / g[d].sum()
+                    low_rank.append((np.concatenate([g, np.zeros(body.n_dofs - body.n_u)]), w))
         if self._torque is not None:
             g = self._torque
             m_g = self._moment(x, g)
@@ -345,7 +377,11 @@ class Problem:
             sx, sy = self._split
             w[sx] = (f_ext[sy] + c * g[sy]) / m_g
             w[sy] = -(f_ext[sx] + c * g[sx]) / m_g
-            rank_one = (np.concatenate([g, np.zeros(body.n_dofs - body.n_u)]), w)
+            if self._shift is not None and stiff is not None:  # the follower loads' df/du
+                X = body.ubasis.doflocs
+                xs, ys = X[0, sx] + x[sx], X[1, sy] + x[sy]  # each node's current position
+                w[: body.n_u] -= (stiff[sy].T @ xs - stiff[sx].T @ ys) / m_g
+            low_rank.append((np.concatenate([g, np.zeros(body.n_dofs - body.n_u)]), w))
             f_ext += c * g
         r[: body.n_u] -= f_ext
 
@@ -374,7 +410,10 @@ class Problem:
                 np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
             )
 
-        tangent.rank_one = rank_one  # the torque relief's K += g w^T (None without it)
+        # the reliefs' K += G W^T (columns g, w), or None
+        tangent.low_rank = (
+            tuple(np.column_stack(c) for c in zip(*low_rank, strict=True)) if low_rank else None
+        )
         return r, tangent, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
 
     def _load_value(self, k: int, t: float) -> float:
@@ -457,18 +496,19 @@ class Problem:
                 break
             dx = np.zeros_like(x)
             dx[D] = target[D] - x[D]
-            rank_one = K.rank_one
+            low_rank = K.low_rank
             K = K()
             A, b, _, I = condense(K, -r, x=dx, D=D)
             try:
                 lu = self._linear.factorize(A)
-                if rank_one is None:
+                if low_rank is None:
                     dx[I] = lu.solve(b)
-                else:  # (K_II + g_I w_I^T) dx_I = b - g_I w_D . dx_D, by Sherman-Morrison
-                    g, w = rank_one
-                    y = lu.solve(b - g[I] * (w[D] @ dx[D]))
-                    z = lu.solve(g[I])
-                    dx[I] = y - z * ((w[I] @ y) / (1.0 + w[I] @ z))
+                else:  # (K_II + G_I W_I^T) dx_I = b - G_I W_D^T dx_D, by Woodbury
+                    G, W = low_rank
+                    y = lu.solve(b - G[I] @ (W[D].T @ dx[D]))
+                    Z = np.column_stack([lu.solve(G[I, j]) for j in range(G.shape[1])])
+                    small = np.eye(G.shape[1]) + W[I].T @ Z
+                    dx[I] = y - Z @ np.linalg.solve(small, W[I].T @ y)
             except RuntimeError as exc:
                 raise _StepFailed(f"singular tangent ({exc})", res) from None
             if self.control is not None:  # (a line search scales dx, not this increment)

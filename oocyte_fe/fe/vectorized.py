@@ -141,8 +141,12 @@ class FacetOperators:
         cofN, a = self._pressure_terms(u, axisym)
         return self._vector(-pn * a * cofN)
 
-    def pressure(self, u: NDArray, pn: NDArray, axisym: bool) -> tuple[NDArray, sp.coo_matrix]:
-        """External force of the follower pressure ``pn`` (nf, nq) [kPa] and ``-d f / d u``."""
+    def pressure(
+        self, u: NDArray, pn: NDArray, axisym: bool, grad_pn: NDArray | None = None
+    ) -> tuple[NDArray, sp.coo_matrix]:
+        """External force of the follower pressure ``pn`` (nf, nq) [kPa] and ``-d f / d u``;
+        ``grad_pn`` (2, nf, nq) [kPa/um]: the gradient of a pressure that depends on the
+        current position, whose term ``(grad p . v_j) a cof(F) N . v_i dS`` joins ``K``."""
         cofN, a = self._pressure_terms(u, axisym)
         f = self._vector(-pn * a * cofN)
         # T_j = da_j cof(F) N + a cof(Grad v_j) N  (nb, 2, nf, nq)
@@ -151,6 +155,10 @@ class FacetOperators:
         if axisym:
             T = T + 2.0 * np.pi * self.phi[:, 0][:, None] * cofN[None]
         Ke = np.einsum("icfq,jcfq->ijf", self.phi, T * (pn * self.dS))
+        if grad_pn is not None:
+            vn = np.einsum("icfq,cfq->ifq", self.phi, cofN * (a * self.dS))
+            vg = np.einsum("icfq,cfq->ifq", self.phi, grad_pn)
+            Ke = Ke + np.einsum("ifq,jfq->ijf", vn, vg)
         return f, self._matrix(Ke)
 
     def dead_traction_force(self, T: NDArray, axisym: bool) -> NDArray:

@@ -9,11 +9,15 @@ import math
 
 import numpy as np
 
+from oocyte_fe.kinds.microchannel_vof_elastic_notes import (
+    follower_note,
+    left_out_note,
+    mesh_note,
+    stretch_note,
+)
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.elastic_junction import (
-    CREASE_STRETCH,
-    ElasticAtPressure,
     compare_table4,
     elastic_cells_at_junction,
 )
@@ -26,66 +30,6 @@ from oocyte_fe.runner.registry import CaseContext
 def _lookup(p: np.ndarray, values: np.ndarray, at: float) -> float:
     hit = np.nonzero(np.isclose(p, at))[0]
     return float(values[hit[0]]) if len(hit) else math.nan
-
-
-def left_out_note(at: ElasticAtPressure) -> str:
-    """A sentence for a pressure whose b/a is read from some of its writes (empty when it is
-    read from all or from none): which writes stopped short, and how far they carried."""
-    if not at.left_out:
-        return ""
-    kept = ", ".join(f"{at.traction_x_um[k]:+.1f}" for k in at.read_from)
-    out = "; ".join(
-        f"{at.traction_x_um[k]:+.1f} um (at most {at.cells[k].load_fraction:.0%} of its load "
-        f"on any element size; b/a {at.cells[k].b_over_a:.3f} there)"
-        for k in at.left_out
-    )
-    return (
-        f"At {at.pressure_hPa:g} hPa b/a at x = 0 is read from the line through the writes at "
-        f"{kept} um, which carried their whole traction, leaving out the write at {out}."
-    )
-
-
-def mesh_note(
-    base: ElasticAtPressure, other: ElasticAtPressure, dx_um: float, other_dx_um: float
-) -> tuple[str, dict[str, float]]:
-    """The elastic cell under the second mesh's flow against the first mesh's (same pressure):
-    a sentence and ``elastic_mesh_change_pct`` = 100 (b/a_other / b/a - 1), where both carry."""
-    head = (
-        f"**Flow mesh**: the same FE cell under the traction of the {other_dx_um:g} um flow "
-        f"({other.pressure_hPa:g} hPa)"
-    )
-    if not (base.carried and other.carried):
-        return head + ": not compared (the FE did not carry one of the two loads).", {}
-    change = 100.0 * (other.b_over_a / base.b_over_a - 1.0)
-    text = (
-        f"{head}: b/a {other.b_over_a:.4f} against {base.b_over_a:.4f} on {dx_um:g} um "
-        f"(**{change:+.1f} %**; 1 - b/a {1 - other.b_over_a:.4f} against "
-        f"{1 - base.b_over_a:.4f}). The flow's mesh, not the FE's, sets this spread "
-        "(docs/microchannel.md, mesh study)."
-    )
-    if other.left_out:
-        text += " " + left_out_note(other)
-    return text, {"elastic_mesh_change_pct": change}
-
-
-def stretch_note(cells: list[ElasticAtPressure]) -> str:
-    """How far into compression the carried elastic answers reach, against the crease of a
-    compressed neo-Hookean surface (:data:`.elastic_junction.CREASE_STRETCH`)."""
-    past = [c for c in cells if c.carried and c.smallest_stretch < CREASE_STRETCH]
-    if not past:
-        return (
-            "The smallest principal stretch in the FE cell stays above "
-            f"{CREASE_STRETCH} (where a compressed neo-Hookean surface creases) at every "
-            "pressure carried."
-        )
-    where = ", ".join(f"{c.pressure_hPa:g} hPa ({c.smallest_stretch:.2f})" for c in past)
-    return (
-        f"The smallest principal stretch in the FE cell falls below {CREASE_STRETCH}, where a "
-        f"compressed neo-Hookean surface creases (Hong, Zhao & Suo 2009), at {where}: there "
-        "the FE follows a smooth solution the solid need not keep, with moduli measured at "
-        "the small strains of AFM indentation, so those rows are outside the elastic "
-        "model's range."
-    )
 
 
 def elastic_section(
@@ -111,7 +55,9 @@ def elastic_section(
 
     steps = step_pair(find_openfoam(inp.openfoam), inp.nice)
     jobs = [(p, r.case, r.ratio_at_junction) for p, r in sorted(by_p.items())]
-    cells = elastic_cells_at_junction(jobs, layout_of, inp.fluids, ctx.output("."), steps)
+    cells = elastic_cells_at_junction(
+        jobs, layout_of, inp.fluids, ctx.output("."), steps, follower=True
+    )
     rows = [
         "| p (hPa) | experiment | paper VOF | liquid cell (VOF) | **AFM-elastic cell** "
         "| 1 - b/a elastic | smallest stretch | writes at x (um): b/a at 0 from the line "
@@ -188,6 +134,9 @@ def elastic_section(
         e_el, e_liq, e_pap = cmp.errors.values()
         metrics.update({"elastic_mae": e_el, "liquid_mae": e_liq, "paper_vof_mae": e_pap})
         text += f"\n\nOver the {known.sum()} pressures the FE carries: " + cmp.sentence()
+    note, more = follower_note(cells, exp)
+    metrics.update(more)
+    text += "\n\n" + note
     first = float(pressures[0] / HPA)
     base = next(c for c in cells if c.pressure_hPa == first)
     on_meshes = []
@@ -252,8 +201,13 @@ def recompute_section(
     text = (
         f"At {pressure_hPa:g} hPa: pass 0 is the one-way cell (the traction of the write "
         "nearest the junction crossing); pass k runs the flow again with the liquid cell "
-        "started in the FE's deformed outline of pass k - 1 and loads the undeformed FE cell "
-        "with the new traction, until b/a changes by less than "
+        "started in the FE's deformed outline of pass k - 1 and loads the FE cell with the new "
+        + (
+            "traction (its normal part a follower pressure on the deformed outline)"
+            if result.follower
+            else "traction (a dead load on the undeformed outline)"
+        )
+        + ", until b/a changes by less than "
         f"{100 * result.tolerance:g} %.\n\n" + "\n".join(rows) + f"\n\n**{result.stopped}**."
     )
     if not result.converged and len(carried) > 1:

@@ -72,6 +72,12 @@ class VofInputs(CaseInputs):
     recompute_pressures: Literal["first", "all"] = _f(
         "first", "which pressures the deform-recompute passes run at", "name"
     )
+    recompute_load: Literal["dead", "follower"] = _f(
+        "dead",
+        "how the passes' FE cell takes the flow's traction: a dead load on the undeformed "
+        "outline, or its normal part as a follower pressure on the deformed one",
+        "name",
+    )
     beside_model: Model | None = _f(
         None, "a second model run beside the first (reported, not the headline)", "name"
     )

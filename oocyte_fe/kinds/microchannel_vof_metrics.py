@@ -30,6 +30,11 @@ METRICS = {
     "elastic_min_stretch": "the smallest principal stretch in the AFM-elastic FE cell, per "
     "pressure (below 0.65 a compressed neo-Hookean surface creases)",
     "elastic_mae": "AFM-elastic cell: mean |b/a - experiment| over the pressures",
+    "elastic_follower_b_over_a": "b/a of the AFM-elastic cell under the traction's normal part "
+    "as a follower pressure, per pressure",
+    "elastic_follower_min_stretch": "the smallest principal stretch in the cell under the "
+    "follower reading, per pressure",
+    "elastic_follower_mae": "AFM-elastic cell, follower reading: mean |b/a - experiment|",
     "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",
     "recompute_last_change_pct": "deform-recompute: change of b/a in the last carried pass, %",
     "recompute_final_b_over_a": "deform-recompute at every pressure (recompute_pressures = "

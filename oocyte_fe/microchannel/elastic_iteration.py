@@ -11,7 +11,9 @@ traction at the junction crossing and loads the undeformed FE cell with it again
 
 until ``|(b/a)_{k+1} / (b/a)_k - 1| < tolerance`` (1 %). The FE is loaded on its undeformed
 outline at each edge's polar angle (as in one-way), so the iteration closes the flow's
-dependence on the shape, not the large-deformation mapping of the load. It stops, and says
+dependence on the shape, not the large-deformation mapping of the load; with the keyword
+``follower`` the traction's normal part is a follower pressure on the deformed outline
+instead (:func:`.elastic_junction.elastic_cell_at_junction`), which maps it too. It stops, and says
 so, when the FE does not carry the whole traction or the pass budget is spent.
 """
 
@@ -53,6 +55,7 @@ class DeformRecompute:
     passes: tuple[Pass, ...]
     tolerance: float
     stopped: str  # why the iteration ended
+    follower: bool = False  # the FE took the traction's normal part as a follower pressure
 
     @property
     def ratios(self) -> list[float]:
@@ -88,13 +91,14 @@ def deform_recompute(
     max_passes: int = 6,
     tolerance: float = 0.01,
     steps: StepPair | None = None,
-    **cell: float,
+    **cell: float | bool,
 ) -> DeformRecompute:
     """The passes of the module docstring; ``cell``: keywords of
     :func:`.elastic_junction.elastic_cell_at_junction`; ``fluids`` what the traction needs
     (:class:`.vof.band_traction.Fluids`); ``steps`` as in
     :func:`.elastic_junction.traction_at_junction`."""
     passes: list[Pass] = []
+    follows = bool(cell.get("follower", False))
     outline = None
     stopped = f"{max_passes} passes spent"
     for k in range(max_passes):
@@ -108,9 +112,9 @@ def deform_recompute(
         if not elastic.experiment.success:
             stopped = f"pass {k}: the FE carries {elastic.load_fraction:.0%} of the traction"
             break
-        result = DeformRecompute(tuple(passes), tolerance, "")
+        result = DeformRecompute(tuple(passes), tolerance, "", follows)
         if result.converged:
             stopped = f"converged after {k + 1} passes"
             break
         outline = _centred_outline(elastic)
-    return DeformRecompute(tuple(passes), tolerance, stopped)
+    return DeformRecompute(tuple(passes), tolerance, stopped, follows)

@@ -117,6 +117,7 @@ def elastic_cell_at_junction(
     mesh_um: float = 4.0,
     frames: int = 10,
     retry_mesh_um: tuple[float, ...] = RETRY_MESH_UM,
+    follower: bool = False,
 ) -> ElasticCellAtJunction:
     """Load the layered plane-strain cell with the VOF traction; its b/a (see the module) at
     the last converged of ``frames`` load steps. When Newton stops short of the whole load
@@ -124,7 +125,9 @@ def elastic_cell_at_junction(
     the cell is meshed again with each size of ``retry_mesh_um`` in turn, until one carries
     it: the answer does not depend on the mesh where two carry it (0.05 % at 300 hPa, 0.1 % at
     900 hPa, docs/elastic_cell_in_flow.md), the stalls do. Otherwise the run that carried the
-    most (:attr:`ElasticCellAtJunction.load_fraction` says how much)."""
+    most (:attr:`ElasticCellAtJunction.load_fraction` says how much). ``follower``: the
+    traction's normal part as a follower pressure on the deformed outline, by current polar
+    angle (:mod:`oocyte_fe.experiment.loads`), instead of a dead load."""
     rows = read_vof_traction(Path(traction_csv))
     Path(folder).mkdir(parents=True, exist_ok=True)
     table = fe_traction_table(rows, diameter_um / 2, Path(folder) / "elastic_cell_traction.csv")
@@ -143,7 +146,7 @@ def elastic_cell_at_junction(
                         "cytoplasm": {"E_kPa": cytoplasm_kPa, "nu": 0.5},
                     },
                 },
-                "loads": {"flow": {"type": "traction", "table": str(table)}},
+                "loads": {"flow": {"type": "traction", "table": str(table), "follower": follower}},
                 "support": "inertia_relief",
                 "time": {"duration_s": 1.0, "frames": frames},
             }
@@ -241,6 +244,7 @@ class ElasticAtPressure:
     liquid_b_over_a: float
     cells: tuple[ElasticCellAtJunction, ...]  # one per write
     traction_x_um: tuple[float, ...]  # the centroid's x at those writes
+    follower: ElasticAtPressure | None = None  # the same with the follower reading
 
     @property
     def read_from(self) -> tuple[int, ...]:
@@ -295,26 +299,34 @@ def elastic_cells_at_junction(
     fluids: Fluids,
     folder: Path,
     steps: StepPair | None = None,
-    **cell: float,
+    follower: bool = False,
+    **cell: float | bool,
 ) -> list[ElasticAtPressure]:
     """For each run ``(pressure hPa, case, liquid b/a)``: the traction of each write around
     the junction crossing (:func:`writes_around`; :func:`write_traction`, with ``steps`` two
     steps after the write, x at that time) loads the elastic cell
     (``cell``: keywords of :func:`elastic_cell_at_junction`); ``layout_of(pressure)`` the
-    run's mesh layout. One FE folder per pressure and write under ``folder``. The elastic
+    run's mesh layout. One FE folder per pressure and write under ``folder``; with
+    ``follower`` also the cell under the same traction's normal part as a follower pressure
+    (``ElasticAtPressure.follower``; in ``<write>/follower``). The elastic
     cell's 1 - b/a grows by about 0.004 per um of travel there (300 hPa) and jitters by about
     0.01 from write to write, hence the line through the writes to x = 0."""
     out = []
     for pressure, case, liquid in runs:
-        cells, xs = [], []
+        cells, follows, xs = [], [], []
         for k, (write, x_um) in enumerate(writes_around(case)):
             traction = write_traction(write, layout_of(pressure), fluids, steps)
             sub = Path(folder) / f"elastic_p{pressure:g}hPa" / f"write{k}"
             sub.mkdir(parents=True, exist_ok=True)
             csv = traction.write_csv(sub / "vof_traction.csv")
             cells.append(elastic_cell_at_junction(csv, sub, **cell))
+            if follower:
+                follows.append(
+                    elastic_cell_at_junction(csv, sub / "follower", follower=True, **cell)
+                )
             xs.append(x_um if steps is None else centroid_x(case, traction.time))
-        out.append(ElasticAtPressure(pressure, liquid, tuple(cells), tuple(xs)))
+        other = ElasticAtPressure(pressure, liquid, tuple(follows), tuple(xs)) if follows else None
+        out.append(ElasticAtPressure(pressure, liquid, tuple(cells), tuple(xs), other))
     return out
 
 
