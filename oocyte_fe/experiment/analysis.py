@@ -94,6 +94,24 @@ def theret_slope(result: ExperimentResult, name: str) -> float:
     return float(np.sum(p[use] * L[use]) / np.sum(p[use] ** 2))
 
 
+def polygon_extents_um(x: np.ndarray) -> tuple[float, float]:
+    """The extents [um] of a closed polygon ``x`` (2, n), ordered around it, along the
+    principal axes of its area moment (shoelace sums), in the order of those axes."""
+    xn, yn = np.roll(x[0], -1), np.roll(x[1], -1)
+    cross = x[0] * yn - xn * x[1]
+    area = cross.sum() / 2.0
+    c = np.array([((x[0] + xn) * cross).sum(), ((x[1] + yn) * cross).sum()]) / (6.0 * area)
+    d, dn = x - c[:, None], np.array([xn, yn]) - c[:, None]
+    cr = d[0] * dn[1] - dn[0] * d[1]
+    Ixx = ((d[1] ** 2 + d[1] * dn[1] + dn[1] ** 2) * cr).sum() / 12.0
+    Iyy = ((d[0] ** 2 + d[0] * dn[0] + dn[0] ** 2) * cr).sum() / 12.0
+    Ixy = ((d[0] * dn[1] + 2 * d[0] * d[1] + 2 * dn[0] * dn[1] + dn[0] * d[1]) * cr).sum() / 24
+    _, axes = np.linalg.eigh(np.array([[Iyy, Ixy], [Ixy, Ixx]]))
+    proj = axes.T @ d
+    e = proj.max(axis=1) - proj.min(axis=1)
+    return float(e[0]), float(e[1])
+
+
 def outline_extents_um(result: ExperimentResult, frame: int = -1) -> tuple[float, float]:
     """(a, b) [um], a >= b: the deformed outline's extents along the principal axes of the
     section's area moment (plane strain), or its equatorial diameter and axial height
@@ -106,19 +124,7 @@ def outline_extents_um(result: ExperimentResult, frame: int = -1) -> tuple[float
     if body.axisym:
         extents = [2.0 * x[0].max(), x[1].max() - x[1].min()]
     else:
-        x = x[:, np.argsort(np.arctan2(X[1], X[0]))]  # around the outline
-        xn, yn = np.roll(x[0], -1), np.roll(x[1], -1)
-        cross = x[0] * yn - xn * x[1]  # the polygon's area moments (shoelace)
-        area = cross.sum() / 2.0
-        c = np.array([((x[0] + xn) * cross).sum(), ((x[1] + yn) * cross).sum()]) / (6.0 * area)
-        d, dn = x - c[:, None], np.array([xn, yn]) - c[:, None]
-        cr = d[0] * dn[1] - dn[0] * d[1]
-        Ixx = ((d[1] ** 2 + d[1] * dn[1] + dn[1] ** 2) * cr).sum() / 12.0
-        Iyy = ((d[0] ** 2 + d[0] * dn[0] + dn[0] ** 2) * cr).sum() / 12.0
-        Ixy = ((d[0] * dn[1] + 2 * d[0] * d[1] + 2 * dn[0] * dn[1] + dn[0] * d[1]) * cr).sum() / 24
-        _, axes = np.linalg.eigh(np.array([[Iyy, Ixy], [Ixy, Ixx]]))
-        proj = axes.T @ d
-        extents = list(proj.max(axis=1) - proj.min(axis=1))
+        extents = list(polygon_extents_um(x[:, np.argsort(np.arctan2(X[1], X[0]))]))
     return max(extents), min(extents)
 
 

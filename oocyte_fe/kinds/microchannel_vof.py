@@ -159,6 +159,7 @@ def _recompute(
             inp.fluids,
             max_passes=inp.recompute_passes,
             steps=step_pair(foam, inp.nice),
+            relaxation=inp.recompute_relaxation,
             follower=inp.recompute_load == "follower",
         )
     except (InputError, SolverError) as exc:

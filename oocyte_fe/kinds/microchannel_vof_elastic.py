@@ -207,6 +207,12 @@ def recompute_section(
             if result.follower
             else "traction (a dead load on the undeformed outline)"
         )
+        + (
+            f", the next shape {result.relaxation:g} of the FE's outline and the rest of the "
+            "last one (under-relaxed)"
+            if result.relaxation < 1.0
+            else ""
+        )
         + ", until b/a changes by less than "
         f"{100 * result.tolerance:g} %.\n\n" + "\n".join(rows) + f"\n\n**{result.stopped}**."
     )

@@ -72,6 +72,14 @@ class VofInputs(CaseInputs):
     recompute_pressures: Literal["first", "all"] = _f(
         "first", "which pressures the deform-recompute passes run at", "name"
     )
+    recompute_relaxation: float = _f(
+        1.0,
+        "the passes' under-relaxation: the next flow's cell shape takes this weight of the FE's "
+        "outline and the rest of the last shape (1: the plain pass)",
+        "1",
+        gt=0,
+        le=1,
+    )
     recompute_load: Literal["dead", "follower"] = _f(
         "dead",
         "how the passes' FE cell takes the flow's traction: a dead load on the undeformed "

@@ -9,12 +9,14 @@ traction at the junction crossing and loads the undeformed FE cell with it again
 
     shape_0 = disk;   traction_k = flow(shape_k);   shape_{k+1}, (b/a)_{k+1} = FE(traction_k)
 
-until ``|(b/a)_{k+1} / (b/a)_k - 1| < tolerance`` (1 %). The FE is loaded on its undeformed
-outline at each edge's polar angle (as in one-way), so the iteration closes the flow's
-dependence on the shape, not the large-deformation mapping of the load; with the keyword
-``follower`` the traction's normal part is a follower pressure on the deformed outline
-instead (:func:`.elastic_junction.elastic_cell_at_junction`), which maps it too. It stops, and says
-so, when the FE does not carry the whole traction or the pass budget is spent.
+until ``|(b/a)_{k+1} / (b/a)_k - 1| < tolerance`` (1 %; with under-relaxation, the FE's b/a
+against that of the shape its flow started from, both by principal extents). The FE is
+loaded on its undeformed outline at each edge's polar angle (as in one-way), so the
+iteration closes the flow's dependence on the shape, not the large-deformation mapping of
+the load; with the keyword ``follower`` the traction's normal part is a follower pressure on
+the deformed outline instead (:func:`.elastic_junction.elastic_cell_at_junction`), which
+maps it too. It stops, and says so, when the FE does not carry the whole traction or the
+pass budget is spent.
 """
 
 from __future__ import annotations
@@ -25,7 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from oocyte_fe.experiment.analysis import section_outline_um
+from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.analysis import polygon_extents_um, section_outline_um
 from oocyte_fe.microchannel.elastic_junction import (
     ElasticCellAtJunction,
     elastic_cell_at_junction,
@@ -48,6 +51,7 @@ class Pass:
     flow_b_over_a: float
     traction_x_um: float
     elastic: ElasticCellAtJunction
+    start_b_over_a: float = 1.0  # the shape the flow started from (principal extents; disk 1)
 
 
 @dataclass(frozen=True)
@@ -56,6 +60,7 @@ class DeformRecompute:
     tolerance: float
     stopped: str  # why the iteration ended
     follower: bool = False  # the FE took the traction's normal part as a follower pressure
+    relaxation: float = 1.0  # the weight of the FE's outline in the next shape
 
     @property
     def ratios(self) -> list[float]:
@@ -68,8 +73,19 @@ class DeformRecompute:
 
     @property
     def converged(self) -> bool:
-        r = self.ratios
-        return len(r) >= 2 and abs(r[-1] / r[-2] - 1.0) < self.tolerance
+        """The last pass's FE b/a is its starting shape's within ``tolerance`` (the fixed
+        point's residual; without relaxation, the change from the pass before), after at
+        least two passes."""
+        if len(self.passes) < 2 or not self.passes[-1].elastic.experiment.success:
+            return False
+        last = self.passes[-1]
+        return abs(last.elastic.b_over_a / last.start_b_over_a - 1.0) < self.tolerance
+
+
+def _extents_ratio(outline: np.ndarray) -> float:
+    """b/a of an outline (k, 2) by its principal extents (the FE's measure)."""
+    a, b = polygon_extents_um(outline.T)
+    return min(a, b) / max(a, b)
 
 
 def _centred_outline(cell: ElasticCellAtJunction) -> np.ndarray:
@@ -84,6 +100,31 @@ def _centred_outline(cell: ElasticCellAtJunction) -> np.ndarray:
     return x - centroid / (6.0 * area)
 
 
+def relaxed_outline(new: np.ndarray, old: np.ndarray | None, weight: float) -> np.ndarray:
+    """The next pass's shape: ``weight`` of the FE's outline ``new`` and ``1 - weight`` of the
+    last flow's shape ``old`` (None: the disk of the same area), blended in radius at each
+    polar angle of ``new`` (both outlines about their centroids, star-shaped)::
+
+        r_{k+1}(theta) = w r_FE(theta) + (1 - w) r_k(theta)
+
+    (under-relaxation of the fixed-point iteration, as in partitioned fluid-structure
+    solvers: ``w = 1`` is the plain pass)."""
+    if weight >= 1.0:
+        return new
+    theta = np.arctan2(new[:, 1], new[:, 0])
+    r_new = np.hypot(new[:, 0], new[:, 1])
+    if old is None:
+        xn = np.roll(new, -1, axis=0)
+        area = 0.5 * abs(np.sum(new[:, 0] * xn[:, 1] - xn[:, 0] * new[:, 1]))
+        r_old = np.full_like(r_new, np.sqrt(area / np.pi))
+    else:
+        at = np.arctan2(old[:, 1], old[:, 0])
+        order = np.argsort(at)
+        r_old = np.interp(theta, at[order], np.hypot(old[:, 0], old[:, 1])[order], period=2 * np.pi)
+    r = weight * r_new + (1.0 - weight) * r_old
+    return r[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
+
+
 def deform_recompute(
     run_flow: FlowRun,
     folder: Path,
@@ -91,12 +132,16 @@ def deform_recompute(
     max_passes: int = 6,
     tolerance: float = 0.01,
     steps: StepPair | None = None,
+    relaxation: float = 1.0,
     **cell: float | bool,
 ) -> DeformRecompute:
     """The passes of the module docstring; ``cell``: keywords of
     :func:`.elastic_junction.elastic_cell_at_junction`; ``fluids`` what the traction needs
     (:class:`.vof.band_traction.Fluids`); ``steps`` as in
-    :func:`.elastic_junction.traction_at_junction`."""
+    :func:`.elastic_junction.traction_at_junction`; ``relaxation`` the weight of
+    :func:`relaxed_outline` (0 < w <= 1)."""
+    if not 0.0 < relaxation <= 1.0:
+        raise InputError("deform_recompute", "relaxation", "0 < w <= 1", relaxation)
     passes: list[Pass] = []
     follows = bool(cell.get("follower", False))
     outline = None
@@ -108,13 +153,14 @@ def deform_recompute(
         traction, x_um = traction_at_junction(case, t_j, layout, fluids, steps=steps)
         csv = traction.write_csv(sub / "vof_traction.csv")
         elastic = elastic_cell_at_junction(csv, sub, **cell)
-        passes.append(Pass(flow_ratio, x_um, elastic))
+        start = 1.0 if outline is None else _extents_ratio(outline)
+        passes.append(Pass(flow_ratio, x_um, elastic, start))
         if not elastic.experiment.success:
             stopped = f"pass {k}: the FE carries {elastic.load_fraction:.0%} of the traction"
             break
-        result = DeformRecompute(tuple(passes), tolerance, "", follows)
+        result = DeformRecompute(tuple(passes), tolerance, "", follows, relaxation)
         if result.converged:
             stopped = f"converged after {k + 1} passes"
             break
-        outline = _centred_outline(elastic)
-    return DeformRecompute(tuple(passes), tolerance, stopped, follows)
+        outline = relaxed_outline(_centred_outline(elastic), outline, relaxation)
+    return DeformRecompute(tuple(passes), tolerance, stopped, follows, relaxation)
