@@ -37,6 +37,7 @@ from oocyte_fe.microchannel.elastic_junction import (
 from oocyte_fe.microchannel.vof.band_traction import Fluids
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.restart import StepPair
+from oocyte_fe.microchannel.vof.traction import signed_area
 
 # run_flow(outline about the cell centre or None, folder) -> (case, time at the junction s,
 # layout, the flow's own b/a at the junction)
@@ -114,8 +115,7 @@ def relaxed_outline(new: np.ndarray, old: np.ndarray | None, weight: float) -> n
     theta = np.arctan2(new[:, 1], new[:, 0])
     r_new = np.hypot(new[:, 0], new[:, 1])
     if old is None:
-        xn = np.roll(new, -1, axis=0)
-        area = 0.5 * abs(np.sum(new[:, 0] * xn[:, 1] - xn[:, 0] * new[:, 1]))
+        area = abs(signed_area(np.vstack([new, new[:1]])))
         r_old = np.full_like(r_new, np.sqrt(area / np.pi))
     else:
         at = np.arctan2(old[:, 1], old[:, 0])
