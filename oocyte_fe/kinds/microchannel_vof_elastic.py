@@ -213,8 +213,11 @@ def recompute_section(
             if result.relaxation < 1.0
             else ""
         )
-        + ", until b/a changes by less than "
-        f"{100 * result.tolerance:g} %.\n\n" + "\n".join(rows) + f"\n\n**{result.stopped}**."
+        + ", until the FE's b/a is within "
+        f"{100 * result.tolerance:g} % of the b/a of the shape its flow started from (principal "
+        "extents; without relaxation, the pass before's).\n\n"
+        + "\n".join(rows)
+        + f"\n\n**{result.stopped}**."
     )
     if not result.converged and len(carried) > 1:
         text += f" The last carried pass changed b/a by {last:+.1f} %."
