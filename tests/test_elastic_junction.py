@@ -158,7 +158,7 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
 
     def flow(outline, folder):
         shapes.append(outline)
-        return _synthetic_run(folder, layout, 0.01, 0.0, outline), 0.001, layout, 1.0
+        return _synthetic_run(folder, layout, 0.01, 0.0, outline), layout, 1.0
 
     result = deform_recompute(flow, tmp_path, FLUIDS, zona_kPa=1.0, cytoplasm_kPa=1.0, frames=2)
     assert result.converged and len(result.passes) == 2, result.stopped
@@ -454,7 +454,7 @@ def test_under_relaxed_passes_converge_on_the_fixed_point_residual(tmp_path: Pat
     layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
 
     def flow(outline, folder):
-        return _synthetic_run(folder, layout, 0.03, 0.0, outline), 0.001, layout, 1.0
+        return _synthetic_run(folder, layout, 0.03, 0.0, outline), layout, 1.0
 
     result = deform_recompute(
         flow, tmp_path, FLUIDS, relaxation=0.5, zona_kPa=1.0, cytoplasm_kPa=1.0, frames=2
@@ -467,3 +467,33 @@ def test_under_relaxed_passes_converge_on_the_fixed_point_residual(tmp_path: Pat
     assert abs(result.ratios[1] / r - 1) < 0.01  # the FE answers agree at once ...
     assert result.converged and len(result.passes) >= 3  # ... the shape needed more passes
     assert abs(result.ratios[-1] / starts[-1] - 1) < 0.01 <= abs(result.ratios[-2] / starts[-2] - 1)
+
+
+def test_the_passes_read_the_fe_outline_to_x0_by_a_line_through_the_writes():
+    """``outline_at``: ellipses about their centroids at x = -4 and +6 um (semi-axes 50 / 40
+    and 54 / 36 um, sampled at different angles) give at x = 0 the radius on the straight
+    line between them at every polar angle of the nearer one (``r_1 + 0.4 (r_2 - r_1)``, the
+    radii of exact ellipses; to 1e-4 um: the farther one is interpolated between its
+    samples), three outlines on such a line give it exactly, and a single outline is
+    returned as it is."""
+    from oocyte_fe.microchannel.elastic_junction import outline_at
+
+    def ellipse(a: float, b: float, theta: np.ndarray) -> np.ndarray:
+        return np.column_stack([a * np.cos(theta), b * np.sin(theta)])
+
+    def radius(a: float, b: float, theta: np.ndarray) -> np.ndarray:
+        return a * b / np.hypot(b * np.cos(theta), a * np.sin(theta))
+
+    near = np.linspace(0.0, 2 * np.pi, 360, endpoint=False) + 0.003
+    far = np.linspace(0.0, 2 * np.pi, 2000, endpoint=False)
+    first = ellipse(50, 40, near)
+    out = outline_at([first, ellipse(54, 36, far)], [-4.0, 6.0])
+    theta = np.arctan2(out[:, 1], out[:, 0])
+    assert np.allclose(theta, np.arctan2(first[:, 1], first[:, 0]), atol=1e-12)
+    r1, r2 = radius(50, 40, theta), radius(54, 36, theta)
+    assert np.max(np.abs(np.hypot(*out.T) - (r1 + 0.4 * (r2 - r1)))) < 1e-4
+    # three writes whose radii lie on one line in x: the line's value at 0 (least squares)
+    r = [30.0 + 0.5 * x for x in (-5.0, 2.0, 9.0)]
+    rings = [rk * np.column_stack([np.cos(near), np.sin(near)]) for rk in r]
+    assert np.allclose(np.hypot(*outline_at(rings, [-5.0, 2.0, 9.0]).T), 30.0, rtol=1e-12)
+    assert outline_at(rings[:1], [2.0]) is rings[0]

@@ -150,7 +150,7 @@ def _recompute(
                 "past the FE's shape"
             )
             run = run_junction(foam, folder, setup, inp.ranks, inp.nice)
-        return run.case, run.time_at_junction, setup.layout, run.ratio_at_junction
+        return run.case, setup.layout, run.ratio_at_junction
 
     try:
         return deform_recompute(
@@ -161,6 +161,7 @@ def _recompute(
             steps=step_pair(foam, inp.nice),
             relaxation=inp.recompute_relaxation,
             follower=inp.recompute_load == "follower",
+            pressure_hPa=spec.pressure_hPa,
         )
     except (InputError, SolverError) as exc:
         return f"not computed: {exc}"

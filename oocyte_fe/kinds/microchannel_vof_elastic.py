@@ -176,32 +176,34 @@ def recompute_section(
     if isinstance(result, str):
         return result, {}
     rows = [
-        "| pass | the flow's cell shape, b/a at the junction (area moments) "
-        "| traction taken at x (um) | FE b/a (principal extents) | traction carried "
+        "| pass | the shape the flow starts from, b/a (principal extents) "
+        "| the flow's cell shape, b/a at the junction (area moments) "
+        "| traction taken at x (um) | FE b/a at x = 0 (principal extents) | traction carried "
         "| change of b/a |",
-        "|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|",
     ]
     previous = None  # the last carried pass's b/a
     for k, ps in enumerate(result.passes):
-        cell = ps.elastic
         change = "-"
-        if previous is not None and cell.experiment.success:
-            change = f"{100 * (cell.b_over_a / previous - 1):+.1f} %"
+        if previous is not None and ps.carried:
+            change = f"{100 * (ps.b_over_a / previous - 1):+.1f} %"
+        where = ", ".join(f"{x:+.1f}" for x in ps.elastic.traction_x_um)
         rows.append(
-            f"| {k} | {ps.flow_b_over_a:.4f} | {ps.traction_x_um:+.1f} | {cell.b_over_a:.4f} "
-            f"| {cell.load_fraction:.0%} | {change} |"
+            f"| {k} | {ps.start_b_over_a:.4f} | {ps.flow_b_over_a:.4f} | {where} "
+            f"| {ps.b_over_a:.4f} "
+            f"| {ps.load_fraction:.0%} | {change} |"
         )
-        if cell.experiment.success:
-            previous = cell.b_over_a
-    ratios = [
-        p.elastic.b_over_a if p.elastic.experiment.success else math.nan for p in result.passes
-    ]
+        if ps.carried:
+            previous = ps.b_over_a
+    ratios = [p.b_over_a if p.carried else math.nan for p in result.passes]
     carried = result.carried
     last = 100 * (carried[-1] / carried[-2] - 1) if len(carried) > 1 else math.nan
     text = (
-        f"At {pressure_hPa:g} hPa: pass 0 is the one-way cell (the traction of the write "
-        "nearest the junction crossing); pass k runs the flow again with the liquid cell "
-        "started in the FE's deformed outline of pass k - 1 and loads the FE cell with the new "
+        f"At {pressure_hPa:g} hPa: pass 0 is the one-way cell (the traction of each write "
+        "around the junction crossing, b/a read to x = 0 by a line through them); pass k "
+        "runs the flow again with the liquid cell "
+        "started in the FE's deformed outline of pass k - 1 (at x = 0: a line through the "
+        "writes' radii) and loads the FE cell with the new "
         + (
             "traction (its normal part a follower pressure on the deformed outline)"
             if result.follower
@@ -243,7 +245,7 @@ def recompute_summary(
             count.append(0.0)
             continue
         carried = r.carried
-        first = f"{carried[0]:.4f}" if r.passes[0].elastic.experiment.success else "-"
+        first = f"{carried[0]:.4f}" if r.passes[0].carried else "-"
         last = f"{carried[-1]:.4f}" if carried else "-"
         rows.append(
             f"| {p_hpa:g} | {first} | {last} | {len(r.passes)} "

@@ -67,7 +67,7 @@ class VofInputs(CaseInputs):
         "deformed shape (0: one-way only)",
         "1",
         ge=0,
-        le=10,
+        le=20,
     )
     recompute_pressures: Literal["first", "all"] = _f(
         "first", "which pressures the deform-recompute passes run at", "name"

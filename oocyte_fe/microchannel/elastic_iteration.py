@@ -5,7 +5,9 @@ flow past the undeformed (liquid, nearly round) cell. When the cell deforms by t
 cent the flow around it changes, so pass k runs the flow with the cell STARTED in the shape
 the FE gave in pass k - 1 (a liquid cell of that outline: with the cell's viscosity it keeps
 its shape within about 1 % of b/a over the half millisecond to the junction, docs), takes the
-traction at the junction crossing and loads the undeformed FE cell with it again::
+traction of each write around the junction crossing and loads the undeformed FE cell with each
+again, read to x = 0 as the one-way cells are (a line through the writes' b/a and, for the
+next shape, through their outlines' radii: :func:`.elastic_junction.outline_at`)::
 
     shape_0 = disk;   traction_k = flow(shape_k);   shape_{k+1}, (b/a)_{k+1} = FE(traction_k)
 
@@ -30,29 +32,45 @@ import numpy as np
 from oocyte_fe.errors import InputError
 from oocyte_fe.experiment.analysis import polygon_extents_um, section_outline_um
 from oocyte_fe.microchannel.elastic_junction import (
+    ElasticAtPressure,
     ElasticCellAtJunction,
-    elastic_cell_at_junction,
-    traction_at_junction,
+    elastic_at_writes,
+    junction_tractions,
+    outline_at,
 )
 from oocyte_fe.microchannel.vof.band_traction import Fluids
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.restart import StepPair
 from oocyte_fe.microchannel.vof.traction import signed_area
 
-# run_flow(outline about the cell centre or None, folder) -> (case, time at the junction s,
-# layout, the flow's own b/a at the junction)
-FlowRun = Callable[[np.ndarray | None, Path], tuple[Path, float, Layout, float]]
+# run_flow(outline about the cell centre or None, folder) -> (case, layout, the flow's own
+# b/a at the junction)
+FlowRun = Callable[[np.ndarray | None, Path], tuple[Path, Layout, float]]
 
 
 @dataclass(frozen=True)
 class Pass:
     """One pass: the flow's cell shape (its b/a at the junction) and the FE cell under the
-    traction of that flow."""
+    traction of each write of that flow around the junction, read to x = 0."""
 
     flow_b_over_a: float
-    traction_x_um: float
-    elastic: ElasticCellAtJunction
+    elastic: ElasticAtPressure
     start_b_over_a: float = 1.0  # the shape the flow started from (principal extents; disk 1)
+
+    @property
+    def b_over_a(self) -> float:
+        return self.elastic.b_over_a
+
+    @property
+    def carried(self) -> bool:
+        """The FE carried the loads that b/a at x = 0 is read from."""
+        return self.elastic.carried
+
+    @property
+    def load_fraction(self) -> float:
+        """The smallest part of its load that an FE run of the read carried."""
+        use = self.elastic.read_from or range(len(self.elastic.cells))
+        return min(self.elastic.cells[k].load_fraction for k in use)
 
 
 @dataclass(frozen=True)
@@ -65,22 +83,22 @@ class DeformRecompute:
 
     @property
     def ratios(self) -> list[float]:
-        return [p.elastic.b_over_a for p in self.passes]
+        return [p.b_over_a for p in self.passes]
 
     @property
     def carried(self) -> list[float]:
-        """b/a of the passes whose FE carried its whole traction."""
-        return [p.elastic.b_over_a for p in self.passes if p.elastic.experiment.success]
+        """b/a of the passes whose FE carried its traction (:attr:`Pass.carried`)."""
+        return [p.b_over_a for p in self.passes if p.carried]
 
     @property
     def converged(self) -> bool:
         """The last pass's FE b/a is its starting shape's within ``tolerance`` (the fixed
         point's residual; without relaxation, the change from the pass before), after at
         least two passes."""
-        if len(self.passes) < 2 or not self.passes[-1].elastic.experiment.success:
+        if len(self.passes) < 2 or not self.passes[-1].carried:
             return False
         last = self.passes[-1]
-        return abs(last.elastic.b_over_a / last.start_b_over_a - 1.0) < self.tolerance
+        return abs(last.b_over_a / last.start_b_over_a - 1.0) < self.tolerance
 
 
 def _extents_ratio(outline: np.ndarray) -> float:
@@ -133,13 +151,14 @@ def deform_recompute(
     tolerance: float = 0.01,
     steps: StepPair | None = None,
     relaxation: float = 1.0,
+    pressure_hPa: float = float("nan"),
     **cell: float | bool,
 ) -> DeformRecompute:
     """The passes of the module docstring; ``cell``: keywords of
     :func:`.elastic_junction.elastic_cell_at_junction`; ``fluids`` what the traction needs
     (:class:`.vof.band_traction.Fluids`); ``steps`` as in
-    :func:`.elastic_junction.traction_at_junction`; ``relaxation`` the weight of
-    :func:`relaxed_outline` (0 < w <= 1)."""
+    :func:`.elastic_junction.junction_tractions`; ``relaxation`` the weight of
+    :func:`relaxed_outline` (0 < w <= 1); ``pressure_hPa`` the flows' (a label)."""
     if not 0.0 < relaxation <= 1.0:
         raise InputError("deform_recompute", "relaxation", "0 < w <= 1", relaxation)
     passes: list[Pass] = []
@@ -149,18 +168,20 @@ def deform_recompute(
     for k in range(max_passes):
         sub = Path(folder) / f"pass{k}"
         sub.mkdir(parents=True, exist_ok=True)
-        case, t_j, layout, flow_ratio = run_flow(outline, sub / "flow")
-        traction, x_um = traction_at_junction(case, t_j, layout, fluids, steps=steps)
-        csv = traction.write_csv(sub / "vof_traction.csv")
-        elastic = elastic_cell_at_junction(csv, sub, **cell)
+        case, layout, flow_ratio = run_flow(outline, sub / "flow")
+        tractions = junction_tractions(case, layout, fluids, sub, steps)
+        elastic = elastic_at_writes(pressure_hPa, flow_ratio, tractions, **cell)
         start = 1.0 if outline is None else _extents_ratio(outline)
-        passes.append(Pass(flow_ratio, x_um, elastic, start))
-        if not elastic.experiment.success:
-            stopped = f"pass {k}: the FE carries {elastic.load_fraction:.0%} of the traction"
+        passes.append(Pass(flow_ratio, elastic, start))
+        if not passes[-1].carried:
+            stopped = f"pass {k}: the FE carries {passes[-1].load_fraction:.0%} of the traction"
             break
         result = DeformRecompute(tuple(passes), tolerance, "", follows, relaxation)
         if result.converged:
             stopped = f"converged after {k + 1} passes"
             break
-        outline = relaxed_outline(_centred_outline(elastic), outline, relaxation)
+        use = elastic.read_from
+        shapes = [_centred_outline(elastic.cells[i]) for i in use]
+        fe_shape = outline_at(shapes, [elastic.traction_x_um[i] for i in use])
+        outline = relaxed_outline(fe_shape, outline, relaxation)
     return DeformRecompute(tuple(passes), tolerance, stopped, follows, relaxation)

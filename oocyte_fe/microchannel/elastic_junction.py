@@ -33,7 +33,7 @@ the solver integrates it (:mod:`.vof.band_traction`); without it, from the write
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -183,25 +183,6 @@ def centroid_x(case: Path, time: float, cell: str = "cell") -> float:
     return float(np.interp(time, trace.time, trace.centroid[:, 0]))
 
 
-def traction_at_junction(
-    case: Path,
-    time: float,
-    layout: Layout,
-    fluids: Fluids,
-    cell: str = "cell",
-    steps: StepPair | None = None,
-) -> tuple[Traction, float]:
-    """The traction on the liquid cell (:func:`write_traction`) at the written time of
-    ``case`` nearest ``time`` (s; the junction crossing), and the centroid's x at the
-    traction's time (um, from the per-step moments)."""
-    folders = time_directories(case)[1:]
-    if not folders:
-        raise InputError(case, "time folders", "a written time after t = 0")
-    _, folder = min(folders, key=lambda tf: abs(tf[0] - time))
-    traction = write_traction(folder, layout, fluids, steps, cell)
-    return traction, centroid_x(case, traction.time, cell)
-
-
 CREASE_STRETCH = 0.65
 """The principal stretch below which the surface of a compressed neo-Hookean solid creases
 (plane strain, compressive strain 0.35: Hong, Zhao & Suo 2009, Appl. Phys. Lett. 95, 111901;
@@ -293,6 +274,45 @@ class ElasticAtPressure:
         return min(self.cells[k].smallest_stretch for k in use)
 
 
+def junction_tractions(
+    case: Path,
+    layout: Layout,
+    fluids: Fluids,
+    folder: Path,
+    steps: StepPair | None = None,
+    cell: str = "cell",
+) -> list[tuple[Path, float]]:
+    """The load of each write of ``case`` around the junction crossing
+    (:func:`writes_around`; :func:`write_traction`) as a table ``folder/write<k>/
+    vof_traction.csv``, with the centroid's x (um) at the load's time (with ``steps`` two
+    steps after the write)."""
+    out = []
+    for k, (write, x_um) in enumerate(writes_around(case, cell=cell)):
+        traction = write_traction(write, layout, fluids, steps, cell)
+        sub = Path(folder) / f"write{k}"
+        sub.mkdir(parents=True, exist_ok=True)
+        x = x_um if steps is None else centroid_x(case, traction.time, cell)
+        out.append((traction.write_csv(sub / "vof_traction.csv"), x))
+    return out
+
+
+def elastic_at_writes(
+    pressure_hPa: float,
+    liquid_b_over_a: float,
+    tractions: list[tuple[Path, float]],
+    subfolder: str = "",
+    **cell: float | bool,
+) -> ElasticAtPressure:
+    """The elastic cell under each load of :func:`junction_tractions` (``cell``: keywords of
+    :func:`elastic_cell_at_junction`; its folder ``<write>/<subfolder>``), read to x = 0 by
+    :attr:`ElasticAtPressure.b_over_a`."""
+    cells = tuple(
+        elastic_cell_at_junction(csv, csv.parent / subfolder, **cell) for csv, _ in tractions
+    )
+    xs = tuple(x for _, x in tractions)
+    return ElasticAtPressure(pressure_hPa, liquid_b_over_a, cells, xs)
+
+
 def elastic_cells_at_junction(
     runs: list[tuple[float, Path, float]],
     layout_of: Callable[[float], Layout],
@@ -302,32 +322,47 @@ def elastic_cells_at_junction(
     follower: bool = False,
     **cell: float | bool,
 ) -> list[ElasticAtPressure]:
-    """For each run ``(pressure hPa, case, liquid b/a)``: the traction of each write around
-    the junction crossing (:func:`writes_around`; :func:`write_traction`, with ``steps`` two
-    steps after the write, x at that time) loads the elastic cell
-    (``cell``: keywords of :func:`elastic_cell_at_junction`); ``layout_of(pressure)`` the
-    run's mesh layout. One FE folder per pressure and write under ``folder``; with
-    ``follower`` also the cell under the same traction's normal part as a follower pressure
-    (``ElasticAtPressure.follower``; in ``<write>/follower``). The elastic
-    cell's 1 - b/a grows by about 0.004 per um of travel there (300 hPa) and jitters by about
-    0.01 from write to write, hence the line through the writes to x = 0."""
+    """For each run ``(pressure hPa, case, liquid b/a)``: the load of each write around the
+    junction crossing (:func:`junction_tractions`, ``steps`` as there) on the elastic cell
+    (:func:`elastic_at_writes`); ``layout_of(pressure)`` the run's mesh layout. One FE folder
+    per pressure and write under ``folder``; with ``follower`` also the cell under the same
+    traction's normal part as a follower pressure (``ElasticAtPressure.follower``; in
+    ``<write>/follower``). The elastic cell's 1 - b/a grows by about 0.004 per um of travel
+    there (300 hPa) and jitters by about 0.01 from write to write, hence the line through the
+    writes to x = 0."""
     out = []
     for pressure, case, liquid in runs:
-        cells, follows, xs = [], [], []
-        for k, (write, x_um) in enumerate(writes_around(case)):
-            traction = write_traction(write, layout_of(pressure), fluids, steps)
-            sub = Path(folder) / f"elastic_p{pressure:g}hPa" / f"write{k}"
-            sub.mkdir(parents=True, exist_ok=True)
-            csv = traction.write_csv(sub / "vof_traction.csv")
-            cells.append(elastic_cell_at_junction(csv, sub, **cell))
-            if follower:
-                follows.append(
-                    elastic_cell_at_junction(csv, sub / "follower", follower=True, **cell)
-                )
-            xs.append(x_um if steps is None else centroid_x(case, traction.time))
-        other = ElasticAtPressure(pressure, liquid, tuple(follows), tuple(xs)) if follows else None
-        out.append(ElasticAtPressure(pressure, liquid, tuple(cells), tuple(xs), other))
+        where = Path(folder) / f"elastic_p{pressure:g}hPa"
+        tractions = junction_tractions(case, layout_of(pressure), fluids, where, steps)
+        dead = elastic_at_writes(pressure, liquid, tractions, **cell)
+        if follower:
+            other = elastic_at_writes(
+                pressure, liquid, tractions, "follower", follower=True, **cell
+            )
+            dead = replace(dead, follower=other)
+        out.append(dead)
     return out
+
+
+def outline_at(outlines: list[np.ndarray], xs: list[float], x: float = 0.0) -> np.ndarray:
+    """The outline at the centroid position ``x`` (um) from outlines (k, 2) about their
+    centroids taken at positions ``xs``: at each polar angle of the outline nearest ``x``, a
+    straight line through the radii against position, evaluated at ``x`` (the read of
+    :attr:`ElasticAtPressure.b_over_a` applied to the shape); the nearest outline when
+    there is one."""
+    near = int(np.argmin(np.abs(np.asarray(xs) - x)))
+    if len(outlines) == 1:
+        return outlines[near]
+    theta = np.arctan2(outlines[near][:, 1], outlines[near][:, 0])
+    radii = []
+    for o in outlines:
+        at = np.arctan2(o[:, 1], o[:, 0])
+        order = np.argsort(at)
+        radii.append(
+            np.interp(theta, at[order], np.hypot(o[:, 0], o[:, 1])[order], period=2 * np.pi)
+        )
+    slope, intercept = np.polyfit(np.asarray(xs, dtype=float) - x, np.array(radii), 1)
+    return intercept[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
 
 
 @dataclass(frozen=True)
