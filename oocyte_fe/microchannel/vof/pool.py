@@ -19,14 +19,13 @@ the same time, so a machine needs ``concurrent x ranks`` cores.
 
 from __future__ import annotations
 
-import logging
 import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, TypeVar
 
 from oocyte_fe.microchannel.vof.runner import terminate_active
-from oocyte_fe.sweep.cluster import dask_client
+from oocyte_fe.sweep.cluster import dask_client, local_client
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -43,18 +42,7 @@ def vof_client(concurrent: int, scheduler: str | None = None) -> Iterator[Client
         with dask_client(scheduler) as client:
             yield client
         return
-    from distributed import Client, LocalCluster
-
-    with (
-        LocalCluster(
-            n_workers=concurrent,
-            threads_per_worker=1,
-            processes=False,
-            dashboard_address=":0",
-            silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster) as client,
-    ):
+    with local_client(n_workers=concurrent, threads_per_worker=1, processes=False) as client:
         yield client
 
 
