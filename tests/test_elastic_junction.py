@@ -174,6 +174,8 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     assert abs(change) < 1.0
     assert metrics["recompute_last_change_pct"] == pytest.approx(change, rel=1e-12)
     assert "converged after 2 passes" in text and text.count("\n| 1 |") == 1
+    stretch = result.passes[1].elastic.smallest_stretch  # the crease check, per pass
+    assert 0.5 < stretch < 1.0 and f"| 100% | {stretch:.3f} |" in text.split("\n| 1 |")[1]
     # several pressures (recompute_pressures = "all"): one summary row each
     from oocyte_fe.kinds.microchannel_vof_elastic import recompute_summary
 

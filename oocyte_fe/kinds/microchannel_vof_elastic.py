@@ -179,19 +179,23 @@ def recompute_section(
         "| pass | the shape the flow starts from, b/a (principal extents) "
         "| the flow's cell shape, b/a at the junction (area moments) "
         "| traction taken at x (um) | FE b/a at x = 0 (principal extents) | traction carried "
-        "| change of b/a |",
-        "|---|---|---|---|---|---|---|",
+        "| smallest stretch | change of b/a |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     previous = None  # the last carried pass's b/a
     for k, ps in enumerate(result.passes):
         change = "-"
         if previous is not None and ps.carried:
             change = f"{100 * (ps.b_over_a / previous - 1):+.1f} %"
-        where = ", ".join(f"{x:+.1f}" for x in ps.elastic.traction_x_um)
+        out = ps.elastic.left_out  # writes whose FE stopped while the others give b/a
+        where = ", ".join(
+            f"{x:+.1f}" + (" (left out)" if k in out else "")
+            for k, x in enumerate(ps.elastic.traction_x_um)
+        )
         rows.append(
             f"| {k} | {ps.start_b_over_a:.4f} | {ps.flow_b_over_a:.4f} | {where} "
             f"| {ps.b_over_a:.4f} "
-            f"| {ps.load_fraction:.0%} | {change} |"
+            f"| {ps.load_fraction:.0%} | {ps.elastic.smallest_stretch:.3f} | {change} |"
         )
         if ps.carried:
             previous = ps.b_over_a
