@@ -37,11 +37,12 @@ from oocyte_fe.microchannel.elastic_junction import (
     elastic_at_writes,
     junction_tractions,
     outline_at,
+    radii_at,
 )
 from oocyte_fe.microchannel.vof.band_traction import Fluids
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.restart import StepPair
-from oocyte_fe.microchannel.vof.traction import signed_area
+from oocyte_fe.microchannel.vof.traction import polygon_centroid, signed_area
 
 # run_flow(outline about the cell centre or None, folder) -> (case, layout, the flow's own
 # b/a at the junction)
@@ -110,13 +111,8 @@ def _extents_ratio(outline: np.ndarray) -> float:
 def _centred_outline(cell: ElasticCellAtJunction) -> np.ndarray:
     """The FE's deformed outline about its area centroid (um)."""
     x = section_outline_um(cell.experiment)
-    xn = np.roll(x, -1, axis=0)
-    cross = x[:, 0] * xn[:, 1] - xn[:, 0] * x[:, 1]
-    area = 0.5 * cross.sum()
-    centroid = np.array(
-        [((x[:, 0] + xn[:, 0]) * cross).sum(), ((x[:, 1] + xn[:, 1]) * cross).sum()]
-    )
-    return x - centroid / (6.0 * area)
+    ring = np.vstack([x, x[:1]])
+    return x - polygon_centroid(ring, signed_area(ring))
 
 
 def relaxed_outline(new: np.ndarray, old: np.ndarray | None, weight: float) -> np.ndarray:
@@ -136,9 +132,7 @@ def relaxed_outline(new: np.ndarray, old: np.ndarray | None, weight: float) -> n
         area = abs(signed_area(np.vstack([new, new[:1]])))
         r_old = np.full_like(r_new, np.sqrt(area / np.pi))
     else:
-        at = np.arctan2(old[:, 1], old[:, 0])
-        order = np.argsort(at)
-        r_old = np.interp(theta, at[order], np.hypot(old[:, 0], old[:, 1])[order], period=2 * np.pi)
+        r_old = radii_at(old, theta)
     r = weight * r_new + (1.0 - weight) * r_old
     return r[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
 

@@ -354,15 +354,18 @@ def outline_at(outlines: list[np.ndarray], xs: list[float], x: float = 0.0) -> n
     if len(outlines) == 1:
         return outlines[near]
     theta = np.arctan2(outlines[near][:, 1], outlines[near][:, 0])
-    radii = []
-    for o in outlines:
-        at = np.arctan2(o[:, 1], o[:, 0])
-        order = np.argsort(at)
-        radii.append(
-            np.interp(theta, at[order], np.hypot(o[:, 0], o[:, 1])[order], period=2 * np.pi)
-        )
-    slope, intercept = np.polyfit(np.asarray(xs, dtype=float) - x, np.array(radii), 1)
+    radii = np.array([radii_at(o, theta) for o in outlines])
+    slope, intercept = np.polyfit(np.asarray(xs, dtype=float) - x, radii, 1)
     return intercept[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
+
+
+def radii_at(outline: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """The radius (um) of a star-shaped outline (k, 2) about its origin at the polar angles
+    ``theta`` (rad): linear between its points, periodic in the angle."""
+    at = np.arctan2(outline[:, 1], outline[:, 0])
+    order = np.argsort(at)
+    r = np.hypot(outline[:, 0], outline[:, 1])
+    return np.interp(theta, at[order], r[order], period=2 * np.pi)
 
 
 @dataclass(frozen=True)

@@ -185,7 +185,7 @@ def edges(ring: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def polar(ring: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The ring's area centroid (um) and the polar angle of ``points`` about it (deg, from
     +x, counter-clockwise, in [0, 360))."""
-    centroid = _polygon_centroid(ring, signed_area(ring))
+    centroid = polygon_centroid(ring, signed_area(ring))
     d = points - centroid
     return centroid, np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 360.0
 
@@ -196,7 +196,9 @@ def signed_area(ring: np.ndarray) -> float:
     return 0.5 * float(np.sum(x[:-1] * y[1:] - x[1:] * y[:-1]))
 
 
-def _polygon_centroid(ring: np.ndarray, area: float) -> np.ndarray:
+def polygon_centroid(ring: np.ndarray, area: float) -> np.ndarray:
+    """The area centroid (um) of a closed ring (first point last) of signed ``area``
+    (:func:`signed_area`)."""
     x, y = ring[:, 0], ring[:, 1]
     cross = x[:-1] * y[1:] - x[1:] * y[:-1]
     return np.array([np.sum((x[:-1] + x[1:]) * cross), np.sum((y[:-1] + y[1:]) * cross)]) / (
