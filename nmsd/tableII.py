@@ -68,11 +68,11 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     forces = {}
     for name in ("force_experiment_uN", "force_simulation_uN"):
         if name in columns:
-            forces[name] = columns[name] * UN_TO_NN
-            if np.any(np.abs(forces[name]) > high):
+            if np.any(np.abs(columns[name]) > high / UN_TO_NN):  # before scaling: no overflow
                 raise InputError(
                     str(path), name, f"forces of a physical size (|F| <= {high / UN_TO_NN:g} uN)"
                 )
+            forces[name] = columns[name] * UN_TO_NN
     if np.ptp(forces["force_experiment_uN"]) == 0:
         raise InputError(
             str(path),
