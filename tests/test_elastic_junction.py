@@ -471,6 +471,33 @@ def test_under_relaxed_passes_converge_on_the_fixed_point_residual(tmp_path: Pat
     assert abs(result.ratios[-1] / starts[-1] - 1) < 0.01 <= abs(result.ratios[-2] / starts[-2] - 1)
 
 
+def test_the_passes_take_a_given_pass_0_as_it_is(tmp_path: Path):
+    """``first``: the one-way cell handed in as pass 0 (the case's one-way section computed
+    it) is not loaded again; the flow is first run for pass 1, from the same shape as when
+    pass 0 is computed, and every pass's b/a is the same to round-off."""
+    from oocyte_fe.microchannel.elastic_iteration import deform_recompute
+    from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
+
+    layout = JunctionGeometry().layout(5.0, 1e5, 1e5)
+    shapes: list = []
+
+    def flow(outline, folder):
+        shapes.append(outline)
+        return _synthetic_run(folder, layout, 0.03, 0.0, outline), layout, 1.0
+
+    keys = dict(relaxation=0.5, zona_kPa=1.0, cytoplasm_kPa=1.0, frames=2, max_passes=3)
+    whole = deform_recompute(flow, tmp_path / "whole", FLUIDS, **keys)
+    n_whole = len(shapes)
+    given = deform_recompute(
+        flow, tmp_path / "given", FLUIDS, first=whole.passes[0].elastic, **keys
+    )
+    assert shapes[0] is None and all(s is not None for s in shapes[n_whole:])
+    assert len(shapes) - n_whole == len(given.passes) - 1
+    assert np.allclose(shapes[n_whole], shapes[1], rtol=0, atol=1e-12)
+    assert given.ratios == pytest.approx(whole.ratios, rel=1e-12)
+    assert not (tmp_path / "given" / "pass0").exists()
+
+
 def test_the_passes_read_the_fe_outline_to_x0_by_a_line_through_the_writes():
     """``outline_at``: ellipses about their centroids at x = -4 and +6 um (semi-axes 50 / 40
     and 54 / 36 um, sampled at different angles) give at x = 0 the radius on the straight

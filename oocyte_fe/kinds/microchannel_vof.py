@@ -20,11 +20,13 @@ from pathlib import Path
 import numpy as np
 
 from oocyte_fe.errors import InputError, SolverError
+from oocyte_fe.kinds.microchannel_vof_elastic import one_way_cells
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
 from oocyte_fe.kinds.microchannel_vof_metrics import METRICS
 from oocyte_fe.kinds.microchannel_vof_report import report_outcome, skipped_outcome
 from oocyte_fe.kinds.microchannel_vof_runs import RunSpec, run_specs
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute, deform_recompute
+from oocyte_fe.microchannel.elastic_junction import ElasticAtPressure
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
@@ -135,10 +137,17 @@ def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
 
 
 def _recompute(
-    ctx: CaseContext, inp: VofInputs, spec: RunSpec, first: JunctionRun
+    ctx: CaseContext,
+    inp: VofInputs,
+    spec: RunSpec,
+    first: JunctionRun,
+    one_way: ElasticAtPressure | None,
 ) -> DeformRecompute | str:
-    """The deform-recompute passes at the pressure of ``spec`` (pass 0 is its run ``first``),
-    or why they did not run."""
+    """The deform-recompute passes at the pressure of ``spec`` (pass 0 is its run ``first``,
+    whose elastic cell ``one_way`` the report's one-way section computed: taken as it is,
+    in the reading of ``recompute_load``), or why they did not run."""
+    if one_way is not None and inp.recompute_load == "follower":
+        one_way = one_way.follower
     foam = find_openfoam(inp.openfoam)
 
     def run_flow(outline: np.ndarray | None, folder: Path) -> tuple:
@@ -162,6 +171,7 @@ def _recompute(
             relaxation=inp.recompute_relaxation,
             follower=inp.recompute_load == "follower",
             pressure_hPa=spec.pressure_hPa,
+            first=one_way,
         )
     except (InputError, SolverError) as exc:
         return f"not computed: {exc}"
@@ -208,8 +218,19 @@ def run(ctx: CaseContext) -> CaseOutcome:
     main = runs[: len(pressures)]
     n = len(pressures)
     extra = {s.label: r for s, r in zip(specs[n:], runs[n:], strict=True)}
+    if inp.model != LIQUID_CELL:
+        return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra)
+    ctx.step("the AFM-elastic cell under each run's traction (one-way)")
+    one_way = one_way_cells(ctx, inp, pressures, main)
+    at_p = {} if isinstance(one_way, str) else {round(c.pressure_hPa, 6): c for c in one_way}
     recompute = []
-    if inp.recompute_passes and inp.model == LIQUID_CELL:
+    if inp.recompute_passes:
         at = range(n) if inp.recompute_pressures == "all" else range(1)
-        recompute = [(specs[k].pressure_hPa, _recompute(ctx, inp, specs[k], main[k])) for k in at]
-    return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra, recompute)
+        recompute = [
+            (p, _recompute(ctx, inp, specs[k], main[k], at_p.get(round(p, 6))))
+            for k in at
+            for p in [specs[k].pressure_hPa]
+        ]
+    return report_outcome(
+        ctx, inp, table, kv_p, kv_ratio, pressures, main, extra, recompute, one_way
+    )

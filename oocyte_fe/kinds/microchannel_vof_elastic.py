@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_elastic_notes import (
     follower_note,
     left_out_note,
@@ -18,6 +19,7 @@ from oocyte_fe.kinds.microchannel_vof_elastic_notes import (
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
 from oocyte_fe.microchannel.elastic_junction import (
+    ElasticAtPressure,
     compare_table4,
     elastic_cells_at_junction,
 )
@@ -32,32 +34,46 @@ def _lookup(p: np.ndarray, values: np.ndarray, at: float) -> float:
     return float(values[hit[0]]) if len(hit) else math.nan
 
 
-def elastic_section(
-    ctx: CaseContext,
-    inp: VofInputs,
-    table,
-    pressures: np.ndarray,
-    runs: list[JunctionRun],
-    meshes: list[tuple[float, JunctionRun]] = (),
-) -> tuple[str, dict[str, float | list[float]]]:
-    """The section text and metrics ``elastic_cell_b_over_a`` (per pressure) and the mean
-    absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment;
-    with ``meshes`` (the first pressure on each of ``mesh_check_dx_um``: (dx, run)) also
-    :func:`mesh_note` for each (``elastic_mesh_change_pct``: the first of them) and
-    ``elastic_mesh_b_over_a`` (b/a under each mesh's flow, NaN where the FE stops). Each
+def one_way_cells(
+    ctx: CaseContext, inp: VofInputs, pressures: np.ndarray, runs: list[JunctionRun]
+) -> list[ElasticAtPressure] | str:
+    """The AFM-elastic cell under the traction of each run's writes around the junction
+    (one-way; dead load and follower reading, :func:`.elastic_junction.
+    elastic_cells_at_junction`), in the order of the pressures, or why not computed. Each
     write's load is taken two solver steps later (:func:`.elastic_junction.write_traction`)."""
-    by_p = {float(p / HPA): r for p, r in zip(pressures, runs, strict=True)}
     geometry = inp.geometry.to_geometry()
+    by_p = {float(p / HPA): r for p, r in zip(pressures, runs, strict=True)}
 
     def layout_of(p_hpa: float):
         r = by_p[p_hpa]
         return geometry.layout(inp.dx_um, r.velocity_a, r.velocity_b)
 
-    steps = step_pair(find_openfoam(inp.openfoam), inp.nice)
-    jobs = [(p, r.case, r.ratio_at_junction) for p, r in sorted(by_p.items())]
-    cells = elastic_cells_at_junction(
-        jobs, layout_of, inp.fluids, ctx.output("."), steps, follower=True
-    )
+    try:
+        steps = step_pair(find_openfoam(inp.openfoam), inp.nice)
+        jobs = [(p, r.case, r.ratio_at_junction) for p, r in by_p.items()]
+        return elastic_cells_at_junction(
+            jobs, layout_of, inp.fluids, ctx.output("."), steps, follower=True
+        )
+    except (InputError, SolverError) as exc:  # SolverError: a restart for the load
+        return f"not computed: {exc}"
+
+
+def elastic_section(
+    ctx: CaseContext,
+    inp: VofInputs,
+    table,
+    pressures: np.ndarray,
+    one_way: list[ElasticAtPressure],
+    meshes: list[tuple[float, JunctionRun]] = (),
+) -> tuple[str, dict[str, float | list[float]]]:
+    """The section text and metrics ``elastic_cell_b_over_a`` (per pressure) and the mean
+    absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment;
+    ``one_way`` from :func:`one_way_cells`; with ``meshes`` (the first pressure on each of
+    ``mesh_check_dx_um``: (dx, run)) also :func:`mesh_note` for each
+    (``elastic_mesh_change_pct``: the first of them) and ``elastic_mesh_b_over_a`` (b/a under
+    each mesh's flow, NaN where the FE stops)."""
+    geometry = inp.geometry.to_geometry()
+    cells = sorted(one_way, key=lambda c: c.pressure_hPa)
     rows = [
         "| p (hPa) | experiment | paper VOF | liquid cell (VOF) | **AFM-elastic cell** "
         "| 1 - b/a elastic | smallest stretch | writes at x (um): b/a at 0 from the line "
@@ -140,6 +156,7 @@ def elastic_section(
     first = float(pressures[0] / HPA)
     base = next(c for c in cells if c.pressure_hPa == first)
     on_meshes = []
+    steps = step_pair(find_openfoam(inp.openfoam), inp.nice) if meshes else None
     for m, mesh_run in meshes:
         [other] = elastic_cells_at_junction(
             [(first, mesh_run.case, mesh_run.ratio_at_junction)],

@@ -25,6 +25,7 @@ from oocyte_fe.kinds.microchannel_vof_studies import (
     traction_study,
 )
 from oocyte_fe.microchannel.elastic_iteration import DeformRecompute
+from oocyte_fe.microchannel.elastic_junction import ElasticAtPressure
 from oocyte_fe.microchannel.vof.isoadvector import LIQUID_CELL, MODEL_SOLVER
 from oocyte_fe.microchannel.vof.junction import JunctionRun
 from oocyte_fe.microchannel.vof.plotting import plot_ratio_histories, plot_vof_ratio
@@ -71,6 +72,7 @@ def report_outcome(
     runs: list[JunctionRun],
     extra: dict[str, JunctionRun],
     recompute: list[tuple[float, DeformRecompute | str]] = (),
+    one_way: list[ElasticAtPressure] | str = "not computed (the liquid-cell model only)",
 ) -> CaseOutcome:
     beside = {k: v for k, v in extra.items() if k.startswith(BESIDE) and "_dt" not in k}
     beside_at = {round(float(r.velocity_a), 3): r for r in beside.values()}
@@ -166,11 +168,13 @@ def report_outcome(
             metrics.update(more)
         except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
             traction_text = f"not computed: {exc}"
-        try:
-            elastic_text, more = elastic_section(ctx, inp, table, pressures, runs, meshes)
-            metrics.update(more)
-        except (InputError, SolverError) as exc:  # SolverError: a restart for the load
-            elastic_text = f"not computed: {exc}"
+        elastic_text = one_way
+        if not isinstance(one_way, str):
+            try:
+                elastic_text, more = elastic_section(ctx, inp, table, pressures, one_way, meshes)
+                metrics.update(more)
+            except (InputError, SolverError) as exc:  # SolverError: a restart for the load
+                elastic_text = f"not computed: {exc}"
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(
         time_directories(runs[0].case)[-1][1],

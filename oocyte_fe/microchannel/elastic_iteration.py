@@ -146,13 +146,17 @@ def deform_recompute(
     steps: StepPair | None = None,
     relaxation: float = 1.0,
     pressure_hPa: float = float("nan"),
+    first: ElasticAtPressure | None = None,
     **cell: float | bool,
 ) -> DeformRecompute:
     """The passes of the module docstring; ``cell``: keywords of
     :func:`.elastic_junction.elastic_cell_at_junction`; ``fluids`` what the traction needs
     (:class:`.vof.band_traction.Fluids`); ``steps`` as in
     :func:`.elastic_junction.junction_tractions`; ``relaxation`` the weight of
-    :func:`relaxed_outline` (0 < w <= 1); ``pressure_hPa`` the flows' (a label)."""
+    :func:`relaxed_outline` (0 < w <= 1); ``pressure_hPa`` the flows' (a label). ``first``:
+    pass 0 already computed (the one-way cell under the flow past the disk, read as
+    ``cell['follower']`` says: :func:`.elastic_junction.elastic_cells_at_junction`), taken
+    as it is instead of loading the FE again; ``run_flow`` is then first called for pass 1."""
     if not 0.0 < relaxation <= 1.0:
         raise InputError("deform_recompute", "relaxation", "0 < w <= 1", relaxation)
     passes: list[Pass] = []
@@ -160,11 +164,14 @@ def deform_recompute(
     outline = None
     stopped = f"{max_passes} passes spent"
     for k in range(max_passes):
-        sub = Path(folder) / f"pass{k}"
-        sub.mkdir(parents=True, exist_ok=True)
-        case, layout, flow_ratio = run_flow(outline, sub / "flow")
-        tractions = junction_tractions(case, layout, fluids, sub, steps)
-        elastic = elastic_at_writes(pressure_hPa, flow_ratio, tractions, **cell)
+        if k == 0 and first is not None:
+            elastic, flow_ratio = first, first.liquid_b_over_a
+        else:
+            sub = Path(folder) / f"pass{k}"
+            sub.mkdir(parents=True, exist_ok=True)
+            case, layout, flow_ratio = run_flow(outline, sub / "flow")
+            tractions = junction_tractions(case, layout, fluids, sub, steps)
+            elastic = elastic_at_writes(pressure_hPa, flow_ratio, tractions, **cell)
         start = 1.0 if outline is None else _extents_ratio(outline)
         passes.append(Pass(flow_ratio, elastic, start))
         if not passes[-1].carried:
