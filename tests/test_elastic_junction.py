@@ -333,6 +333,41 @@ def test_the_flow_mesh_note_compares_the_elastic_cell_on_two_meshes(tmp_path: Pa
     assert mesh_note(at(0.64), at(0.72, ok=False), 12.5, 6.25)[1] == {}
 
 
+def test_the_elastic_cell_on_three_flow_meshes_gives_its_mesh_limit(tmp_path: Path):
+    """b/a on 12.5 / 6.25 / 4.17 um flows on an exact power law b/a = 0.80 - 0.016 h (dead)
+    and 0.85 - 0.001 h^2 (follower): the limits 0.80 and 0.85 (1e-9) and the case's mesh
+    -25.0 % / -18.4 % from them; with the follower stopping on one mesh, no follower limit."""
+    from types import SimpleNamespace
+
+    from oocyte_fe.kinds.microchannel_vof_elastic_notes import mesh_limit_note
+    from oocyte_fe.microchannel.elastic_junction import ElasticAtPressure, ElasticCellAtJunction
+
+    def at(ratio: float, ok: bool = True, follower: float | None = None) -> ElasticAtPressure:
+        cell = ElasticCellAtJunction(SimpleNamespace(success=ok), ratio, tmp_path)  # type: ignore[arg-type]
+        other = None if follower is None else at(follower, follower > 0)
+        return ElasticAtPressure(900.0, 0.98, (cell,), (0.0,), other)
+
+    h = [12.5, 6.25, 12.5 / 3]
+    cells = [at(0.80 - 0.016 * x, follower=0.85 - 0.001 * x**2) for x in h]
+    text, metrics = mesh_limit_note(h, cells)
+    assert metrics["elastic_mesh_limit_b_over_a"] == pytest.approx(0.80, abs=1e-9)
+    assert metrics["elastic_follower_mesh_limit_b_over_a"] == pytest.approx(0.85, abs=1e-9)
+    assert metrics["elastic_follower_mesh_b_over_a"] == pytest.approx(
+        [0.85 - 0.001 * x**2 for x in h[1:]], rel=1e-12
+    )
+    assert "order 1.00" in text and "order 2.00" in text
+    assert "-25.0 % from it" in text
+    assert f"{100 * ((0.85 - 0.15625) / 0.85 - 1):+.1f} % from it" in text
+    cells[1] = at(0.70, follower=-1.0)  # the follower's FE stops on 6.25 um
+    text, metrics = mesh_limit_note(h, cells)
+    assert metrics["elastic_mesh_limit_b_over_a"] == pytest.approx(0.80, abs=1e-9)
+    assert np.isnan(metrics["elastic_follower_mesh_limit_b_over_a"])
+    assert "| 6.25 | 0.7000 | FE stops |" in text
+    assert "Follower load: no h -> 0 limit" in text
+    two, more = mesh_limit_note(h[:2], cells[:2])
+    assert set(more) == {"elastic_follower_mesh_b_over_a"}
+
+
 def test_a_stalled_write_between_two_that_carried_is_left_out_and_said(tmp_path: Path):
     """Writes at -6 (b/a 0.70), +2 (stopped at 80 %, 0.20) and +10 um (0.60): b/a at 0 from the
     line through the two that carried, 0.70 - 0.10 * 6 / 16 = 0.6625, and the report names the

@@ -13,6 +13,7 @@ from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_elastic_notes import (
     follower_note,
     left_out_note,
+    mesh_limit_note,
     mesh_note,
     stretch_note,
 )
@@ -155,7 +156,7 @@ def elastic_section(
     text += "\n\n" + note
     first = float(pressures[0] / HPA)
     base = next(c for c in cells if c.pressure_hPa == first)
-    on_meshes = []
+    on_meshes = [base]
     steps = step_pair(find_openfoam(inp.openfoam), inp.nice) if meshes else None
     for m, mesh_run in meshes:
         [other] = elastic_cells_at_junction(
@@ -164,14 +165,20 @@ def elastic_section(
             inp.fluids,
             ctx.output(f"mesh_dx{m:g}"),
             steps,
+            follower=True,
         )
-        on_meshes.append(other.b_over_a if other.carried else math.nan)
+        on_meshes.append(other)
         note, more = mesh_note(base, other, inp.dx_um, m)
         for key, value in more.items():
             metrics.setdefault(key, value)
         text += "\n\n" + note
     if meshes:
-        metrics["elastic_mesh_b_over_a"] = on_meshes
+        metrics["elastic_mesh_b_over_a"] = [
+            c.b_over_a if c.carried else math.nan for c in on_meshes[1:]
+        ]
+        note, more = mesh_limit_note([inp.dx_um, *(m for m, _ in meshes)], on_meshes)
+        metrics.update(more)
+        text += "\n\n" + note
     text += (
         "\n\nOne-way: the force of the flow past the LIQUID cell (each write within 12.5 um "
         "of the junction crossing) from its diffuse interface, -sum sigma . grad(alpha) dA, "

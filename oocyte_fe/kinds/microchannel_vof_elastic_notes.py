@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from oocyte_fe.microchannel.elastic_junction import CREASE_STRETCH, ElasticAtPressure
+from oocyte_fe.microchannel.vof.extrapolation import power_law
 
 
 def left_out_note(at: ElasticAtPressure) -> str:
@@ -46,6 +47,55 @@ def mesh_note(
     if other.left_out:
         text += " " + left_out_note(other)
     return text, {"elastic_mesh_change_pct": change}
+
+
+def _b_over_a(at: ElasticAtPressure | None) -> float:
+    return at.b_over_a if at is not None and at.carried else math.nan
+
+
+def mesh_limit_note(
+    dx_um: list[float], cells: list[ElasticAtPressure]
+) -> tuple[str, dict[str, float | list[float]]]:
+    """The elastic cell under the flows of each mesh ``dx_um`` (coarsest first; ``cells`` one
+    per mesh, with the follower reading), both readings of the load, and with three meshes or
+    more the power law ``b/a(h) = b/a_0 + C h^p`` through the finest three
+    (:func:`.vof.extrapolation.power_law`): metrics ``elastic_follower_mesh_b_over_a`` (the
+    follower reading on each mesh after the first), ``elastic_mesh_limit_b_over_a`` and
+    ``elastic_follower_mesh_limit_b_over_a`` (nan: no order above 0, or the FE stops on one
+    of the three)."""
+    dead = [_b_over_a(c) for c in cells]
+    follower = [_b_over_a(c.follower) for c in cells]
+    rows = ["| flow dx (um) | dead load b/a | follower load b/a |", "|---|---|---|"]
+    for h, d, f in zip(dx_um, dead, follower, strict=True):
+        rows.append(f"| {h:g} | {d:.4f} | {f:.4f} |".replace("nan", "FE stops"))
+    metrics: dict[str, float | list[float]] = {"elastic_follower_mesh_b_over_a": follower[1:]}
+    text = (
+        f"**The elastic cell on every flow mesh** ({cells[0].pressure_hPa:g} hPa; b/a at x = 0 "
+        "from the writes of each flow):\n\n" + "\n".join(rows)
+    )
+    if len(cells) < 3:
+        return text, metrics
+    limits = []
+    for name, values in (("dead load", dead), ("follower load", follower)):
+        law = power_law(dx_um[-3:], values[-3:]) if all(map(math.isfinite, values[-3:])) else None
+        limit = law.limit if law is not None and math.isfinite(law.order) else math.nan
+        limits.append(limit)
+        if math.isfinite(limit):
+            text += (
+                f"\n\n{name.capitalize()}: the power law through the finest three meshes has "
+                f"order {law.order:.2f} and the limit b/a **{limit:.4f}** (h -> 0)"
+            )
+            if math.isfinite(values[0]):
+                text += (
+                    f"; the case's mesh ({dx_um[0]:g} um) is "
+                    f"{100 * (values[0] / limit - 1):+.1f} % from it"
+                )
+            text += "."
+        else:
+            text += f"\n\n{name.capitalize()}: no h -> 0 limit (no order above 0, or the FE stops)."
+    metrics["elastic_mesh_limit_b_over_a"] = limits[0]
+    metrics["elastic_follower_mesh_limit_b_over_a"] = limits[1]
+    return text, metrics
 
 
 def stretch_note(cells: list[ElasticAtPressure]) -> str:

@@ -50,6 +50,12 @@ METRICS = {
     "elastic_mesh_change_pct": "AFM-elastic cell: b/a under the second mesh's flow against the "
     "first's (first pressure), %",
     "elastic_mesh_b_over_a": "AFM-elastic cell: b/a under each finer mesh's flow (first pressure)",
+    "elastic_follower_mesh_b_over_a": "AFM-elastic cell, follower reading: b/a under each finer "
+    "mesh's flow (first pressure)",
+    "elastic_mesh_limit_b_over_a": "AFM-elastic cell: h -> 0 limit of b/a (power law through the "
+    "finest three flow meshes, first pressure; nan: no order)",
+    "elastic_follower_mesh_limit_b_over_a": "AFM-elastic cell, follower reading: h -> 0 limit of "
+    "b/a (finest three flow meshes, first pressure)",
     "mesh_dx_um": "mesh study: the cell sizes, the case's mesh first (um)",
     "mesh_deformation": "mesh study: 1 - b/a at x = 0 on each mesh (first pressure)",
     "mesh_order": "mesh study: observed order p of e(h) = e0 + C h^p (finest three meshes)",
