@@ -127,8 +127,10 @@ def test_quick_vof_case_passes(quick_case) -> None:
 def test_a_finer_mesh_run_is_the_case_run_on_that_mesh(tmp_path: Path, quick_case) -> None:
     """The mesh study's runs are the case's own runs on the finer lattices: the quick case on
     25 um with 12.5 um as its finer mesh (1 x 24 correctors, as the quick case) reads, on
-    12.5 um, the quick case's own b/a and AFM-elastic b/a (deterministic runs: to 1e-9), and
-    25 um deforms more (the liquid cell's mesh error has one sign, docs/microchannel.md)."""
+    12.5 um, the quick case's own b/a and AFM-elastic b/a in both readings of the load
+    (deterministic runs: to 1e-9), and 25 um deforms more (the liquid cell's mesh error has
+    one sign, docs/microchannel.md). One deform-recompute pass with the follower load is
+    pass 0 only: the one-way follower cell, taken as it is (no FE run of its own)."""
     import json
     import shutil
 
@@ -140,7 +142,8 @@ def test_a_finer_mesh_run_is_the_case_run_on_that_mesh(tmp_path: Path, quick_cas
     text = toml.read_text().replace("\ndx_um = 12.5", "\ndx_um = 25.0", 1)
     text = text.replace(
         "\ncorrectors = 24",
-        "\ncorrectors = 12\nmesh_check_dx_um = 12.5\nmesh_check_correctors = 24",
+        "\ncorrectors = 12\nmesh_check_dx_um = 12.5\nmesh_check_correctors = 24"
+        '\nrecompute_passes = 1\nrecompute_load = "follower"',
         1,
     )
     toml.write_text(text)
@@ -152,6 +155,11 @@ def test_a_finer_mesh_run_is_the_case_run_on_that_mesh(tmp_path: Path, quick_cas
     assert mesh["elastic_mesh_b_over_a"][0] == pytest.approx(
         quick["elastic_cell_b_over_a"][0], rel=1e-9
     )
+    assert mesh["elastic_follower_mesh_b_over_a"][0] == pytest.approx(
+        quick["elastic_follower_b_over_a"][0], rel=1e-9
+    )
+    assert mesh["recompute_b_over_a"] == [mesh["elastic_follower_b_over_a"][0]]
+    assert not list((tmp_path / "out" / "study").rglob("pass0"))
     assert mesh["mesh_deformation"][0] > 1.5 * mesh["mesh_deformation"][1]  # 0.0285 / 0.0148
     assert "mesh_order" not in mesh  # two meshes: no power law
 
