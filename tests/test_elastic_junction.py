@@ -356,7 +356,7 @@ def test_the_elastic_cell_on_three_flow_meshes_gives_its_mesh_limit(tmp_path: Pa
         [0.85 - 0.001 * x**2 for x in h[1:]], rel=1e-12
     )
     assert "order 1.00" in text and "order 2.00" in text
-    assert "-25.0 % from it" in text
+    assert "-25.0 % from it" in text and "the finest (4.16667 um) -8.3 %" in text
     assert f"{100 * ((0.85 - 0.15625) / 0.85 - 1):+.1f} % from it" in text
     cells[1] = at(0.70, follower=-1.0)  # the follower's FE stops on 6.25 um
     text, metrics = mesh_limit_note(h, cells)

@@ -90,7 +90,11 @@ def mesh_limit_note(
                     f"; the case's mesh ({dx_um[0]:g} um) is "
                     f"{100 * (values[0] / limit - 1):+.1f} % from it"
                 )
-            text += "."
+            text += (
+                f", the finest ({dx_um[-1]:g} um) {100 * (values[-1] / limit - 1):+.1f} % (how "
+                "far the limit is extrapolated; an order well below 1 says the meshes are not "
+                "yet in the power law's range)."
+            )
         else:
             text += f"\n\n{name.capitalize()}: no h -> 0 limit (no order above 0, or the FE stops)."
     metrics["elastic_mesh_limit_b_over_a"] = limits[0]
