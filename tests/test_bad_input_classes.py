@@ -33,7 +33,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import kinds
-from oocyte_fe.runner.schema import UNIT_BOUNDS, Refining, Relation, unit_of
+from oocyte_fe.runner.schema import UNIT_BOUNDS, Distinct, Refining, Relation, unit_of
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -73,7 +73,7 @@ RELATIONS = [
         if isinstance(info.annotation, type) and hasattr(info.annotation, "rules")
     ]
     for rule in model.rules
-    if isinstance(rule, Relation | Refining)
+    if isinstance(rule, Relation | Refining | Distinct)
 ]
 
 
@@ -81,7 +81,7 @@ RELATIONS = [
     ("kind", "block", "rule"), RELATIONS, ids=[f"{k}:{r.field}" for k, _, r in RELATIONS]
 )
 def test_each_declared_rule_is_refused_against_its_field(
-    tmp_path: Path, kind: str, block: tuple[str, ...], rule: Relation | Refining
+    tmp_path: Path, kind: str, block: tuple[str, ...], rule: Relation | Refining | Distinct
 ) -> None:
     inputs = load_case(CASES / SHIPPED[kind]).inputs
     for name in block:
@@ -89,8 +89,10 @@ def test_each_declared_rule_is_refused_against_its_field(
     value = getattr(inputs, rule.field)
     if isinstance(value, list | tuple) and not value:  # an empty list (no finer mesh) breaks
         value = [2.0, 1.0]  # nothing: a refining pair, scaled or reversed below
-    if isinstance(rule, Refining):
-        broken: Any = list(value)[::-1]
+    if isinstance(rule, Distinct):  # a value twice (pressures: two runs in one folder)
+        broken: Any = [*value, value[0]] if value else [300.0, 300.0]
+    elif isinstance(rule, Refining):
+        broken = list(value)[::-1]
     else:
         bound = rule.bound(inputs)
         target = bound * 1.5 if rule.op in ("<", "<=") else bound / 1.5

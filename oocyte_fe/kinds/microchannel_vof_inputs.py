@@ -17,7 +17,7 @@ from oocyte_fe.kinds.microchannel_vof_parts import (
 )
 from oocyte_fe.microchannel import units
 from oocyte_fe.runner.casefile import DataFile
-from oocyte_fe.runner.schema import CaseInputs, Refining, Relation, Setup
+from oocyte_fe.runner.schema import CaseInputs, Distinct, Refining, Relation, Setup
 
 if TYPE_CHECKING:
     from oocyte_fe.microchannel.vof.band_traction import Fluids
@@ -182,6 +182,8 @@ class VofInputs(CaseInputs):
     )
 
     rules = (
+        Distinct("pressures_hPa"),
+        Distinct("beside_pressures_hPa"),
         Relation("mesh_check_dx_um", "<", lambda m: m.dx_um, "dx_um", measure="max"),
         Refining("mesh_check_dx_um"),
         Setup(lambda m: m.mesh_checks),

@@ -173,6 +173,20 @@ class Refining:
 
 
 @dataclass(frozen=True)
+class Distinct:
+    """Cross-field rule of a list of run settings (pressures, sizes): no value twice, since
+    each names its own run, folder and table row."""
+
+    field: str
+
+    def check(self, inputs: BaseModel) -> None:
+        values = list(getattr(inputs, self.field))
+        twice = sorted({v for v in values if values.count(v) > 1})
+        if twice:
+            raise RuleBroken(self.field, "each value once", twice)
+
+
+@dataclass(frozen=True)
 class Setup:
     """Cross-field rule decided by the library: ``build(inputs)`` makes the kind's cheap
     setup (a lattice, a pipette and the nodes its holder holds), so ``validate`` finds what
