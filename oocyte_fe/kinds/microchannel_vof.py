@@ -221,15 +221,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
     if inp.model != LIQUID_CELL:
         return report_outcome(ctx, inp, table, kv_p, kv_ratio, pressures, main, extra)
     ctx.step("the AFM-elastic cell under each run's traction (one-way)")
-    one_way = one_way_cells(ctx, inp, pressures, main)
-    at_p = {} if isinstance(one_way, str) else {round(c.pressure_hPa, 6): c for c in one_way}
+    one_way = one_way_cells(ctx, inp, pressures, main)  # in the order of the pressures
+    cells = [None] * n if isinstance(one_way, str) else one_way
     recompute = []
     if inp.recompute_passes:
         at = range(n) if inp.recompute_pressures == "all" else range(1)
         recompute = [
-            (p, _recompute(ctx, inp, specs[k], main[k], at_p.get(round(p, 6))))
-            for k in at
-            for p in [specs[k].pressure_hPa]
+            (specs[k].pressure_hPa, _recompute(ctx, inp, specs[k], main[k], cells[k])) for k in at
         ]
     return report_outcome(
         ctx, inp, table, kv_p, kv_ratio, pressures, main, extra, recompute, one_way

@@ -64,15 +64,18 @@ def elastic_section(
     inp: VofInputs,
     table,
     pressures: np.ndarray,
-    one_way: list[ElasticAtPressure],
+    one_way: list[ElasticAtPressure] | str,
     meshes: list[tuple[float, JunctionRun]] = (),
 ) -> tuple[str, dict[str, float | list[float]]]:
     """The section text and metrics ``elastic_cell_b_over_a`` (per pressure) and the mean
     absolute errors ``elastic_mae``, ``liquid_mae``, ``paper_vof_mae`` against the experiment;
-    ``one_way`` from :func:`one_way_cells`; with ``meshes`` (the first pressure on each of
+    ``one_way`` from :func:`one_way_cells` (a string, why they were not computed, is the
+    text); with ``meshes`` (the first pressure on each of
     ``mesh_check_dx_um``: (dx, run)) also :func:`mesh_note` for each
     (``elastic_mesh_change_pct``: the first of them) and ``elastic_mesh_b_over_a`` (b/a under
     each mesh's flow, NaN where the FE stops)."""
+    if isinstance(one_way, str):
+        return one_way, {}
     geometry = inp.geometry.to_geometry()
     cells = sorted(one_way, key=lambda c: c.pressure_hPa)
     rows = [

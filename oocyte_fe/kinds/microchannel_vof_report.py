@@ -168,13 +168,11 @@ def report_outcome(
             metrics.update(more)
         except InputError as exc:  # e.g. a mesh too coarse for the probes between cell and wall
             traction_text = f"not computed: {exc}"
-        elastic_text = one_way
-        if not isinstance(one_way, str):
-            try:
-                elastic_text, more = elastic_section(ctx, inp, table, pressures, one_way, meshes)
-                metrics.update(more)
-            except (InputError, SolverError) as exc:  # SolverError: a restart for the load
-                elastic_text = f"not computed: {exc}"
+        try:
+            elastic_text, more = elastic_section(ctx, inp, table, pressures, one_way, meshes)
+            metrics.update(more)
+        except (InputError, SolverError) as exc:  # SolverError: a restart for the load
+            elastic_text = f"not computed: {exc}"
     names = ("medium", "cell") if inp.model == LIQUID_CELL else ("medium", "zp", "cytoplasm")
     shot = snapshot(
         time_directories(runs[0].case)[-1][1],
