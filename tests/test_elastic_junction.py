@@ -165,8 +165,15 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     assert shapes[0] is None and shapes[1].shape[1] == 2
     a, b = np.ptp(shapes[1], axis=0)  # the deformed outline, the ellipse's axes along x, y
     assert min(a, b) / max(a, b) == pytest.approx(result.ratios[0], rel=0.01)
+    # the residual compares outline with outline: pass 0's FE outline is the shape pass 1
+    # starts from (no relaxation), and pass 1's FE outline is measured the same way
+    first, second = result.passes
+    assert first.shape_b_over_a == pytest.approx(min(a, b) / max(a, b), rel=1e-3)
+    assert second.start_b_over_a == first.shape_b_over_a
+    residual = second.shape_b_over_a / second.start_b_over_a - 1
+    assert result.residual == residual and abs(residual) < 0.01
     # the case's report section: one row per pass, each pass's b/a and the last change
-    from oocyte_fe.kinds.microchannel_vof_elastic import recompute_section
+    from oocyte_fe.kinds.microchannel_vof_recompute import recompute_section
 
     text, metrics = recompute_section(result, 300.0)
     assert metrics["recompute_b_over_a"] == result.ratios
@@ -177,14 +184,18 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     stretch = result.passes[1].elastic.smallest_stretch  # the crease check, per pass
     assert 0.5 < stretch < 1.0 and f"| 100% | {stretch:.3f} |" in text.split("\n| 1 |")[1]
     # several pressures (recompute_pressures = "all"): one summary row each
-    from oocyte_fe.kinds.microchannel_vof_elastic import recompute_summary
+    from oocyte_fe.kinds.microchannel_vof_recompute import recompute_summary
 
     text, metrics = recompute_summary([(300.0, result), (600.0, "not computed: stand-in")])
     assert metrics["recompute_passes_run"] == [2.0, 0.0]
     assert metrics["recompute_final_b_over_a"][0] == result.ratios[-1]
     assert np.isnan(metrics["recompute_final_b_over_a"][1])
-    assert f"| 300 | {result.ratios[0]:.4f} | {result.ratios[-1]:.4f} | 2 | yes |" in text
-    assert "| 600 | - | - | 0 | not computed: stand-in |" in text
+    shape = result.passes[-1].shape_b_over_a
+    assert metrics["recompute_final_shape_b_over_a"][0] == shape
+    assert np.isnan(metrics["recompute_final_shape_b_over_a"][1])
+    row = f"| 300 | {result.ratios[0]:.4f} | {result.ratios[-1]:.4f} | {shape:.4f} | 2 | yes |"
+    assert row in text
+    assert "| 600 | - | - | - | 0 | not computed: stand-in |" in text
 
 
 def test_polygon_fraction_of_an_ellipse():
@@ -503,7 +514,8 @@ def test_under_relaxed_passes_converge_on_the_fixed_point_residual(tmp_path: Pat
     assert starts[2] == pytest.approx((1 + 3 * r) / 4, abs=1e-3)
     assert abs(result.ratios[1] / r - 1) < 0.01  # the FE answers agree at once ...
     assert result.converged and len(result.passes) >= 3  # ... the shape needed more passes
-    assert abs(result.ratios[-1] / starts[-1] - 1) < 0.01 <= abs(result.ratios[-2] / starts[-2] - 1)
+    outlines = [p.shape_b_over_a for p in result.passes]
+    assert abs(outlines[-1] / starts[-1] - 1) < 0.01 <= abs(outlines[-2] / starts[-2] - 1)
 
 
 def test_the_passes_take_a_given_pass_0_as_it_is(tmp_path: Path):

@@ -37,8 +37,12 @@ METRICS = {
     "elastic_follower_mae": "AFM-elastic cell, follower reading: mean |b/a - experiment|",
     "recompute_b_over_a": "deform-recompute: the elastic cell's b/a in each pass (first pressure)",
     "recompute_last_change_pct": "deform-recompute: change of b/a in the last carried pass, %",
+    "recompute_shape_b_over_a": "deform-recompute: b/a of the FE's outline at x = 0 in each "
+    "pass (the shape the next pass starts from before under-relaxation; first pressure)",
     "recompute_final_b_over_a": "deform-recompute at every pressure (recompute_pressures = "
     "'all'): the last carried pass's b/a where the passes converged, per pressure",
+    "recompute_final_shape_b_over_a": "deform-recompute at every pressure: the last carried "
+    "pass's FE outline at x = 0, b/a, where the passes converged, per pressure",
     "recompute_passes_run": "deform-recompute at every pressure: the passes run, per pressure",
     "liquid_mae": "liquid cell (VOF): mean |b/a - experiment| over the pressures",
     "paper_vof_mae": "paper's VOF: mean |b/a - experiment| over the same pressures",

@@ -11,12 +11,9 @@ import numpy as np
 from oocyte_fe.errors import InputError, SolverError
 from oocyte_fe.kinds.microchannel_vof_checks import courant_check
 from oocyte_fe.kinds.microchannel_vof_converged import converged_section, pressure_limits
-from oocyte_fe.kinds.microchannel_vof_elastic import (
-    elastic_section,
-    recompute_section,
-    recompute_summary,
-)
+from oocyte_fe.kinds.microchannel_vof_elastic import elastic_section
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, KG_M3, PA_S, VofInputs
+from oocyte_fe.kinds.microchannel_vof_recompute import recompute_section, recompute_summary
 from oocyte_fe.kinds.microchannel_vof_runs import BESIDE, mesh_label, run_specs
 from oocyte_fe.kinds.microchannel_vof_studies import (
     dt_study,
