@@ -35,10 +35,13 @@ def recompute_section(
             f"{x:+.1f}" + (" (left out)" if k in out else "")
             for k, x in enumerate(ps.elastic.traction_x_um)
         )
+        outline, residual = "-", "-"  # the FE's outline is not read where it stopped short
+        if ps.carried:
+            outline = f"{ps.shape_b_over_a:.4f}"
+            residual = f"{100 * (ps.shape_b_over_a / ps.start_b_over_a - 1):+.2f} %"
         rows.append(
             f"| {k} | {ps.start_b_over_a:.4f} | {ps.flow_b_over_a:.4f} | {where} "
-            f"| {ps.b_over_a:.4f} | {ps.shape_b_over_a:.4f} "
-            f"| {100 * (ps.shape_b_over_a / ps.start_b_over_a - 1):+.2f} % "
+            f"| {ps.b_over_a:.4f} | {outline} | {residual} "
             f"| {ps.load_fraction:.0%} | {ps.elastic.smallest_stretch:.3f} | {change} |"
         )
         if ps.carried:
