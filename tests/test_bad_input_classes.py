@@ -62,6 +62,10 @@ SHIPPED = {
     "fe_verification": "fe_verification",
     "enucleation_loop": "enucleation_loop",
     "afm_creep_prony": "afm_creep_prony",
+    "nmsd_vs_fe": "nmsd_vs_fe",
+    "spindle_tracking": "spindle_tracking",
+    "rtdc_elastic_cell": "rtdc_elastic_cell",
+    "microchannel_carreau_fit": "microchannel_carreau_fit",
 }
 RELATIONS = [
     (kind, block, rule)
@@ -90,7 +94,8 @@ def test_each_declared_rule_is_refused_against_its_field(
     if isinstance(value, list | tuple) and not value:  # an empty list (no finer mesh) breaks
         value = [2.0, 1.0]  # nothing: a refining pair, scaled or reversed below
     if isinstance(rule, Distinct):  # a value twice (pressures: two runs in one folder)
-        broken: Any = [*value, value[0]] if value else [300.0, 300.0]
+        names = type(inputs).model_fields[rule.field].annotation == list[str]
+        broken: Any = [*value, value[0]] if value else (["a", "a"] if names else [300.0, 300.0])
     elif isinstance(rule, Refining):
         broken = list(value)[::-1]
     else:
@@ -105,6 +110,8 @@ def test_each_declared_rule_is_refused_against_its_field(
         load_case(folder)
     if isinstance(rule, Relation):
         assert rule.says in str(err.value)  # the bound is named, with its value
+    if isinstance(rule, Distinct):
+        assert "each value once" in str(err.value)
 
 
 @pytest.mark.parametrize(

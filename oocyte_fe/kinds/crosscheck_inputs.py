@@ -31,7 +31,14 @@ from oocyte_fe.kinds.nmsd_inputs import (
     TipAngle,
     Travel,
 )
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation, Setup
+from oocyte_fe.runner.schema import (
+    CaseInputs,
+    DataFile,
+    DataReader,
+    Distinct,
+    Relation,
+    Setup,
+)
 
 ZonaRatioReading = Literal["afm_relaxed", "afm_instantaneous"]
 
@@ -206,6 +213,7 @@ class CrosscheckInputs(CaseInputs):
         Relation("cytoplasm_diameter_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
         Relation("travel_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
         Relation("pipette_width_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Distinct("arrow_advances_um"),
         Setup(
             lambda m: PressScenario(
                 m.cell_diameter_um,

@@ -14,7 +14,7 @@ from oocyte_fe.microchannel.rheology_fit import ViscosityFit, fit_viscosity
 from oocyte_fe.microchannel.tables import read_flow_curve
 from oocyte_fe.microchannel.viscosity import viscosity_models
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Distinct
 
 PA_S = units.VISCOSITY["Pa_s"]
 
@@ -42,6 +42,8 @@ class CarreauFitInputs(CaseInputs):
         description="readings of Table 3's infinite-shear cell, per model",
         json_schema_extra={"unit": "Pa s"},
     )
+
+    rules = (Distinct("models"),)
 
     @field_validator("models")
     @classmethod

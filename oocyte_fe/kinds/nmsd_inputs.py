@@ -20,7 +20,14 @@ from nmsd.press import press_setup
 from nmsd.spindle import approach_setup
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.kinds.data_templates import TABLE_II
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation, Setup
+from oocyte_fe.runner.schema import (
+    CaseInputs,
+    DataFile,
+    DataReader,
+    Distinct,
+    Relation,
+    Setup,
+)
 
 LIBRARY_ARGS = (
     ("diameter_um", "cell_diameter_um"),
@@ -226,6 +233,9 @@ class CalibrationInputs(PressInputs):
     rules = (
         *PressInputs.rules,
         Relation("snapshot_um", "<=", lambda m: m.travel_um, "travel_um", measure="max"),
+        Distinct("models"),
+        Distinct("rate_speeds_um_s"),
+        Distinct("snapshot_um"),
     )
 
 

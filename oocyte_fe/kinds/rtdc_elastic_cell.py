@@ -22,7 +22,7 @@ from oocyte_fe.microchannel.rtdc import (
     lut_moduli_kPa,
 )
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Distinct
 
 METRICS = {
     "lut_ratio_min": "smallest E_table / E at each radius's largest modulus inside the table",
@@ -59,6 +59,8 @@ class RtdcInputs(CaseInputs):
         description="cell element size / radius",
         json_schema_extra={"unit": "1"},
     )
+
+    rules = (Distinct("radii_um"), Distinct("moduli_kPa"))
 
     @model_validator(mode="after")
     def _fits(self) -> RtdcInputs:

@@ -9,7 +9,7 @@ from pydantic import Field
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Distinct
 from oocyte_fe.tracking import benchmark as bench
 from oocyte_fe.tracking.plots import plot_precision_success, pooled
 from oocyte_fe.tracking.synthetic import benchmark_grid
@@ -29,6 +29,8 @@ class TrackingInputs(CaseInputs):
         description="names from the benchmark grid (synthetic.benchmark_grid); empty: all 24",
     )
     use_opencv: bool = Field(True, description="add OpenCV KCF and CSRT when installed")
+
+    rules = (Distinct("sequences"),)
     fps_window_px: int = Field(
         128, ge=32, description="search window for the speed test", json_schema_extra={"unit": "px"}
     )

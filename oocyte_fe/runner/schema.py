@@ -206,7 +206,7 @@ class Setup:
             raise RuleBroken(field, exc.expected, exc.got) from None
 
 
-Rule = Relation | Refining | Setup
+Rule = Relation | Refining | Distinct | Setup
 
 
 class CaseInputs(BaseModel):
