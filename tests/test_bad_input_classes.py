@@ -16,7 +16,7 @@ import math
 import shutil
 import tomllib
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, get_args, get_origin
 
 import numpy as np
 import pytest
@@ -91,11 +91,17 @@ def test_each_declared_rule_is_refused_against_its_field(
     for name in block:
         inputs = getattr(inputs, name)
     value = getattr(inputs, rule.field)
-    if isinstance(value, list | tuple) and not value:  # an empty list (no finer mesh) breaks
-        value = [2.0, 1.0]  # nothing: a refining pair, scaled or reversed below
+    empty = isinstance(value, list | tuple) and not value  # an empty list breaks nothing
+    if empty and not isinstance(rule, Distinct):  # (no finer mesh): a refining pair, scaled
+        value = [2.0, 1.0]  # or reversed below
     if isinstance(rule, Distinct):  # a value twice (pressures: two runs in one folder)
-        names = type(inputs).model_fields[rule.field].annotation == list[str]
-        broken: Any = [*value, value[0]] if value else (["a", "a"] if names else [300.0, 300.0])
+        (item,) = get_args(type(inputs).model_fields[rule.field].annotation)
+        if value:
+            broken: Any = [*value, value[0]]
+        elif get_origin(item) is Literal:
+            broken = [get_args(item)[0]] * 2  # an allowed name twice
+        else:
+            broken = ["a", "a"] if item is str else [300.0, 300.0]
     elif isinstance(rule, Refining):
         broken = list(value)[::-1]
     else:

@@ -210,6 +210,7 @@ class PressInputs(CaseInputs):
             "travel_um", "<", lambda m: m.cell_diameter_um - m.gap_um, "cell_diameter_um - gap_um"
         ),
         Setup(_press_at_validation, LIBRARY_ARGS),
+        Distinct("calibrate_extra"),
     )
 
 
