@@ -33,6 +33,7 @@ from oocyte_fe.runner.schema import (
     MEASURES,
     OPS,
     UNIT_BOUNDS,
+    Distinct,
     Refining,
     Relation,
     Rule,
@@ -395,6 +396,10 @@ def test_cross_field_rules(bases: dict, data: st.DataObject) -> None:
         order = data.draw(st.sampled_from(["reversed", "repeated", "kept"]), label="order")
         value = {"reversed": sizes[::-1], "repeated": [sizes[0], *sizes[:-1]], "kept": sizes}[order]
         broken = order != "kept"
+    elif isinstance(rule, Distinct):  # one of the values again, or the list as it is
+        values = list(getattr(inputs, rule.field))
+        broken = bool(values) and data.draw(st.booleans(), label="twice")
+        value = [*values, data.draw(st.sampled_from(values))] if broken else values
     else:  # a library setup: any number it reads, scaled; refused naming an input, or built
         numeric = [
             name
