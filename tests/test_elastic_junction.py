@@ -183,6 +183,17 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
     assert "converged after 2 passes" in text and text.count("\n| 1 |") == 1
     stretch = result.passes[1].elastic.smallest_stretch  # the crease check, per pass
     assert 0.5 < stretch < 1.0 and f"| 100% | {stretch:.3f} |" in text.split("\n| 1 |")[1]
+    # a pass whose FE stopped short: its outline is not read (no 'nan' in the table)
+    from dataclasses import replace
+
+    last = result.passes[-1]
+    cells = tuple(
+        replace(c, experiment=replace(c.experiment, success=False)) for c in last.elastic.cells
+    )
+    short = replace(last, elastic=replace(last.elastic, cells=cells))
+    text_short, _ = recompute_section(replace(result, passes=(first, short)), 300.0)
+    row = text_short.split("\n| 1 |")[1].splitlines()[0]
+    assert f"| {short.b_over_a:.4f} | - | - |" in row and "nan" not in row
     # several pressures (recompute_pressures = "all"): one summary row each
     from oocyte_fe.kinds.microchannel_vof_recompute import recompute_summary
 
