@@ -27,18 +27,16 @@ def recompute_section(
     ]
     previous = None  # the last carried pass's b/a
     for k, ps in enumerate(result.passes):
-        change = "-"
-        if previous is not None and ps.carried:
-            change = f"{100 * (ps.b_over_a / previous - 1):+.1f} %"
+        change, outline, residual = "-", "-", "-"  # no outline read where the FE stopped
+        if ps.carried:
+            outline, residual = f"{ps.shape_b_over_a:.4f}", f"{100 * ps.residual:+.2f} %"
+            if previous is not None:
+                change = f"{100 * (ps.b_over_a / previous - 1):+.1f} %"
         out = ps.elastic.left_out  # writes whose FE stopped while the others give b/a
         where = ", ".join(
             f"{x:+.1f}" + (" (left out)" if k in out else "")
             for k, x in enumerate(ps.elastic.traction_x_um)
         )
-        outline, residual = "-", "-"  # the FE's outline is not read where it stopped short
-        if ps.carried:
-            outline = f"{ps.shape_b_over_a:.4f}"
-            residual = f"{100 * (ps.shape_b_over_a / ps.start_b_over_a - 1):+.2f} %"
         rows.append(
             f"| {k} | {ps.start_b_over_a:.4f} | {ps.flow_b_over_a:.4f} | {where} "
             f"| {ps.b_over_a:.4f} | {outline} | {residual} "

@@ -29,8 +29,6 @@ class TrackingInputs(CaseInputs):
         description="names from the benchmark grid (synthetic.benchmark_grid); empty: all 24",
     )
     use_opencv: bool = Field(True, description="add OpenCV KCF and CSRT when installed")
-
-    rules = (Distinct("sequences"),)
     fps_window_px: int = Field(
         128, ge=32, description="search window for the speed test", json_schema_extra={"unit": "px"}
     )
@@ -42,6 +40,8 @@ class TrackingInputs(CaseInputs):
         200.0, gt=0, description="MFAKCF frames per second at the speed-test window, one core",
         json_schema_extra={"unit": "frames/s"},
     )  # fmt: skip
+
+    rules = (Distinct("sequences"),)
 
 
 METRICS = {

@@ -73,6 +73,15 @@ class Pass:
         return self.elastic.carried
 
     @property
+    def residual(self) -> float:
+        """The FE's outline at x = 0 against the shape the flow started from,
+        ``(b/a)_outline / (b/a)_start - 1`` (principal extents of both; NaN when the FE did
+        not carry the traction)."""
+        if not self.carried:
+            return float("nan")
+        return self.shape_b_over_a / self.start_b_over_a - 1.0
+
+    @property
     def load_fraction(self) -> float:
         """The smallest part of its load that an FE run of the read carried."""
         use = self.elastic.read_from or range(len(self.elastic.cells))
@@ -98,13 +107,8 @@ class DeformRecompute:
 
     @property
     def residual(self) -> float:
-        """The last pass's FE outline at x = 0 against the shape its flow started from,
-        ``(b/a)_outline / (b/a)_start - 1`` (principal extents of both; NaN when its FE did
-        not carry the traction)."""
-        last = self.passes[-1]
-        if not last.carried:
-            return float("nan")
-        return last.shape_b_over_a / last.start_b_over_a - 1.0
+        """The last pass's :attr:`Pass.residual`."""
+        return self.passes[-1].residual
 
     @property
     def converged(self) -> bool:
