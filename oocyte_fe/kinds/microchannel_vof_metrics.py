@@ -26,6 +26,8 @@ METRICS = {
     "interface, -sum sigma . grad(alpha) dA: |miss| / load on the band, %",
     "diffuse_explicit_imbalance_pct": "the same with the transposed part of the viscous stress "
     "at the first step's velocity (the solver's explicit term), %",
+    "diffuse_scheme_imbalance_pct": "the same with the remainder of the solver's upwind-biased "
+    "convection on the lattice (zero in the continuum; vof.convection), %",
     "elastic_cell_b_over_a": "b/a of the AFM-elastic FE cell under the traction, per pressure",
     "elastic_min_stretch": "the smallest principal stretch in the AFM-elastic FE cell, per "
     "pressure (below 0.65 a compressed neo-Hookean surface creases)",

@@ -267,10 +267,14 @@ def traction_study(
             "contour's load above). With the transposed part of the viscous stress at the "
             "first step's velocity, as the solver integrates it (explicitly): "
             f"({cb.force_explicit[0]:.2f}, {cb.force_explicit[1]:.2f}) nN/um, miss "
-            f"**{cb.explicit_imbalance_pct:.2f} %**."
+            f"**{cb.explicit_imbalance_pct:.2f} %**. With what the solver's upwind-biased "
+            "convection leaves on the lattice, -sum alpha C dA + sum (d alpha) rho u dA / dt "
+            f"= ({cb.convection[0]:.2f}, {cb.convection[1]:.2f}) nN/um (zero in the continuum; "
+            f"vof.convection): miss **{cb.scheme_imbalance_pct:.2f} %**."
         )
         metrics["diffuse_imbalance_pct"] = cb.imbalance_pct
         metrics["diffuse_explicit_imbalance_pct"] = cb.explicit_imbalance_pct
+        metrics["diffuse_scheme_imbalance_pct"] = cb.scheme_imbalance_pct
     return text, metrics
 
 

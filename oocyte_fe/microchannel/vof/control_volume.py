@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.microchannel.vof.convection import linear_upwind
 from oocyte_fe.microchannel.vof.foamfile import read_internal_field
 from oocyte_fe.microchannel.vof.geometry import Layout
 from oocyte_fe.microchannel.vof.traction import _on_lattice, lattice
@@ -195,12 +196,9 @@ def _face_terms(f: MixtureFields, dx: float, inner: tuple, outer: tuple, n: np.n
     sxy = mu * (dux_dy + duy_dx)
     t = np.column_stack([sxx * n[0] + sxy * n[1], sxy * n[0] + syy * n[1]])
     un = face(f.ux) * n[0] + face(f.uy) * n[1]  # the face flux: linear interpolation
-    out = un > 0.0  # the upwind cell is the inner one
     convected = []
     for name, u in (("ux", f.ux), ("uy", f.uy)):
         d_dx, d_dy = cell_grads[name]
         slope = d_dx * n[0] + d_dy * n[1]  # along the outward normal, per cell
-        from_inner = u[inner] + 0.5 * dx * slope[inner]
-        from_outer = u[outer] - 0.5 * dx * slope[outer]
-        convected.append(np.where(out, from_inner, from_outer))  # linearUpwind grad(U)
+        convected.append(linear_upwind(u[inner], u[outer], slope[inner], slope[outer], un, dx))
     return t, np.column_stack([rho * un * convected[0], rho * un * convected[1]]), p
