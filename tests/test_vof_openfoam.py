@@ -103,7 +103,7 @@ def test_quick_vof_case_passes(quick_case) -> None:
     """The quick junction case (300 hPa, 12.5 um): the momentum budgets of a box around the cell
     and of the cell's diffuse interface balance within 1 % of their loads (measured 0.42 % and
     0.39 %; the latter 0.68 % with the transposed viscous part at the first step, as the solver
-    takes it, and 0.44 % with the remainder of the solver's upwind-biased convection, which
+    takes it, and 0.36 % with the remainder of the solver's upwind-biased convection, which
     must close part of it), the largest Courant number stays below 1 (measured 0.24), and the
     seven checks of the case pass. The elastic cell's smallest principal stretch lies below
     sqrt(b/a), the homogeneous pure shear's (the flow's traction concentrates the compression;
