@@ -18,9 +18,9 @@ the step's start, the face values of its end) summed with the cell's fraction ``
 
 ``D`` the convection's remainder: zero in the continuum and for a velocity uniform over the
 band; across a band two cells wide it is the part of the budget's miss that the force ``F``
-cannot see. Measured on the cases'
-runs (200-900 hPa, 12.5 and 6.25 um) with it the budget of the FE's load closes to 0.07-0.47 %
-where it missed by 0.38-1.07 % (docs/elastic_cell_in_flow.md). The mass flux through a face is
+cannot see. Measured on the cases' runs (200-900 hPa, 12.5 and 6.25 um): with it the budget
+of the FE's load closes to 0.07-0.47 % where it missed by 0.38-1.07 %
+(docs/elastic_cell_in_flow.md). The mass flux through a face is
 taken as the mean of its two cells' normal velocity times their mean density at the step's
 start (the solver's ``rhoPhi`` from its own face fluxes and isoAdvector's, which are not read).
 """
