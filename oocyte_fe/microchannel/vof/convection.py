@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from oocyte_fe.microchannel.vof.walls import walled
+from oocyte_fe.microchannel.vof.walls import face_pairs, walled
 
 if TYPE_CHECKING:  # the box's module uses the face values here
     from oocyte_fe.microchannel.vof.control_volume import MixtureFields
@@ -52,13 +52,12 @@ def linear_upwind(
 
 
 def convection(
-    f: MixtureFields, dx: float, carrier: MixtureFields | None = None
+    f: MixtureFields, dx: float, carrier: MixtureFields
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each lattice cell's net outflow of momentum ``C dA = sum_faces rho_f (v_f . n) u_f ds``
     (x and y components, nN/um per unit depth): ``u_f`` the face values of ``f`` (module
     docstring), the mass flux ``rho_f v_f . n`` that of ``carrier`` (the step's start, as the
-    solver's ``rhoPhi``; default ``f``); faces next to a wall carry nothing."""
-    carrier = f if carrier is None else carrier
+    solver's ``rhoPhi``); faces next to a wall carry nothing."""
     fluid = np.isfinite(f.alpha)
     ux, uy = walled(f.ux, fluid, 0.0), walled(f.uy, fluid, 0.0)
     vx, vy = walled(carrier.ux, fluid, 0.0), walled(carrier.uy, fluid, 0.0)
@@ -67,8 +66,7 @@ def convection(
     d_dx = {k: np.gradient(u, dx, axis=1) for k, u in (("x", ux), ("y", uy))}
     out = [np.zeros_like(ux), np.zeros_like(ux)]
     for axis, normal, slopes in ((0, vy, d_dy), (1, vx, d_dx)):  # faces normal to y, to x
-        lo = (slice(None, -1), slice(None)) if axis == 0 else (slice(None), slice(None, -1))
-        hi = (slice(1, None), slice(None)) if axis == 0 else (slice(None), slice(1, None))
+        lo, hi = face_pairs(axis)
         un = np.where(fluid[lo] & fluid[hi], 0.5 * (normal[lo] + normal[hi]), 0.0)
         rho_f = 0.5 * (rho[lo] + rho[hi])
         for k, (u, slope) in enumerate(((ux, slopes["x"]), (uy, slopes["y"]))):

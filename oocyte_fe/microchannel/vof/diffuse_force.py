@@ -42,7 +42,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.vof.control_volume import MixtureFields, mixture_fields
 from oocyte_fe.microchannel.vof.convection import convection_remainder
 from oocyte_fe.microchannel.vof.geometry import Layout
-from oocyte_fe.microchannel.vof.walls import walled
+from oocyte_fe.microchannel.vof.walls import face_pairs, walled
 
 
 @dataclass(frozen=True)
@@ -83,8 +83,7 @@ def _face_laplacian(
     force on the faces, ``mu_f`` the mean of the two cells' mu."""
     out = [np.zeros_like(alpha), np.zeros_like(alpha)]
     for axis in (0, 1):
-        lo = (slice(None, -1), slice(None)) if axis == 0 else (slice(None), slice(None, -1))
-        hi = (slice(1, None), slice(None)) if axis == 0 else (slice(None), slice(1, None))
+        lo, hi = face_pairs(axis)
         mu_f = 0.5 * (mu[lo] + mu[hi])
         d_alpha = alpha[hi] - alpha[lo]
         for k, u in enumerate((ux, uy)):
