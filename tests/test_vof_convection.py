@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 
 from oocyte_fe.microchannel.vof.control_volume import MixtureFields
 from oocyte_fe.microchannel.vof.convection import convection_remainder, linear_upwind
+from oocyte_fe.microchannel.vof.walls import face_pairs
 
 RHO = 1e-15  # nN s^2/um^4 (1 kg/m^3)
 
@@ -79,3 +80,13 @@ def test_the_remainder_vanishes_at_second_order_on_a_smooth_flow():
     assert misses[0] < 3e-5
     for coarse, fine in zip(misses, misses[1:], strict=False):
         assert 3.5 < coarse / fine < 4.5
+
+
+def test_face_pairs_are_the_neighbours_across_each_interior_face():
+    """``field[hi] - field[lo]`` is the difference across each interior face: numpy's diff
+    along rows (faces normal to y) and columns (normal to x), exactly."""
+    field = np.arange(20.0).reshape(4, 5) ** 2
+    for axis in (0, 1):
+        lo, hi = face_pairs(axis)
+        np.testing.assert_array_equal(field[hi] - field[lo], np.diff(field, axis=axis))
+    assert face_pairs(0)[0] == (slice(None, -1), slice(None))
