@@ -14,7 +14,8 @@ frames to recover after occlusion, fps), the gains over KCF (HOG) next to the se
 core (issue 21's goal >= 200; issue 29's >= 500 while tracking is the table's column "fps
 tracking (CPU)"). Several minutes (CSRT is slow); run it niced:
 ``nice -n 10 python3 benchmarks/tracking.py [--frames 300] [--no-opencv] [--only NAME ...]
-[--seed-offset N ...] [--model heldout|turn --seed0 N ...] [--trackers NAME ...]``
+[--seed-offset N ...] [--model heldout|turn --seed0 N ...] [--trackers NAME ...]
+[--perturb EPS --copies N]``
 (``--seed-offset 1000 2000``:
 the same 24 sequences drawn anew, :func:`oocyte_fe.tracking.benchmark.reseeded`; ``--model
 heldout``: the 12 conditions of the second, independent video model of
@@ -23,7 +24,9 @@ turning spindles of :func:`oocyte_fe.tracking.synthetic.turning_grid` per ``--se
 With several draws it also prints each draw's pooled figures and their spread, and the
 figures per condition group against OpenCV CSRT: the protocol of docs/tracking.md
 (settings picked on some draws, reported on the others once; adopted only if the held-out
-win exceeds the spread).
+win exceeds the spread). With ``--perturb 1e-4`` it instead runs the trackers (MFAKCF always)
+on ``--copies`` perturbed copies of the same sequences and prints each tracker's pooled
+figures per copy and its paired difference from MFAKCF (:mod:`oocyte_fe.tracking.paired`).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ import time
 
 from oocyte_fe.tracking import benchmark as bench
 from oocyte_fe.tracking.heldout import generate_heldout, heldout_grid
+from oocyte_fe.tracking.paired import paired_table, perturbed
 from oocyte_fe.tracking.synthetic import benchmark_grid, generate, turning_grid
 
 
@@ -56,6 +60,13 @@ def main() -> None:
     parser.add_argument(
         "--seed0", type=int, nargs="*", default=[50_000], help="heldout / turn draws"
     )
+    parser.add_argument(
+        "--perturb",
+        type=float,
+        default=0.0,
+        help="paired comparison: frames x (1 + EPS N(0,1)) on --copies copies (e.g. 1e-4)",
+    )
+    parser.add_argument("--copies", type=int, default=4, help="perturbed copies (--perturb)")
     args = parser.parse_args()
     if args.model == "heldout":
         specs = [s for seed0 in args.seed0 for s in heldout_grid(args.frames, seed0)]
@@ -71,6 +82,18 @@ def main() -> None:
         render = generate
     t0 = time.perf_counter()
     ours = {k: v for k, v in bench.ABLATION.items() if not args.trackers or k in args.trackers}
+    if args.perturb > 0:
+        ours = {"MFAKCF": bench.MFAKCF, **ours}
+        copies = [
+            bench.run_benchmark(
+                specs, False, ours, notify=print, render=perturbed(render, args.perturb, k)
+            )
+            for k in range(1, args.copies + 1)
+        ]
+        print(f"\n{args.copies} copies, frames x (1 + {args.perturb:g} N(0, 1)), pooled P20 / AUC:")
+        print(paired_table(copies, list(ours), "MFAKCF"))
+        print(f"{time.perf_counter() - t0:.0f} s")
+        return
     result = bench.run_benchmark(specs, not args.no_opencv, ours, notify=print, render=render)
     print(f"\n{len(specs)} sequences x {args.frames} frames in {time.perf_counter() - t0:.0f} s")
     print(f"OpenCV: {result.opencv or 'not used'}\n")
