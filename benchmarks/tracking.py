@@ -32,6 +32,7 @@ figures per copy and its paired difference from MFAKCF (:mod:`oocyte_fe.tracking
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import time
 
@@ -68,6 +69,8 @@ def main() -> None:
     )
     parser.add_argument("--copies", type=int, default=4, help="perturbed copies (--perturb)")
     args = parser.parse_args()
+    if not (math.isfinite(args.perturb) and args.perturb >= 0) or args.copies < 1:
+        parser.error("--perturb must be a finite number >= 0 and --copies >= 1")
     if args.model == "heldout":
         specs = [s for seed0 in args.seed0 for s in heldout_grid(args.frames, seed0)]
         render = generate_heldout
