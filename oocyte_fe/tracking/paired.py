@@ -52,11 +52,16 @@ def figures(result: BenchmarkResult, tracker: str) -> np.ndarray:
     return np.array([summary[k] for k in FIGURES])
 
 
+def _per_copy(copies: list[BenchmarkResult], tracker: str) -> np.ndarray:
+    """The tracker's :func:`figures` on each copy, (copies, 2)."""
+    return np.array([figures(r, tracker) for r in copies])
+
+
 def paired_differences(
     copies: list[BenchmarkResult], tracker: str, baseline: str = "MFAKCF"
 ) -> np.ndarray:
     """``d_k`` (copies, 2): the tracker's pooled figures less the baseline's on each copy."""
-    return np.array([figures(r, tracker) - figures(r, baseline) for r in copies])
+    return _per_copy(copies, tracker) - _per_copy(copies, baseline)
 
 
 def paired_table(copies: list[BenchmarkResult], trackers: list[str], baseline: str) -> str:
@@ -64,12 +69,14 @@ def paired_table(copies: list[BenchmarkResult], trackers: list[str], baseline: s
     baseline (mean and range over the copies)."""
     head = "| tracker | " + " | ".join(f"copy {k + 1}" for k in range(len(copies)))
     lines = [head + " | paired difference, mean (range) |", "|---" * (len(copies) + 2) + "|"]
+    base = _per_copy(copies, baseline)
     for name in trackers:
-        cells = [" / ".join(f"{v:.3f}" for v in figures(r, name)) for r in copies]
+        own = _per_copy(copies, name)
+        cells = [" / ".join(f"{v:.3f}" for v in row) for row in own]
         if name == baseline:
             diff = "-"
         else:
-            d = paired_differences(copies, name, baseline)
+            d = own - base
             diff = " / ".join(
                 f"{m:+.3f} ({lo:+.3f} to {hi:+.3f})"
                 for m, lo, hi in zip(d.mean(0), d.min(0), d.max(0), strict=True)
