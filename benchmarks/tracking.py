@@ -32,7 +32,6 @@ figures per copy and its paired difference from MFAKCF (:mod:`oocyte_fe.tracking
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import time
 
@@ -69,8 +68,8 @@ def main() -> None:
     )
     parser.add_argument("--copies", type=int, default=4, help="perturbed copies (--perturb)")
     args = parser.parse_args()
-    if not (math.isfinite(args.perturb) and args.perturb >= 0) or args.copies < 1:
-        parser.error("--perturb must be a finite number >= 0 and --copies >= 1")
+    if not 0 <= args.perturb < 1 or args.copies < 1:  # NaN fails the first test
+        parser.error("--perturb must be a relative perturbation in [0, 1) and --copies >= 1")
     if args.model == "heldout":
         specs = [s for seed0 in args.seed0 for s in heldout_grid(args.frames, seed0)]
         render = generate_heldout

@@ -28,7 +28,7 @@ def test_a_copy_is_the_frames_times_one_plus_eps_noise_and_repeats():
 
 
 @pytest.mark.parametrize(
-    "eps, copy", [(-1e-4, 1), (float("nan"), 1), (float("inf"), 1), (1e-4, -1)]
+    "eps, copy", [(-1e-4, 1), (float("nan"), 1), (float("inf"), 1), (1.0, 1), (1e-4, -1)]
 )
 def test_nonsense_perturbations_are_refused(eps: float, copy: int):
     with pytest.raises(ValueError, match="eps|copy"):

@@ -27,8 +27,8 @@ def perturbed(render: Callable, eps: float, copy: int) -> Callable:
     """A renderer like ``render`` (spec -> sequence) whose frames are multiplied by
     ``1 + eps n`` (module doc); the draw of ``n`` is fixed by ``copy`` and the spec's seed,
     so every tracker sees the same copy."""
-    if not (np.isfinite(eps) and eps >= 0):
-        raise ValueError(f"eps must be a finite number >= 0, got {eps}")
+    if not 0 <= eps < 1:  # NaN fails too; from 1 on, intensities may turn negative
+        raise ValueError(f"eps must be a relative perturbation in [0, 1), got {eps}")
     if copy < 0:
         raise ValueError(f"copy must be >= 0, got {copy}")
 
