@@ -135,6 +135,15 @@ def test_height_channel_override_reaches_the_table(tmp_path):
     [row] = _rows(tmp_path / "out" / "piezo")
     assert row["height_channel"] == "height (piezo)"
     assert float(row["E_kPa"]) > 3000  # the piezo channel's wrong 10 245 kPa (issue 17 item 1)
+    # peer: the library's fit of the same file read through the piezo channel (the case's
+    # defaults: cone 30 deg, nu 0.5), to the CSV's 6 digits (1e-5)
+    from afm.curve_io import read_curve
+    from afm.fit import fit_indentation
+
+    path = case / "curves" / "fmt-jpk-fd_spot3-0192.jpk-force"
+    piezo = read_curve(path, height_channel="height (piezo)")
+    expected = fit_indentation(piezo, "sneddon_cone", {"half_angle_deg": 30.0}, 0.5).E_kPa
+    assert float(row["E_kPa"]) == pytest.approx(expected, rel=1e-5)
 
 
 def test_group_names_cannot_leave_the_result_folder(tmp_path):

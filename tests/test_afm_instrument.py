@@ -106,6 +106,14 @@ def test_force_map_gives_a_modulus_per_position(tmp_path):
     assert len(positions) == 4
     moduli = [r.fit.E_kPa for r in result.rows]
     assert all(m > 0 for m in moduli) and len(set(np.round(moduli, 3))) == 4
+    # each E is the least-squares modulus of its own window (the fit's normal equation in E,
+    # dF/dE = shape): E = sum F s / sum s^2 with Sneddon's cone s = 2 tan(alpha) delta^2 /
+    # (pi (1 - nu^2)) at the fitted contact, alpha = 30 deg, nu = 0.5 (measured 1e-13; 1e-8)
+    for r in result.rows:
+        delta = np.clip(r.fit.indentation_um, 0.0, None)
+        shape = 2.0 / np.pi * np.tan(np.radians(30.0)) / (1.0 - 0.5**2) * delta**2
+        force = r.fit.force_nN - r.fit.offset_nN
+        assert r.fit.E_kPa == pytest.approx(np.dot(force, shape) / np.dot(shape, shape), rel=1e-8)
     assert plot_modulus_map(result, path, tmp_path / "map.png").stat().st_size > 5_000
 
 

@@ -13,7 +13,7 @@ import skfem
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.mesh import block_mesh, check_mesh, read_mesh, require_groups
-from oocyte_fe.mesh.quality import shape_quality
+from oocyte_fe.mesh.quality import DEGENERATE_RTOL, shape_quality
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -40,7 +40,15 @@ def _moved(mesh: skfem.Mesh, vertex: int, xy: np.ndarray) -> skfem.Mesh:
 
 def test_valid_meshes_pass():
     for order in (1, 2):
-        check_mesh(block_mesh(40.0, 30.0, 5.0, order=order), "block")
+        mesh = block_mesh(40.0, 30.0, 5.0, order=order)
+        assert check_mesh(mesh, "block") is None  # passes: no InputError
+        # what "valid" means, checked on the numbers: every triangle above the degenerate
+        # bound, and the unsigned corner areas tile the 40 x 30 um rectangle exactly (an
+        # inverted or overlapping element would add area): 1200 um^2 to round-off (1e-12)
+        assert shape_quality(mesh).min() > DEGENERATE_RTOL
+        a, b, c = (mesh.p[:, mesh.t[i]] for i in range(3))
+        area = 0.5 * np.abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+        assert area.sum() == pytest.approx(40.0 * 30.0, rel=1e-12)
 
 
 def test_inverted_element_is_caught():
