@@ -60,8 +60,13 @@ class ForceCurve:
             raise InputError(src, "piezo_um", f"at least {MIN_POINTS} points", piezo.size)
         for name, values in (("piezo_um", piezo), ("force_nN", force)):
             bad = np.flatnonzero(~np.isfinite(values))
-            if bad.size:
-                raise InputError(src, name, f"finite numbers (NaN/inf at row {bad[0]})")
+            if bad.size:  # rows as checks.increasing counts them: 1 = below the header
+                row = int(bad[0])
+                raise InputError(
+                    src,
+                    name,
+                    f"finite numbers (NaN/inf at data row {row + 1}: {float(values[row])!r})",
+                )
         travel = float(piezo[-1] - piezo[0])
         step_back = np.maximum.accumulate(piezo) - piezo
         if not travel > 0 or float(step_back.max()) > MAX_JITTER_FRACTION * travel:
@@ -71,7 +76,9 @@ class ForceCurve:
                 "piezo_um",
                 "a monotonic approach (travel towards the sample; steps back up to "
                 f"{100 * MAX_JITTER_FRACTION:g} % of the travel are taken as sensor jitter)",
-                None if row is None else f"a step back of {step_back[row]:.3g} um at row {row}",
+                None
+                if row is None
+                else f"a step back of {step_back[row]:.3g} um at data row {row + 1}",
             )
         if self.time_s is not None:
             time = increasing(src, "time_s", self.time_s)

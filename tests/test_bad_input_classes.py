@@ -34,23 +34,9 @@ from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import kinds
 from oocyte_fe.runner.schema import UNIT_BOUNDS, Distinct, Refining, Relation, unit_of
+from tests.case_copies import edited_case
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
-
-
-def _case(tmp_path: Path, name: str, **inputs: Any) -> Path:
-    """A copy of ``cases/<name>`` with ``inputs`` set (dotted keys reach nested blocks)."""
-    folder = tmp_path / name
-    shutil.copytree(CASES / name, folder)
-    raw = tomllib.loads((folder / "case.toml").read_text())
-    for key, value in inputs.items():
-        table = raw["inputs"]
-        *parents, last = key.split(".")
-        for part in parents:
-            table = table.setdefault(part, {})
-        table[last] = value
-    (folder / "case.toml").write_text(tomli_w.dumps(raw))
-    return folder
 
 
 # --- 1. cross-field geometry -----------------------------------------------------------------
@@ -111,7 +97,7 @@ def test_each_declared_rule_is_refused_against_its_field(
         if rule.measure == "norm":
             broken = [v * target / math.hypot(*value) for v in value]
     field = ".".join((*block, rule.field))
-    folder = _case(tmp_path, SHIPPED[kind], **{field: broken})
+    folder = edited_case(tmp_path, SHIPPED[kind], **{field: broken})
     with pytest.raises(InputError, match=rf"case\.toml: inputs\.{field}: expected") as err:
         load_case(folder)
     if isinstance(rule, Relation):
@@ -134,7 +120,7 @@ def test_spindle_geometry_is_found_at_validate(
 ) -> None:
     """What ``run`` would refuse after a calibration (the library's own setup, run at
     validation), named against the case's field."""
-    folder = _case(tmp_path, "nmsd_spindle_offset", **inputs)
+    folder = edited_case(tmp_path, "nmsd_spindle_offset", **inputs)
     with pytest.raises(InputError, match=rf"inputs\.{field}: expected .*{expected}"):
         load_case(folder)
 
@@ -155,7 +141,7 @@ def test_physical_bounds_per_unit(
     tmp_path: Path, kind: str, name: str, unit: str, value: float
 ) -> None:
     low, high = UNIT_BOUNDS[unit]
-    folder = _case(tmp_path, SHIPPED[kind], **{name: value})
+    folder = edited_case(tmp_path, SHIPPED[kind], **{name: value})
     if low <= value <= high:
         return  # within the bounds of this unit (5e11 is a fine time in s, not in um)
     with pytest.raises(InputError, match=rf"inputs\.{name}: expected") as err:
@@ -203,10 +189,13 @@ def test_a_declared_quantity_is_held_to_its_bounds(
     low, high, unit = QUANTITIES[quantity]
     bound = low if where == "low" else high
     case = _shipped_case(kind)
-    assert getattr(load_case(_case(tmp_path / "at", case, **{name: bound})).inputs, name) == bound
+    assert (
+        getattr(load_case(edited_case(tmp_path / "at", case, **{name: bound})).inputs, name)
+        == bound
+    )
     beyond = [low * (1 - 1e-9), 0.0, -low] if where == "low" else [high * (1 + 1e-9), 2 * high]
     for value in beyond:
-        folder = _case(tmp_path / repr(value), case, **{name: value})
+        folder = edited_case(tmp_path / repr(value), case, **{name: value})
         with pytest.raises(InputError, match=rf"inputs\.{name}: expected") as err:
             load_case(folder)
         assert f"[{low:g}, {high:g}] {unit}" in str(err.value)
@@ -216,7 +205,7 @@ def test_a_declared_quantity_is_held_to_its_bounds(
 def test_spring_constants_have_a_physical_bound(tmp_path: Path, value: float) -> None:
     """N/m (spring constants): [1e-12, 1e9] N/m, the bound of nN/um over 1000, in both the case
     schema and the afm conversion every reader uses."""
-    folder = _case(tmp_path, "afm_creep_prony", spring_constant_N_per_m=value)
+    folder = edited_case(tmp_path, "afm_creep_prony", spring_constant_N_per_m=value)
     bound = "[1e-12, 1e+09] N/m"
     with pytest.raises(InputError, match=r"inputs\.spring_constant_N_per_m: expected") as err:
         load_case(folder)
@@ -289,6 +278,12 @@ def test_degenerate_flow_curves_are_refused_before_the_fit(
 def test_a_fit_on_good_data_reports_a_finite_r2() -> None:
     fit = fit_viscosity("carreau", RATE, ETA)
     assert fit.success and 0.9 < fit.r2 <= 1.0 and math.isfinite(fit.r2_log)
+    # the two figures are their definitions, 1 - SS_res / SS_tot on eta and on ln eta, of the
+    # fitted curve (round-off: 1e-12)
+    eta_fit = fit.rheology.viscosity(RATE)
+    for y, y_fit, r2 in ((ETA, eta_fit, fit.r2), (np.log(ETA), np.log(eta_fit), fit.r2_log)):
+        defined = 1.0 - np.sum((y - y_fit) ** 2) / np.sum((y - y.mean()) ** 2)
+        assert r2 == pytest.approx(defined, rel=1e-12, abs=1e-12)
 
 
 def test_rules_are_declared_where_a_new_kind_inherits_them() -> None:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import skfem
+from pydantic import ValidationError
 
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError, SolverError
@@ -34,6 +35,7 @@ from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.experiment.tools import obstacle
 from oocyte_fe.fe.fields import stress_fields
 from oocyte_fe.fe.obstacles import Polyline, wedge_tip
+from oocyte_fe.runner.casefile import raise_validation_error
 
 PIPETTE = "pipette"
 HELD = "held"
@@ -140,47 +142,49 @@ def press_experiment(
     v = scenario.speed_um_s
     n_out = max(1, int(np.ceil(travel_um / settings.step_um - 1e-9)))
     duration = travel_um / v
-    return Experiment.model_validate(
-        {
-            "description": "NMSD press scenario, plane strain",
-            "cell": {
-                "outer_diameter_um": 2.0 * scenario.radius_um,
-                "zona_thickness_um": scenario.zona_thickness_um,
-                "symmetry": "plane_strain",
-                "mesh_size_um": settings.size_um,
-                "refine_size_um": settings.refine_size_um,
-                "refine_depth_um": settings.refine_depth_um,
-                "refine_half_angle_deg": settings.refine_half_window_deg,
-                "materials": {
-                    "zona": inline_table(materials.zona),
-                    "cytoplasm": inline_table(materials.cytoplasm),
-                },
-                "points": {f"p{i}": [float(x), float(y)] for i, (x, y) in enumerate(points_um)},
+    description = {
+        "description": "NMSD press scenario, plane strain",
+        "cell": {
+            "outer_diameter_um": 2.0 * scenario.radius_um,
+            "zona_thickness_um": scenario.zona_thickness_um,
+            "symmetry": "plane_strain",
+            "mesh_size_um": settings.size_um,
+            "refine_size_um": settings.refine_size_um,
+            "refine_depth_um": settings.refine_depth_um,
+            "refine_half_angle_deg": settings.refine_half_window_deg,
+            "materials": {
+                "zona": inline_table(materials.zona),
+                "cytoplasm": inline_table(materials.cytoplasm),
             },
-            "tools": {
-                PIPETTE: {
-                    "type": "wedge_pipette",
-                    "side": "right",
-                    "width_um": scenario.pipette_width_um,
-                    "tip_angle_deg": scenario.tip_angle_deg,
-                    "penalty_factor": settings.penalty_factor,
-                    "smoothing_um": settings.contact_smoothing_um,
-                    "displacement_um": {"time_s": [0.0, duration], "value": [0.0, travel_um]},
-                },
-                HELD: {
-                    "type": "holding_pipette",
-                    "side": "left",
-                    "half_width_um": scenario.hold_half_width_um,
-                },
+            "points": {f"p{i}": [float(x), float(y)] for i, (x, y) in enumerate(points_um)},
+        },
+        "tools": {
+            PIPETTE: {
+                "type": "wedge_pipette",
+                "side": "right",
+                "width_um": scenario.pipette_width_um,
+                "tip_angle_deg": scenario.tip_angle_deg,
+                "penalty_factor": settings.penalty_factor,
+                "smoothing_um": settings.contact_smoothing_um,
+                "displacement_um": {"time_s": [0.0, duration], "value": [0.0, travel_um]},
             },
-            "time": {
-                "duration_s": duration,
-                "frames": n_out,
-                "max_step_s": settings.max_step_um / v,
-                "rtol": settings.rtol,
+            HELD: {
+                "type": "holding_pipette",
+                "side": "left",
+                "half_width_um": scenario.hold_half_width_um,
             },
-        }
-    )
+        },
+        "time": {
+            "duration_s": duration,
+            "frames": n_out,
+            "max_step_s": settings.max_step_um / v,
+            "rtol": settings.rtol,
+        },
+    }
+    try:
+        return Experiment.model_validate(description)
+    except ValidationError as err:  # a setting the kind's rules let through: one line
+        raise_validation_error(settings.source, err, prefix="FE press experiment: ")
 
 
 def _solve(exp: Experiment, log: logging.Logger | None) -> dict[str, np.ndarray]:

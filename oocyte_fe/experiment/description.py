@@ -32,6 +32,8 @@ from oocyte_fe.runner.schema import CaseInputs, DataFile, Relation, RuleBroken
 Side = Literal["top", "bottom", "left", "right"]
 Length = Annotated[float, Field(gt=0, le=1e4)]
 Friction = Annotated[float, Field(ge=0, le=2)]
+MAX_FRAMES = 10_000
+"""Most output frames of an experiment (one solver step each)."""
 
 
 def _readable_material(path: Path) -> Path:
@@ -358,7 +360,7 @@ class TimePath(CaseInputs):
     )
     frames: int = Field(
         gt=0,
-        le=10_000,
+        le=MAX_FRAMES,
         description="output frames (one solver step each)",
         json_schema_extra={"unit": "1"},
     )
@@ -486,6 +488,8 @@ class Experiment(CaseInputs):
             path = tool.displacement_um if isinstance(tool, ToolBase) else None
             if path is not None and max(path.value) - tool.gap_um >= 2 * r:
                 raise ValueError(f"{where}.displacement_um: a travel into the cell below {2 * r:g}")
+            if isinstance(tool, Cone) and path is not None:
+                _cone_reaches(where, tool, max(path.value) - tool.gap_um)
         held = any(
             isinstance(t, HoldingPipette) or (isinstance(t, StraightPipette) and t.seal == "fixed")
             for t in self.tools.values()
@@ -514,7 +518,36 @@ class Experiment(CaseInputs):
                 raise ValueError(f"tools.{name}.friction: 0 with kinematics 'small_strain'")
 
     def _sections(self) -> Experiment:
+        """Section times and the last time of every path within ``time.duration_s``: the
+        driver solves up to the duration, so a path's later values would never be applied."""
         for t in self.record.sections_at_s:
             if t > self.time.duration_s:
                 raise ValueError(f"record.sections_at_s within the duration ({t:g} s)")
+        parts = [("tools", self.tools), ("loads", self.loads)]
+        for group, named in parts:
+            for name, part in named.items():
+                for key in PATH_FIELDS:
+                    path = getattr(part, key, None)
+                    if isinstance(path, PathSpec) and path.time_s[-1] > self.time.duration_s:
+                        raise ValueError(
+                            f"{group}.{name}.{key}.time_s within time.duration_s = "
+                            f"{self.time.duration_s:g} s (the path runs to {path.time_s[-1]:g} s; "
+                            "its values after the duration would never be applied)"
+                        )
         return self
+
+
+PATH_FIELDS = ("displacement_um", "suction_Pa", "pressure_Pa", "scale")
+"""The fields of tools and loads that hold a :class:`PathSpec` (a history in time)."""
+
+
+def _cone_reaches(where: str, cone: Cone, travel_um: float) -> None:
+    """ValueError unless the cone's flank reaches deeper than its travel into the cell: past
+    its end (``length_um`` along the flank) the cell would wrap around the cone's base."""
+    a, rho = np.deg2rad(cone.half_angle_deg), cone.tip_radius_um
+    reach = rho * (1.0 - np.sin(a)) + cone.length_um * np.cos(a)  # as tools.cone_profile
+    if travel_um >= reach:
+        raise ValueError(
+            f"{where}.length_um: a cone reaching deeper than its travel into the cell "
+            f"({travel_um:g} um; length_um = {cone.length_um:g} um reaches {reach:.4g} um)"
+        )

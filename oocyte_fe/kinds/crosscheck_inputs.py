@@ -14,6 +14,7 @@ from nmsd.pipette import (
     TABLE_I_WIDTH_UM,
 )
 from oocyte_fe.crosscheck.scenario import PressScenario
+from oocyte_fe.experiment.description import MAX_FRAMES
 from oocyte_fe.kinds.data_templates import CREEP
 from oocyte_fe.kinds.nmsd_inputs import (
     CellDiameter,
@@ -213,6 +214,25 @@ class CrosscheckInputs(CaseInputs):
         Relation("cytoplasm_diameter_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
         Relation("travel_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
         Relation("pipette_width_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
+        Relation(  # the FE cell's ZP, (cell - cytoplasm) / 2, thinner than half its radius
+            "cytoplasm_diameter_um",
+            ">",
+            lambda m: 0.5 * m.cell_diameter_um,
+            "half the cell diameter (a ZP thinner than half the cell radius)",
+        ),
+        Relation(
+            "fe_size_um",
+            "<=",
+            lambda m: 0.25 * m.cytoplasm_diameter_um,
+            "half the cytoplasm radius",
+        ),
+        Relation("fe_refine_size_um", "<=", lambda m: m.fe_size_um, "fe_size_um"),
+        Relation(
+            "fe_step_um",
+            ">=",
+            lambda m: m.travel_um / MAX_FRAMES,
+            f"travel_um / {MAX_FRAMES} (at most {MAX_FRAMES} output frames)",
+        ),
         Distinct("arrow_advances_um"),
         Setup(
             lambda m: PressScenario(

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
@@ -42,6 +42,16 @@ class TrackingInputs(CaseInputs):
     )  # fmt: skip
 
     rules = (Distinct("sequences"),)
+
+    @field_validator("sequences")
+    @classmethod
+    def _known(cls, value: list[str]) -> list[str]:
+        """Names of the benchmark grid (found at ``validate``, not when the run starts)."""
+        known = sorted(s.name for s in benchmark_grid())
+        unknown = [name for name in value if name not in known]
+        if unknown:
+            raise ValueError(f"names among {', '.join(known)} (unknown: {', '.join(unknown)})")
+        return value
 
 
 METRICS = {

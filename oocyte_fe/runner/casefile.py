@@ -26,7 +26,7 @@ import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
@@ -248,7 +248,7 @@ def did_you_mean(word: str, known: list[str]) -> str:
 
 def raise_validation_error(
     file: Path | str, err: ValidationError, prefix: str = "", model: type[BaseModel] | None = None
-) -> None:
+) -> NoReturn:
     """Turn the first pydantic error into one :class:`InputError` line.
 
     ``model`` (the validated class) lets an unknown key get a "did you mean" suggestion.

@@ -216,17 +216,29 @@ def new_case(kind: CaseKind, folder: Path, template: str | None = None) -> list[
         "# overrides of [inputs] for --full (fine meshes, long records)",
         "",
     ]
-    folder.mkdir(parents=True, exist_ok=True)
     written = [folder / CASE_FILE]
-    written[0].write_text("\n".join(lines))
+    _write(folder, written[0], "\n".join(lines))
     for name, doc in files.items():
         path = folder / f"{name}{doc.suffix}"
         if path.exists():
             continue
         # no comment lines: not every reader skips them (what the rows are is in case.toml)
-        path.write_text(doc.template)
+        _write(folder, path, doc.template)
         written.append(path)
     return written
+
+
+def _write(folder: Path, path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` in ``folder`` (made if missing); one line if it cannot be."""
+    if folder.exists() and not folder.is_dir():
+        raise InputError(folder, "FOLDER", "a folder for the new case, not a file")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    except OSError as exc:
+        raise InputError(
+            path, "FOLDER", "a folder the case can be written to", exc.strerror
+        ) from None
 
 
 def _new_from_template(kind: CaseKind, folder: Path, template: str | None) -> list[Path]:
@@ -245,7 +257,6 @@ def _new_from_template(kind: CaseKind, folder: Path, template: str | None) -> li
     ]
     body = {"kind": kind.name, "description": description, "timeout_s": DEFAULT_TIMEOUT_S}
     text = "\n".join(head) + tomli_w.dumps(body) + "\n" + tomli_w.dumps({"inputs": inputs})
-    folder.mkdir(parents=True, exist_ok=True)
     path = folder / CASE_FILE
-    path.write_text(text)
+    _write(folder, path, text)
     return [path]

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.tracking import metrics
 from oocyte_fe.tracking.plots import plot_precision_success, plot_trajectory
@@ -62,6 +63,24 @@ def check_box(box: tuple[float, float, float, float], frame_shape: tuple[int, in
         )  # fmt: skip
 
 
+def check_truth_centres(path: str | Path, boxes: np.ndarray, frame_shape: tuple[int, int]) -> None:
+    """InputError unless every ground-truth box (x, y, w, h) px has its centre inside the
+    (H, W) frame (a box off the frame is a column or row mix-up, not a spindle)."""
+    rows, cols = frame_shape
+    centres = boxes[:, :2] + 0.5 * boxes[:, 2:]
+    outside = np.flatnonzero(
+        (centres[:, 0] < 0) | (centres[:, 0] > cols) | (centres[:, 1] < 0) | (centres[:, 1] > rows)
+    )
+    if outside.size:
+        k = int(outside[0])
+        raise InputError(
+            path,
+            f"data row {k + 1}",
+            f"a box centred inside the {cols} x {rows} px frame",
+            ",".join(f"{v:g}" for v in boxes[k]),
+        )
+
+
 def track_video(
     video: str | Path,
     box: str | tuple[float, float, float, float],
@@ -85,11 +104,18 @@ def track_video(
         raise InputError(
             "--pixel-um/--fps", "pixel_um, fps, max_speed_um_s", "finite values > 0", values
         )
+    checks.quantity("--pixel-um", "pixel_um", pixel_um, "length_um")
+    low, high, _ = checks.QUANTITIES["time_s"]  # a frame interval of 1 ns to 30 years
+    rates = f"a frame rate in [{1 / high:g}, {1 / low:g}] frames/s"
+    checks.number("--fps", "fps", fps, ge=1 / high, le=1 / low, expected=rates)
     config = replace(config, max_step_px=max_step_px(max_speed_um_s, fps, pixel_um))
     calibration = Calibration(pixel_um, fps)
     first = parse_box(box if isinstance(box, str) else ",".join(repr(float(v)) for v in box))
     frames = read_frames(video)
     check_box(first, frames.shape[1:])
+    if min(first[2:]) < config.cell:  # smaller than one feature cell: nothing to learn
+        text = ",".join(f"{v:g}" for v in first)
+        raise InputError("--box", "box", f"W, H >= {config.cell} px (one feature cell)", text)
     truth_boxes = None
     if truth is not None:
         truth_boxes = read_boxes_csv(truth)
@@ -97,8 +123,16 @@ def track_video(
             raise InputError(truth, "rows", f"{len(frames)} boxes, one per frame", len(truth_boxes))
         if not np.all(np.isfinite(truth_boxes)) or np.any(truth_boxes[:, 2:] <= 0):
             raise InputError(truth, "x_px, y_px, w_px, h_px", "finite boxes with w, h > 0 px")
+        check_truth_centres(truth, truth_boxes, frames.shape[1:])
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        raise InputError(out, "--out", "a folder for the outputs, not a file")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(
+            out, "--out", "a folder the outputs can be written to", exc.strerror
+        ) from None
     result = track(frames, first, config)
     write_track_csv(
         out / "track.csv", result.boxes, result.confidence, calibration, result.lost,

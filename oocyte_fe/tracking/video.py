@@ -7,11 +7,13 @@ Frames come in as a float64 array (T, H, W); colour frames are averaged over the
 from __future__ import annotations
 
 import csv
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
 TIFF_SUFFIXES = (".tif", ".tiff")
@@ -53,7 +55,10 @@ def read_frames(path: str | Path) -> np.ndarray:
             frames = iio.imread(path, index=None)
     except Exception as exc:  # the readers raise many types for unreadable files
         raise InputError(path, "", "a readable TIFF stack, video or GIF", str(exc)) from None
-    return as_gray_stack(np.asarray(frames, dtype=np.float64), path)
+    frames = np.asarray(frames)
+    if frames.dtype.kind not in "biuf":  # complex: the cast would drop the imaginary part
+        raise InputError(path, "", "real pixel values (integer or float)", str(frames.dtype))
+    return as_gray_stack(frames.astype(np.float64), path)
 
 
 COLOUR_CHANNELS = (3, 4)
@@ -120,17 +125,34 @@ def write_track_csv(
             )  # fmt: skip
 
 
+BOX_COLUMNS = ("x_px", "y_px", "w_px", "h_px")
+
+
 def read_boxes_csv(path: str | Path) -> np.ndarray:
-    """Boxes (T, 4) px from a CSV with columns x_px, y_px, w_px, h_px (a track or truth file)."""
+    """Boxes (T, 4) px from a CSV with columns x_px, y_px, w_px, h_px (a track or truth file).
+
+    Read through :func:`oocyte_fe.checks.read_text` (a regular UTF-8 file; a FIFO never
+    blocks); a data row with fewer or more cells than the header is refused, naming it
+    (1 = the first row below the header).
+    """
     path = Path(path)
+    field = ", ".join(BOX_COLUMNS)
+    text = checks.read_text(path, field)
     try:
-        with open(path, newline="") as fh:
-            rows = list(csv.DictReader(fh))
-        return np.array([[float(r[k]) for k in ("x_px", "y_px", "w_px", "h_px")] for r in rows])
-    except (OSError, KeyError, ValueError) as exc:
-        raise InputError(
-            path, "x_px, y_px, w_px, h_px", "a CSV with these columns", str(exc)
-        ) from None
+        rows = list(csv.DictReader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        raise InputError(path, field, "a CSV with these columns", str(exc)) from None
+    for number, row in enumerate(rows, start=1):
+        if None in row or None in row.values():  # cells beyond the header, or missing
+            raise InputError(path, f"data row {number}", "as many cells as header columns")
+    try:
+        return np.array([[float(r[k]) for k in BOX_COLUMNS] for r in rows])
+    except (KeyError, ValueError) as exc:
+        raise InputError(path, field, "a CSV with these columns", str(exc)) from None
+
+
+GIF_MAX_DELAY_MS = 655_350.0
+"""Longest frame delay a GIF stores (65535 hundredths of a second)."""
 
 
 def write_overlay_gif(
@@ -155,4 +177,5 @@ def write_overlay_gif(
             if 0 <= c < cols:
                 img[ys, c] = 255
         images.append(img)
-    iio.imwrite(path, np.array(images), duration=1000.0 / fps * every, loop=0)
+    delay_ms = min(1000.0 / fps * every, GIF_MAX_DELAY_MS)  # a slow time-lapse: the longest delay
+    iio.imwrite(path, np.array(images), duration=delay_ms, loop=0)

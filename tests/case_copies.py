@@ -1,0 +1,27 @@
+"""A shipped case copied to a temporary folder with some of its inputs changed."""
+
+from __future__ import annotations
+
+import shutil
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import tomli_w
+
+CASES = Path(__file__).resolve().parents[1] / "cases"
+
+
+def edited_case(tmp_path: Path, name: str, **inputs: Any) -> Path:
+    """A copy of ``cases/<name>`` with ``inputs`` set (dotted keys reach nested tables)."""
+    folder = tmp_path / name
+    shutil.copytree(CASES / name, folder)
+    raw = tomllib.loads((folder / "case.toml").read_text())
+    for key, value in inputs.items():
+        table = raw["inputs"]
+        *parents, last = key.split(".")
+        for part in parents:
+            table = table.setdefault(part, {})
+        table[last] = value
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    return folder
