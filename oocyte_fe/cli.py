@@ -226,13 +226,27 @@ def track(
     truth: Path = typer.Option(
         None, "--truth", help="Ground-truth boxes CSV (x_px, y_px, w_px, h_px): adds OTB plots."
     ),
+    tracker: str = typer.Option(
+        "mfakcf",
+        "--tracker",
+        help="mfakcf (default), or an option for turning (signature, rotation), growing "
+        "(scale) or fast-pushed (moving) spindles; docs/tracking.md.",
+    ),
+    max_speed: float = typer.Option(
+        20.0,
+        "--max-speed",
+        help="Largest spindle speed (um/s): how far from where it was lost a target is taken back.",
+    ),
     debug: bool = typer.Option(False, "--debug", help="Show tracebacks."),
 ) -> None:
     """Follow the spindle with MFAKCF: track.csv, overlay.gif, trajectory.png (docs/tracking.md)."""
     from oocyte_fe.tracking.cli_track import track_video  # the tracker loads only when used
 
     try:
-        summary = track_video(video, box, out, pixel_um=pixel_um, fps=fps, truth=truth)
+        summary = track_video(
+            video, box, out, pixel_um=pixel_um, fps=fps, truth=truth, tracker=tracker,
+            max_speed_um_s=max_speed,
+        )  # fmt: skip
     except InputError as exc:
         raise _fail(exc, debug) from None
     for key, value in summary.items():

@@ -182,3 +182,56 @@ def test_blank_frames_and_a_featureless_box_give_low_confidence(tmp_path: Path) 
     seq = generate(CLEAR)
     clear = track(seq.frames, tuple(seq.boxes[0]))
     np.testing.assert_allclose(clear.confidence, clear.reliability, rtol=1e-12)
+
+
+def test_track_command_runs_the_chosen_tracker(tmp_path: Path) -> None:
+    """``--tracker scale --max-speed 5``: track.csv holds the boxes of the library's
+    ``track`` with MFAKCF (scale) and the reach gate of 5 um/s (to the CSV's 3 decimals), the
+    box changes size (the default's never does), and the plot is labelled with the tracker."""
+    from dataclasses import replace
+
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+    from oocyte_fe.tracking.tracker import MFAKCF_SCALE, max_step_px
+
+    video, box, truth = _clip(tmp_path)
+    cal = Calibration(CLEAR.pixel_um, CLEAR.fps)
+    write_track_csv(tmp_path / "truth.csv", truth, np.ones(len(truth)), cal)
+    out = tmp_path / "out"
+    args = ["track", str(video), "--box", box, "--out", str(out), "--tracker", "scale"]
+    args += ["--max-speed", "5", "--pixel-um", str(CLEAR.pixel_um), "--fps", str(CLEAR.fps)]
+    result = CliRunner().invoke(app, [*args, "--truth", str(tmp_path / "truth.csv")])
+    assert result.exit_code == 0, result.output
+    config = replace(MFAKCF_SCALE, max_step_px=max_step_px(5.0, CLEAR.fps, CLEAR.pixel_um))
+    expected = track(read_frames(video), parse_box(box), config).boxes
+    tracked = read_boxes_csv(out / "track.csv")
+    np.testing.assert_allclose(tracked, expected, atol=5e-4)
+    assert np.ptp(tracked[:, 2]) > 0.5  # the scale filter resized the box
+
+
+def test_track_command_refuses_an_unknown_tracker_and_a_bad_speed(tmp_path: Path) -> None:
+    """One line, exit 2, nothing written; the command's default speed is the library's."""
+    import inspect
+
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+    from oocyte_fe.cli import track as track_command
+    from oocyte_fe.tracking.cli_track import MAX_SPEED_UM_S
+
+    video, box, _ = _clip(tmp_path)
+    out = tmp_path / "out"
+    for extra, says in (
+        (["--tracker", "csrt"], "--tracker: tracker: expected one of mfakcf, signature, rotation"),
+        (["--max-speed", "0"], "expected finite values > 0"),
+        (["--max-speed", "nan"], "expected finite values > 0"),
+    ):
+        result = CliRunner().invoke(
+            app, ["track", str(video), "--box", box, "--out", str(out)] + extra
+        )
+        assert result.exit_code == 2, result.output
+        assert says in result.output and len(result.output.strip().splitlines()) == 1
+        assert not out.exists()
+    default = inspect.signature(track_command).parameters["max_speed"].default.default
+    assert default == MAX_SPEED_UM_S

@@ -20,7 +20,7 @@ from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.tracking import metrics
 from oocyte_fe.tracking.plots import plot_precision_success, plot_trajectory
-from oocyte_fe.tracking.tracker import MFAKCF, TrackerConfig, max_step_px, track
+from oocyte_fe.tracking.tracker import TRACKERS, max_step_px, track
 from oocyte_fe.tracking.video import (
     Calibration,
     read_boxes_csv,
@@ -88,7 +88,7 @@ def track_video(
     pixel_um: float = 0.227,
     fps: float = 10.0,
     truth: str | Path | None = None,
-    config: TrackerConfig = MFAKCF,
+    tracker: str = "mfakcf",
     max_speed_um_s: float = MAX_SPEED_UM_S,
 ) -> dict[str, float]:
     """Track ``video`` (TIFF stack, video or GIF) from ``box`` on frame 0; write the outputs.
@@ -96,14 +96,19 @@ def track_video(
     ``max_speed_um_s``: the largest speed the spindle can have (the pipette's fastest push),
     um/s; with ``fps`` and ``pixel_um`` it bounds how far from where it was lost a target is
     taken back (:func:`.tracker.max_step_px`). Every input is checked before tracking.
-    Returns frames, tracking speed (frames/s) and, with ``truth``, precision at 20 px and at
-    2 um, success rate and success AUC.
+    ``tracker``: a name of :data:`.tracker.TRACKERS` (``mfakcf``, the default, or one of its
+    options). Returns frames, tracking speed (frames/s) and, with ``truth``, precision at
+    20 px and at 2 um, success rate and success AUC.
     """
+    if tracker not in TRACKERS:
+        raise InputError("--tracker", "tracker", f"one of {', '.join(TRACKERS)}", tracker)
+    label, config = TRACKERS[tracker]
     values = (pixel_um, fps, max_speed_um_s)
     if not all(math.isfinite(v) and v > 0 for v in values):
         raise InputError(
-            "--pixel-um/--fps", "pixel_um, fps, max_speed_um_s", "finite values > 0", values
-        )
+            "--pixel-um/--fps/--max-speed", "pixel_um, fps, max_speed_um_s", "finite values > 0",
+            values,
+        )  # fmt: skip
     checks.quantity("--pixel-um", "pixel_um", pixel_um, "length_um")
     low, high, _ = checks.QUANTITIES["time_s"]  # a frame interval of 1 ns to 30 years
     rates = f"a frame rate in [{1 / high:g}, {1 / low:g}] frames/s"
@@ -146,7 +151,7 @@ def track_video(
         truth_um = calibration.to_um(metrics.centres(truth_boxes))
         errors = metrics.centre_error(result.boxes, truth_boxes)
         overlaps = metrics.iou(result.boxes, truth_boxes)
-        plot_precision_success(out / "precision_success.png", {"MFAKCF": (errors, overlaps)})
+        plot_precision_success(out / "precision_success.png", {label: (errors, overlaps)})
         summary |= {
             "precision_20px": metrics.precision_at(errors, 20.0),
             "precision_2um": metrics.precision_at(errors, 2.0 / pixel_um),

@@ -232,6 +232,17 @@ sequences) is below the draw-to-draw spread (docs/tracking.md, "Losses in the fa
 SINGLE_KCF = TrackerConfig(features=("hog",), adaptive=False)
 """The seed's "original KCF": HOG only, fixed learning rate 0.02."""
 
+TRACKERS: dict[str, tuple[str, TrackerConfig]] = {
+    "mfakcf": ("MFAKCF", MFAKCF),
+    "signature": ("MFAKCF (signature)", MFAKCF_SIGNATURE),
+    "rotation": ("MFAKCF (rotation)", MFAKCF_ROTATION),
+    "scale": ("MFAKCF (scale)", MFAKCF_SCALE),
+    "moving": ("MFAKCF (moving)", MFAKCF_MOVING),
+}
+"""The trackers ``oocyte-fe track --tracker NAME`` offers: NAME -> (label, configuration).
+The default first; the others are the options docs/tracking.md recommends for spindles that
+turn (signature, rotation), grow or shrink (scale) or are pushed fast (moving)."""
+
 
 @dataclass(frozen=True)
 class FrameEstimate:
