@@ -257,3 +257,21 @@ def test_afm_curve_rows_are_counted_from_the_first_data_row() -> None:
     with pytest.raises(InputError) as err:
         ForceCurve(back, np.zeros(200), 70.0, source="c.csv")
     assert "piezo_um" in str(err.value) and "at data row 51" in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "says"),
+    [
+        ("n_frames", 5000, "a value less than or equal to 2000"),
+        ("fps_window_px", 4096, "a value less than or equal to 512"),
+        ("gain_goal_pct", -150.0, "a value greater than or equal to -100"),
+    ],
+)
+def test_tracking_case_sizes_are_bounded(
+    tmp_path: Path, field: str, value: float, says: str
+) -> None:
+    """n_frames and the speed test's window were unbounded: 10^5 frames of 320 x 320 px
+    (82 GB) passed ``validate``."""
+    folder = edited_case(tmp_path, "spindle_tracking", **{field: value})
+    line = _one_line_error_validate(folder)
+    assert f"case.toml: inputs.{field}: expected {says}" in line, line

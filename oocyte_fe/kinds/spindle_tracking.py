@@ -22,22 +22,26 @@ class TrackingInputs(CaseInputs):
     """Which synthetic sequences to run and the goals to check."""
 
     n_frames: int = Field(
-        300, ge=120, description="frames per sequence", json_schema_extra={"unit": "frames"}
-    )
+        300, ge=120, le=2000, json_schema_extra={"unit": "frames"},
+        description="frames per sequence (at most 2000: 1.6 GB of 320 x 320 frames)",
+    )  # fmt: skip
     sequences: list[str] = Field(
         default_factory=list,
         description="names from the benchmark grid (synthetic.benchmark_grid); empty: all 24",
     )
     use_opencv: bool = Field(True, description="add OpenCV KCF and CSRT when installed")
     fps_window_px: int = Field(
-        128, ge=32, description="search window for the speed test", json_schema_extra={"unit": "px"}
-    )
+        128, ge=32, le=512, json_schema_extra={"unit": "px"},
+        description="search window for the speed test (at most 512: 100 frames of 1024 x 1024)",
+    )  # fmt: skip
     gain_goal_pct: float = Field(
-        30.0, description="precision gain over KCF (HOG) on occlusion and light-drift sequences",
+        30.0, ge=-100, le=1000,
+        description="precision gain over KCF (HOG) on occlusion and light-drift sequences",
         json_schema_extra={"unit": "%"},
     )  # fmt: skip
     fps_goal: float = Field(
-        200.0, gt=0, description="MFAKCF frames per second at the speed-test window, one core",
+        200.0, gt=0, le=1e6,
+        description="MFAKCF frames per second at the speed-test window, one core",
         json_schema_extra={"unit": "frames/s"},
     )  # fmt: skip
 
