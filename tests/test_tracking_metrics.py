@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from oocyte_fe.errors import InputError
 from oocyte_fe.tracking import metrics
 from oocyte_fe.tracking.synthetic import SequenceSpec, benchmark_grid, generate, gt_box
 
@@ -91,23 +89,6 @@ def test_benchmark_grid_has_24_distinct_sequences() -> None:
     assert len(grid) == 24 and len({s.name for s in grid}) == 24
     assert len({s.seed for s in grid}) == 24
     assert all(s.n_frames == 300 for s in grid)
-
-
-def test_spindle_tracking_rejects_unknown_sequence(tmp_path: Path) -> None:
-    from oocyte_fe.kinds.spindle_tracking import TrackingInputs, run
-    from oocyte_fe.runner.registry import CaseContext, get_kind
-
-    assert get_kind("spindle_tracking").run.__wrapped__ is run
-    ctx = CaseContext(
-        "t",
-        tmp_path,
-        tmp_path,
-        TrackingInputs(sequences=["nope"]),
-        True,
-        None,  # type: ignore[arg-type]
-    )
-    with pytest.raises(InputError, match="inputs.sequences"):
-        run(ctx)
 
 
 def test_benchmark_summary_pools_frames_and_gains() -> None:
