@@ -197,7 +197,7 @@ def list_kinds(
 @app.command()
 def new(
     kind: str = typer.Argument(..., help="The case kind (oocyte-fe kinds lists them)."),
-    folder: Path = typer.Argument(..., help="The case folder to write (must not hold a case)."),
+    folder: str = typer.Argument(..., help="The case folder to write (must not hold a case)."),
     template: str = typer.Option(
         None, "--template", help="A ready experiment of the kind (fe_experiment: plates, ...)."
     ),
@@ -208,12 +208,16 @@ def new(
     from oocyte_fe.runner.scaffold import new_case
 
     try:
-        written = new_case(get_kind(kind, "oocyte-fe new"), folder, template)
+        if not folder.strip():  # Path("") is "." : an empty name would write here unasked
+            raise InputError("FOLDER", "folder", "a folder name (use . for this folder)", folder)
+        written = new_case(get_kind(kind, "oocyte-fe new"), Path(folder), template)
     except InputError as exc:
         raise _fail(exc, debug) from None
     for path in written:
         console.print(f"wrote {path}", highlight=False)
-    console.print(f"Edit {folder / 'case.toml'}, then: oocyte-fe run {folder}", highlight=False)
+    console.print(
+        f"Edit {Path(folder) / 'case.toml'}, then: oocyte-fe run {folder}", highlight=False
+    )
 
 
 @app.command()

@@ -153,6 +153,16 @@ def test_new_into_a_file_is_one_line(tmp_path: Path, template: str | None) -> No
     assert target.read_text() == "x"
 
 
+def test_new_with_an_empty_folder_name_is_refused(tmp_path: Path, monkeypatch) -> None:
+    """``new KIND ""`` wrote the case into the working folder (``Path("")`` is ``.``)."""
+    monkeypatch.chdir(tmp_path)
+    _one_line_error(["new", "fe_experiment", ""], "FOLDER", "a folder name (use . for this")
+    _one_line_error(["new", "fe_experiment", "  "], "FOLDER")
+    assert list(tmp_path.iterdir()) == []
+    result = CliRunner().invoke(app, ["new", "fe_experiment", "."])  # asked for: allowed
+    assert result.exit_code == 0 and (tmp_path / "case.toml").is_file(), result.output
+
+
 # --- case inputs ---------------------------------------------------------------------------
 
 

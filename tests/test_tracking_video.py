@@ -226,6 +226,7 @@ def test_track_command_refuses_an_unknown_tracker_and_a_bad_speed(tmp_path: Path
         (["--tracker", "csrt"], "--tracker: tracker: expected one of mfakcf, signature, rotation"),
         (["--max-speed", "0"], "expected finite values > 0"),
         (["--max-speed", "nan"], "expected finite values > 0"),
+        (["--max-speed", "1e300"], "--max-speed: max_speed_um_s: expected a spindle speed in"),
     ):
         result = CliRunner().invoke(
             app, ["track", str(video), "--box", box, "--out", str(out)] + extra

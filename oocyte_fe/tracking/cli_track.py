@@ -33,6 +33,9 @@ MAX_SPEED_UM_S = 20.0
 """Default largest spindle speed, um/s: above the fastest push of the benchmark's sequences
 (35 um in 60 frames at 10 frames/s along the NMSD path, 16.5 um/s at its fastest)."""
 
+MAX_SPEED_BOUND_UM_S = 1e6
+"""The largest ``--max-speed`` accepted, um/s (1 m/s: no pipette pushes a spindle so fast)."""
+
 
 def parse_box(text: str) -> tuple[float, float, float, float]:
     """``"X,Y,W,H"`` (px, top-left corner and size, finite) to a tuple; InputError otherwise."""
@@ -113,6 +116,15 @@ def track_video(
     low, high, _ = checks.QUANTITIES["time_s"]  # a frame interval of 1 ns to 30 years
     rates = f"a frame rate in [{1 / high:g}, {1 / low:g}] frames/s"
     checks.number("--fps", "fps", fps, ge=1 / high, le=1 / low, expected=rates)
+    speeds = f"a spindle speed in (0, {MAX_SPEED_BOUND_UM_S:g}] um/s"  # 1 m/s: far above a push
+    checks.number(
+        "--max-speed",
+        "max_speed_um_s",
+        max_speed_um_s,
+        gt=0,
+        le=MAX_SPEED_BOUND_UM_S,
+        expected=speeds,
+    )
     config = replace(config, max_step_px=max_step_px(max_speed_um_s, fps, pixel_um))
     calibration = Calibration(pixel_um, fps)
     first = parse_box(box if isinstance(box, str) else ",".join(repr(float(v)) for v in box))
