@@ -12,6 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from pydantic import ValidationError
 from typer.testing import CliRunner
 
 from afm.curve import ForceCurve
@@ -19,6 +22,7 @@ from oocyte_fe.cli import app
 from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment.description import Experiment
 from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.fe.material import Material
 from oocyte_fe.runner.casefile import load_case
@@ -285,3 +289,36 @@ def test_tracking_case_sizes_are_bounded(
     folder = edited_case(tmp_path, "spindle_tracking", **{field: value})
     line = _one_line_error_validate(folder)
     assert f"case.toml: inputs.{field}: expected {says}" in line, line
+
+
+def _cone_experiment(path_end_s: float, duration_s: float, length_um: float) -> dict:
+    """The shipped cone case's experiment with its path ending at ``path_end_s``."""
+    raw = load_case(CASES / "fe_afm_cone_seed").inputs.model_dump(mode="json")
+    raw["tools"]["tip"]["displacement_um"] = {"time_s": [0.0, path_end_s], "value": [0.0, 2.8]}
+    raw["tools"]["tip"]["length_um"] = length_um
+    raw["time"]["duration_s"] = duration_s
+    return raw
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    duration=st.floats(1e-3, 1e3),
+    ratio=st.floats(0.01, 100.0),
+    length=st.floats(0.5, 40.0),
+)
+def test_experiment_accepts_exactly_the_paths_within_the_run(
+    duration: float, ratio: float, length: float
+) -> None:
+    """Property: a path ending at or before ``duration_s`` and a cone whose flank reaches
+    deeper than the 2.8 um travel, ``rho (1 - sin a) + L cos a`` (a = 10 deg, rho = 0), are
+    accepted; otherwise the experiment is refused, naming the field."""
+    end = duration * ratio
+    reach = length * math.cos(math.radians(10.0))
+    raw = _cone_experiment(end, duration, length)
+    if end <= duration and reach > 2.8:
+        Experiment.model_validate(raw)
+        return
+    with pytest.raises(ValidationError) as err:
+        Experiment.model_validate(raw)
+    says = "length_um: a cone reaching deeper" if reach <= 2.8 else "time_s within time.duration_s"
+    assert says in str(err.value)
