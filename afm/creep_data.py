@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from oocyte_fe.checks import increasing
+from oocyte_fe.checks import QUANTITIES, increasing, numbers_array
 from oocyte_fe.errors import InputError
 
 FORCE_CLAMP_TOLERANCE = 0.05
@@ -48,6 +48,10 @@ class CreepData:
         t = increasing(src, "time_s", t)
         if np.any(d <= 0):
             raise InputError(src, "indentation_um", "positive indentation during the hold")
+        # physical magnitudes: the spread and noise below would overflow on 1e308 values
+        numbers_array(src, "indentation_um", d, le=QUANTITIES["length_um"][1])
+        force_max = QUANTITIES["force_nN"][1]
+        numbers_array(src, "force_nN", f, ge=-force_max, le=force_max)
         mean = float(np.mean(f))
         spread = float(np.std(f)) / mean if mean > 0 else math.inf
         if not spread <= FORCE_CLAMP_TOLERANCE:

@@ -2,6 +2,7 @@
 
 import math
 import tomllib
+import warnings
 
 import numpy as np
 import pytest
@@ -274,3 +275,19 @@ def test_well_sampled_series_is_rated_good():
 def test_fit_creep_refuses_nonsense_arguments(kwargs, field):
     with pytest.raises(InputError, match=field):
         fit_creep(_hold(), **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("name", "force", "indentation"),
+    [("indentation_um", 5.0, 1e300), ("force_nN", 1e300, 1.0), ("force_nN", -1e300, 1.0)],
+)
+def test_creep_record_beyond_physical_magnitudes_is_one_line(
+    name: str, force: float, indentation: float
+) -> None:
+    """1e300 um of indentation overflowed the noise estimate (a RuntimeWarning) before the
+    record was judged; now refused by the project's bounds (1e6 um, 1e12 nN)."""
+    t = np.arange(20.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError, match=rf"{name}: expected an array of finite real"):
+            CreepData(t, np.full(20, force), np.full(20, indentation))
