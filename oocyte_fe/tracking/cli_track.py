@@ -106,12 +106,6 @@ def track_video(
     if tracker not in TRACKERS:
         raise InputError("--tracker", "tracker", f"one of {', '.join(TRACKERS)}", tracker)
     label, config = TRACKERS[tracker]
-    values = (pixel_um, fps, max_speed_um_s)
-    if not all(math.isfinite(v) and v > 0 for v in values):
-        raise InputError(
-            "--pixel-um/--fps/--max-speed", "pixel_um, fps, max_speed_um_s", "finite values > 0",
-            values,
-        )  # fmt: skip
     checks.quantity("--pixel-um", "pixel_um", pixel_um, "length_um")
     low, high, _ = checks.QUANTITIES["time_s"]  # a frame interval of 1 ns to 30 years
     rates = f"a frame rate in [{1 / high:g}, {1 / low:g}] frames/s"
