@@ -130,6 +130,8 @@ BAD = {
     "zona thicker than half the radius": ("cell", "zona_thickness_um", 40.0),
     "point outside the cell": ("cell", "points", {"spindle": [0.0, 80.0]}),
     "mesh coarser than half the cytoplasm": ("cell", "mesh_size_um", 30.0),
+    "a negative line search": ("time", "line_search", -1),
+    "a line search of 21 halvings": ("time", "line_search", 21),
 }
 
 
@@ -142,6 +144,19 @@ def test_validate_refuses_cross_field_nonsense(tmp_path: Path, label: str):
     with pytest.raises(InputError) as err:
         load_case(tmp_path)
     assert "case.toml" in str(err.value) and f"{block}.{key}" in str(err.value)
+
+
+def test_the_line_search_does_not_move_a_converged_answer():
+    """Theret's aspiration with the line search on (4 halvings) against plain Newton: the
+    search only shortens trial steps, so the aspirated length agrees to the Newton tolerance
+    (1e-6 relative on the residual; 1e-5 on the length)."""
+    plain = run_experiment(Experiment.model_validate(_aspiration()))
+    spec = _aspiration()
+    spec["time"]["line_search"] = 4
+    searched = run_experiment(Experiment.model_validate(spec))
+    assert plain.success and searched.success
+    a, b = plain.frames[-1].x, searched.frames[-1].x
+    assert np.max(np.abs(b - a)) <= 1e-5 * np.max(np.abs(a))
 
 
 @pytest.mark.parametrize(

@@ -380,6 +380,14 @@ class TimePath(CaseInputs):
     max_cutbacks: int = Field(
         8, ge=0, le=30, description="halvings of a failing step", json_schema_extra={"unit": "1"}
     )
+    line_search: int = Field(
+        0,
+        ge=0,
+        le=20,
+        description="halvings of a Newton step that would raise the residual or invert an "
+        "element (0: the full step)",
+        json_schema_extra={"unit": "1"},
+    )
 
 
 class Record(CaseInputs):

@@ -352,6 +352,7 @@ def run_experiment(
                 max_iterations=exp.time.max_iterations,
                 rtol=exp.time.rtol,
                 max_cutbacks=exp.time.max_cutbacks,
+                line_search=exp.time.line_search,
             ),
             on_frame=lambda f: (frames.append(f), record(f)),
             max_dt=exp.time.max_step_s,

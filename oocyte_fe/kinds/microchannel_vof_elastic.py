@@ -116,16 +116,17 @@ def elastic_section(
     text = "\n".join(rows) + "\n\n" + stretch_note(cells)
     remeshed = [
         f"{c.pressure_hPa:g} hPa, write at {x:+.1f} um: "
-        + ", ".join(f"{m:g} um stopped at {f:.0%}" for m, f in cell.stopped)
-        + (f", carried on {cell.mesh_um:g} um" if cell.experiment.success else ", none carried")
+        + ", ".join(str(attempt) for attempt in cell.stopped)
+        + (f", carried by {cell.attempt}" if cell.experiment.success else ", none carried")
         for c in cells
         for cell, x in zip(c.cells, c.traction_x_um, strict=True)
         if cell.stopped
     ]
     if remeshed:
         text += (
-            "\n\nMeshed again where Newton stopped short on the first element size (the "
-            "answer does not depend on the size where two carry the load; the stalls do): "
+            "\n\nSolved again where Newton stopped short on the first element size: with a "
+            "line search, then on other sizes, each plain and with it (the answer does not "
+            "depend on the size or the search where two carry the load; the stalls do): "
             + "; ".join(remeshed)
             + "."
         )

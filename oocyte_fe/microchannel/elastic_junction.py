@@ -55,16 +55,36 @@ COLUMNS = ("arc_angle_deg", "x_um", "y_um", "t_x_kPa", "t_y_kPa")
 
 
 @dataclass(frozen=True)
+class Attempt:
+    """One FE run of the retry ladder that stopped short: its element size [um], its line
+    search (halvings of a Newton step, 0: the full step) and the part of the load it carried."""
+
+    mesh_um: float
+    line_search: int
+    load_fraction: float
+
+    def __str__(self) -> str:
+        search = f" with line search {self.line_search}" if self.line_search else ""
+        return f"{self.mesh_um:g} um{search} stopped at {self.load_fraction:.0%}"
+
+
+@dataclass(frozen=True)
 class ElasticCellAtJunction:
     """The FE result, b/a of the deformed section, the table it was loaded with, and the
-    element size that carried it (``stopped``: the sizes tried before, and the part of the
-    load each carried)."""
+    element size and line search that carried it (``stopped``: the attempts before)."""
 
     experiment: ExperimentResult
     b_over_a: float
     table: Path
     mesh_um: float = 4.0
-    stopped: tuple[tuple[float, float], ...] = ()
+    stopped: tuple[Attempt, ...] = ()
+    line_search: int = 0
+
+    @property
+    def attempt(self) -> str:
+        """The run that gave this answer: its element size and line search."""
+        search = f" with line search {self.line_search}" if self.line_search else ""
+        return f"{self.mesh_um:g} um{search}"
 
     @property
     def load_fraction(self) -> float:
@@ -105,6 +125,7 @@ def fe_traction_table(rows: np.ndarray, radius_um: float, path: Path) -> Path:
 
 
 RETRY_MESH_UM = (3.0, 5.0, 2.0)  # element sizes tried when the first stops short (docs)
+LINE_SEARCH = 4  # halvings of a Newton step, the second try on each size (docs)
 
 
 def elastic_cell_at_junction(
@@ -118,51 +139,57 @@ def elastic_cell_at_junction(
     frames: int = 10,
     retry_mesh_um: tuple[float, ...] = RETRY_MESH_UM,
     follower: bool = False,
+    line_search: int = LINE_SEARCH,
 ) -> ElasticCellAtJunction:
     """Load the layered plane-strain cell with the VOF traction; its b/a (see the module) at
     the last converged of ``frames`` load steps. When Newton stops short of the whole load
     (the crushed cell of the highest pressures: a ZP element inverts, or the iterates cycle)
-    the cell is meshed again with each size of ``retry_mesh_um`` in turn, until one carries
-    it: the answer does not depend on the mesh where two carry it (0.05 % at 300 hPa, 0.1 % at
-    900 hPa, docs/elastic_cell_in_flow.md), the stalls do. Otherwise the run that carried the
-    most (:attr:`ElasticCellAtJunction.load_fraction` says how much). ``follower``: the
+    the same mesh is solved again with a backtracking line search of ``line_search`` halvings
+    (a Newton step that would fold an element or raise the residual is shortened), then the
+    cell is meshed again with each size of ``retry_mesh_um`` in turn, each plain and with the
+    line search, until one carries it: the answer does not depend on the mesh or the search
+    where two carry it (0.05 % at 300 hPa, 0.1 % at 900 hPa, 0.5 % at 600 hPa in a pass,
+    docs/elastic_cell_in_flow.md), the stalls do. Otherwise the run that carried the most
+    (:attr:`ElasticCellAtJunction.load_fraction` says how much). ``follower``: the
     traction's normal part as a follower pressure on the deformed outline, by current polar
     angle (:mod:`oocyte_fe.experiment.loads`), instead of a dead load."""
     rows = read_vof_traction(Path(traction_csv))
     Path(folder).mkdir(parents=True, exist_ok=True)
     table = fe_traction_table(rows, diameter_um / 2, Path(folder) / "elastic_cell_traction.csv")
-    stopped: list[tuple[float, float]] = []
+    searches = (0, line_search) if line_search else (0,)
+    stopped: list[Attempt] = []
     best: ElasticCellAtJunction | None = None
     for size in (mesh_um, *(m for m in retry_mesh_um if m != mesh_um)):
-        exp = Experiment.model_validate(
-            {
-                "cell": {
-                    "outer_diameter_um": diameter_um,
-                    "zona_thickness_um": zona_um,
-                    "symmetry": "plane_strain",
-                    "mesh_size_um": size,
-                    "materials": {
-                        "zona": {"E_kPa": zona_kPa, "nu": 0.5},
-                        "cytoplasm": {"E_kPa": cytoplasm_kPa, "nu": 0.5},
+        for search in searches:
+            exp = Experiment.model_validate(
+                {
+                    "cell": {
+                        "outer_diameter_um": diameter_um,
+                        "zona_thickness_um": zona_um,
+                        "symmetry": "plane_strain",
+                        "mesh_size_um": size,
+                        "materials": {
+                            "zona": {"E_kPa": zona_kPa, "nu": 0.5},
+                            "cytoplasm": {"E_kPa": cytoplasm_kPa, "nu": 0.5},
+                        },
                     },
-                },
-                "loads": {"flow": {"type": "traction", "table": str(table), "follower": follower}},
-                "support": "inertia_relief",
-                "time": {"duration_s": 1.0, "frames": frames},
-            }
-        )
-        result = run_experiment(exp)
-        a, b = outline_extents_um(result)
-        cell = ElasticCellAtJunction(result, b / a, table, size, tuple(stopped))
-        if result.success:
-            return cell
-        stopped.append((size, cell.load_fraction))
-        if best is None or cell.load_fraction > best.load_fraction:
-            best = cell
+                    "loads": {
+                        "flow": {"type": "traction", "table": str(table), "follower": follower}
+                    },
+                    "support": "inertia_relief",
+                    "time": {"duration_s": 1.0, "frames": frames, "line_search": search},
+                }
+            )
+            result = run_experiment(exp)
+            a, b = outline_extents_um(result)
+            cell = ElasticCellAtJunction(result, b / a, table, size, tuple(stopped), search)
+            if result.success:
+                return cell
+            stopped.append(Attempt(size, search, cell.load_fraction))
+            if best is None or cell.load_fraction > best.load_fraction:
+                best = cell
     assert best is not None
-    return ElasticCellAtJunction(
-        best.experiment, best.b_over_a, table, best.mesh_um, tuple(stopped)
-    )
+    return replace(best, stopped=tuple(stopped))
 
 
 def write_traction(
