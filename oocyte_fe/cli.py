@@ -222,12 +222,12 @@ def new(
 
 @app.command()
 def track(
-    video: Path = typer.Argument(..., help="A TIFF stack, video or GIF of the oocyte."),
+    video: str = typer.Argument(..., help="A TIFF stack, video or GIF of the oocyte."),
     box: str = typer.Option(..., "--box", help="The spindle on frame 0: X,Y,W,H in px."),
     out: Path = typer.Option(Path("track"), "--out", help="Folder for the outputs."),
     pixel_um: float = typer.Option(0.227, "--pixel-um", help="Pixel size in um."),
     fps: float = typer.Option(10.0, "--fps", help="Frame rate of the recording (frames/s)."),
-    truth: Path = typer.Option(
+    truth: str = typer.Option(
         None, "--truth", help="Ground-truth boxes CSV (x_px, y_px, w_px, h_px): adds OTB plots."
     ),
     tracker: str = typer.Option(

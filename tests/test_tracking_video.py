@@ -131,6 +131,26 @@ def test_track_command_refuses_a_bad_box_before_tracking(
     assert not out.exists()
 
 
+@pytest.mark.parametrize("empty", ["video", "--truth"])
+def test_track_command_names_an_empty_path_argument(tmp_path: Path, empty: str) -> None:
+    """An empty video or --truth argument was read as the folder '.' (the message named '.');
+    now one line naming the argument, exit 2, no output folder."""
+    from typer.testing import CliRunner
+
+    from oocyte_fe.cli import app
+
+    video, box, _ = _clip(tmp_path)
+    out = tmp_path / "out"
+    args = ["track", "" if empty == "video" else str(video), "--box", box, "--out", str(out)]
+    if empty == "--truth":
+        args += ["--truth", ""]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 2
+    assert f"{empty}: a file path, not an empty argument" in result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert not out.exists()
+
+
 @pytest.mark.parametrize(
     ("shape", "says"),
     [

@@ -103,6 +103,9 @@ def track_video(
     options). Returns frames, tracking speed (frames/s) and, with ``truth``, precision at
     20 px and at 2 um, success rate and success AUC.
     """
+    for name, path in (("video", video), ("--truth", truth)):
+        if isinstance(path, str) and not path.strip():  # Path("") would read as "."
+            raise InputError(name, "", "a file path, not an empty argument", path)
     if tracker not in TRACKERS:
         raise InputError("--tracker", "tracker", f"one of {', '.join(TRACKERS)}", tracker)
     label, config = TRACKERS[tracker]
