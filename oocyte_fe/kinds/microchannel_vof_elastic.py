@@ -137,8 +137,9 @@ def elastic_section(
         text += (
             "\n\nThe FE cell does not carry the whole traction at "
             + "; ".join(failed)
-            + ". The elastic cell of the AFM moduli is crushed there (a ZP element inverts "
-            "before the full load): no b/a at the junction, and "
+            + ". The elastic cell of the AFM moduli is crushed there (Newton's iterates fold a "
+            "ZP element before the full load, on every size, plain and with the line search): "
+            "no b/a at the junction, and "
             "these pressures are left out of the errors below."
         )
     if known.any():
