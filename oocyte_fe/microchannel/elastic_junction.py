@@ -64,8 +64,12 @@ class Attempt:
     load_fraction: float
 
     def __str__(self) -> str:
-        search = f" with line search {self.line_search}" if self.line_search else ""
-        return f"{self.mesh_um:g} um{search} stopped at {self.load_fraction:.0%}"
+        return f"{run_name(self.mesh_um, self.line_search)} stopped at {self.load_fraction:.0%}"
+
+
+def run_name(mesh_um: float, line_search: int) -> str:
+    """An FE run of the ladder by its element size and line search: '3 um with line search 4'."""
+    return f"{mesh_um:g} um" + (f" with line search {line_search}" if line_search else "")
 
 
 @dataclass(frozen=True)
@@ -83,8 +87,7 @@ class ElasticCellAtJunction:
     @property
     def attempt(self) -> str:
         """The run that gave this answer: its element size and line search."""
-        search = f" with line search {self.line_search}" if self.line_search else ""
-        return f"{self.mesh_um:g} um{search}"
+        return run_name(self.mesh_um, self.line_search)
 
     @property
     def load_fraction(self) -> float:
