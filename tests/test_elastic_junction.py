@@ -499,6 +499,8 @@ def test_the_load_two_steps_on_takes_the_transposed_part_from_the_first(tmp_path
         zona_kPa=1.0,
         cytoplasm_kPa=1.0,
         frames=2,
+        retry_mesh_um=(),  # the load's reading is tested here, not the FE's retries
+        line_search=0,
     )
     assert asked == [second]  # the one write near the cell's position
     table = next((tmp_path / "fe").rglob("vof_traction.csv")).read_text()
