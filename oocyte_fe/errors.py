@@ -57,5 +57,10 @@ class SolverError(RuntimeError):
         self.result = result
 
 
+class InadmissibleState(SolverError):
+    """A converged solution that is not a state of the body (a surface that passes through
+    itself): the solver stops there; ``result`` holds the states before it."""
+
+
 class MissingExtraError(ImportError):
     """An optional dependency (a pip extra of oocyte-fe) is needed but not installed."""

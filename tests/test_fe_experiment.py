@@ -132,6 +132,8 @@ BAD = {
     "mesh coarser than half the cytoplasm": ("cell", "mesh_size_um", 30.0),
     "a negative line search": ("time", "line_search", -1),
     "a line search of 21 halvings": ("time", "line_search", 21),
+    "a self-contact range below zero": ("cell", "self_contact", {"range_um": -1.0}),
+    "a self-contact penalty of zero": ("cell", "self_contact", {"penalty_factor": 0.0}),
 }
 
 

@@ -33,6 +33,7 @@ from afm import get_model
 from oocyte_fe.experiment import tools as tl
 from oocyte_fe.experiment.description import Cone, Plate, Sphere, StraightPipette
 from oocyte_fe.experiment.driver import ExperimentResult
+from oocyte_fe.experiment.outline import body_outline_um
 from oocyte_fe.verification import THERET_PHI, hertz_force_nN, theret_length_um
 
 SMALL_STRAIN = 0.25
@@ -147,14 +148,7 @@ def section_outline_um(result: ExperimentResult, frame: int = -1) -> np.ndarray:
     """The deformed outline of the whole section (k, 2) [um] at output ``frame``, closed and
     ordered around it, at the outer surface's quadrature points (axisymmetric: the meridional
     half mirrored about the axis)."""
-    body = result.problem.body
-    fb = body.facet_basis("outer_surface")
-    X = np.asarray(fb.global_coordinates()).reshape(2, -1)
-    x = X + np.asarray(fb.interpolate(body.displacement(result.frames[frame].x))).reshape(2, -1)
-    x = x[:, np.argsort(np.arctan2(X[0], X[1]))]
-    if body.axisym:
-        x = np.concatenate([x, x[:, ::-1] * [[-1.0], [1.0]]], axis=1)
-    return x.T
+    return body_outline_um(result.problem.body, result.frames[frame].x)
 
 
 def contour_deformation(result: ExperimentResult, frame: int = -1) -> tuple[float, float]:

@@ -114,6 +114,22 @@ class Layers(CaseInputs):
     cytoplasm: LayerMaterial = Field(description="the cytoplasm (the whole cell without a ZP)")
 
 
+class SelfContactSpec(CaseInputs):
+    """Frictionless self-contact of the cell's outer surface: a ZP that folds onto itself
+    (:mod:`oocyte_fe.fe.self_contact`)."""
+
+    penalty_factor: float = Field(
+        20.0, gt=0, le=1e6, description="normal penalty eps_N h / E_max (h: refine size)"
+    )
+    range_um: float | None = Field(
+        None,
+        gt=0,
+        le=1e3,
+        description="distance at which the surface starts to push itself off (default: h / 10)",
+        json_schema_extra={"unit": "um"},
+    )
+
+
 class Cell(CaseInputs):
     """The cell: a cytoplasm inside a ZP shell (``zona_thickness_um = 0``: homogeneous)."""
 
@@ -174,6 +190,9 @@ class Cell(CaseInputs):
         default_factory=dict,
         description="material points to follow (x, y), by name",
         json_schema_extra={"unit": "um"},
+    )
+    self_contact: SelfContactSpec | None = Field(
+        None, description="the outer surface in frictionless contact with itself (off: none)"
     )
 
     rules = (

@@ -21,13 +21,13 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import skfem
 from numpy.typing import NDArray
 
-from oocyte_fe.errors import SolverError
+from oocyte_fe.errors import InadmissibleState, SolverError
 from oocyte_fe.experiment import tools as tl
 from oocyte_fe.experiment.description import (
     Experiment,
@@ -36,6 +36,7 @@ from oocyte_fe.experiment.description import (
     StraightPipette,
     to_material,
 )
+from oocyte_fe.experiment.outline import body_outline_um, polygon_crossings
 from oocyte_fe.experiment.surface_loads import inertia_relief, rigid_pins, surface_loads
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact, ContactLaw
@@ -47,6 +48,7 @@ from oocyte_fe.fe.loads import (
     TorqueRelief,
 )
 from oocyte_fe.fe.obstacles import Linearised
+from oocyte_fe.fe.self_contact import SelfContact
 from oocyte_fe.fe.solver import Frame, NewtonSettings, Problem, StepLog, dead_load_vector
 from oocyte_fe.fe.vectorized import FacetOperators
 from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
@@ -66,6 +68,7 @@ class ExperimentResult:
     cell deforms, :class:`~oocyte_fe.fe.loads.TorqueRelief`); ``tracks_um[point]`` (k, 2)
     displacement of each material point; ``hold_reaction_nN`` (k, 2) the reaction of the
     holds (of the pins of a free cell: the loads' imbalance left after inertia relief).
+    ``folded``: the run stopped because the next frame's outline passed through itself.
     """
 
     experiment: Experiment
@@ -87,6 +90,7 @@ class ExperimentResult:
     reason: str
     seconds: float
     n_dofs: int = field(default=0)
+    folded: bool = False  # stopped where the outer surface would pass through itself
 
     @property
     def newton_iterations(self) -> int:
@@ -282,6 +286,14 @@ def run_experiment(
         torque_relief=TorqueRelief(translation=follows)
         if exp.support == "inertia_relief" and not axisym
         else None,
+        self_contact=None
+        if cell.self_contact is None
+        else SelfContact(
+            "outer_surface",
+            cell.self_contact.penalty_factor * e_max / h,
+            cell.self_contact.range_um or 0.1 * h,
+            depth_um=h,
+        ),
     )
     probes = point_probes(body, np.array(list(cell.points.values()))) if cell.points else None
     rows: list[dict] = []
@@ -343,7 +355,7 @@ def run_experiment(
 
     record(problem.frame(), notify=False)  # the rest state
     times = np.linspace(exp.time.duration_s / exp.time.frames, exp.time.duration_s, exp.time.frames)
-    success, reason, steps = True, "", []
+    success, reason, steps, folded = True, "", [], False
     frames = [problem.frame()]
     try:
         solved = problem.solve(
@@ -356,12 +368,26 @@ def run_experiment(
             ),
             on_frame=lambda f: (frames.append(f), record(f)),
             max_dt=exp.time.max_step_s,
+            admissible=lambda f: _surface_check(body, f),
         )
         steps = solved.steps
     except SolverError as exc:
         success, reason = False, str(exc)
         steps = list(getattr(exc.result, "steps", []))
-    return _result(exp, rows, frames, steps, problem, success, reason, tic)
+        folded = isinstance(exc, InadmissibleState)
+    result = _result(exp, rows, frames, steps, problem, success, reason, tic)
+    return replace(result, folded=folded)
+
+
+def _surface_check(body: Body, frame: Frame) -> str:
+    """What is wrong with the frame's outline: "" unless it passes through itself."""
+    n = polygon_crossings(body_outline_um(body, frame.x))
+    if n == 0:
+        return ""
+    return (
+        f"the outer surface passes through itself ({n} crossing{'s' if n > 1 else ''} of the "
+        "outline: a fold; cell.self_contact makes it touch instead)"
+    )
 
 
 def _result(exp, rows, frames, steps, problem, success, reason, tic) -> ExperimentResult:

@@ -28,7 +28,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from skfem import LinearForm, asm, condense
 
-from oocyte_fe.errors import InputError, SolverError
+from oocyte_fe.errors import InadmissibleState, InputError, SolverError
 from oocyte_fe.fe import contact as ct
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.forms import (
@@ -48,6 +48,8 @@ from oocyte_fe.fe.loads import (
 )
 from oocyte_fe.fe.material import ViscousHistory, response, update_history
 from oocyte_fe.fe.pattern import SparsityPattern
+from oocyte_fe.fe.self_contact import Pairs, SelfContact, SurfacePolyline
+from oocyte_fe.fe.self_contact import forces as self_contact_forces
 from oocyte_fe.fe.vectorized import FacetOperators, RegionOperators
 from oocyte_fe.progress import report
 
@@ -153,8 +155,17 @@ class Problem:
         control: ReactionControl | None = None,
         dead_loads: Sequence[SurfaceTraction | BodyForce] = (),
         torque_relief: TorqueRelief | None = None,
+        self_contact: SelfContact | None = None,
     ) -> None:
         self.body = body
+        self.self_contact = self_contact
+        self._self_line = (
+            None
+            if self_contact is None
+            else SurfacePolyline.of(
+                body.ubasis, body.facets(self_contact.boundary), bool(body.axisym)
+            )
+        )
         self.prescribed = list(prescribed)
         self.pressures = [(pl, body.facet_basis(pl.boundary)) for pl in pressures]
         self.contacts = [(c, body.facet_basis(c.boundary)) for c in contacts]
@@ -356,6 +367,10 @@ class Problem:
             fc, Kc = ops.contact(self._contact_eval(k, x, t), bool(a))
             f_ext += fc
             blocks_uu.append(Kc)
+        if self._self_line is not None:
+            fs, Ks, _ = self_contact_forces(self._self_line, u, self.self_contact, body.n_u)
+            f_ext += fs
+            blocks_uu.append(Ks)
         for load, vec in self.dead_loads:
             f_ext += load.scale(t) * vec
         low_rank = []  # the reliefs' K += g w^T
@@ -415,6 +430,14 @@ class Problem:
             tuple(np.column_stack(c) for c in zip(*low_rank, strict=True)) if low_rank else None
         )
         return r, tangent, max(np.sqrt(f_int_norm2), float(np.linalg.norm(f_ext)))
+
+    def self_contact_pairs(self, x: NDArray | None = None) -> Pairs | None:
+        """The boundary's node-segment pairs within the self-contact's range at ``x``
+        (default: the current state); None without self-contact."""
+        if self._self_line is None:
+            return None
+        u = self.body.displacement(self.x if x is None else x)
+        return self_contact_forces(self._self_line, u, self.self_contact, self.body.n_u)[2]
 
     def _load_value(self, k: int, t: float) -> float:
         """Pressure [kPa] of load ``k``: the controlled unknown or the load's ``pressure(t)``."""
@@ -606,12 +629,16 @@ class Problem:
         settings: NewtonSettings | None = None,
         on_frame: Callable[[Frame], None] | None = None,
         max_dt: float | None = None,
+        admissible: Callable[[Frame], str] | None = None,
     ) -> SolveResult:
         """Advance through the output ``times`` [s] (increasing, > current time).
 
         Each output interval is one step (at most ``max_dt``); a failed step is halved and
         retried, never below ``dt_nominal / 2^max_cutbacks`` (so a stuck interval fails in
-        bounded time); after three easy steps the step grows back.
+        bounded time); after three easy steps the step grows back. ``admissible(frame)``, if
+        given, says what is wrong with a converged output frame ("" if nothing): a frame that
+        is not a state of the body (a surface through itself) ends the solve with
+        :class:`~oocyte_fe.errors.InadmissibleState`, the frames before it kept.
         """
         settings = settings or NewtonSettings()
         times = [float(t) for t in times]
@@ -653,6 +680,9 @@ class Problem:
                 if easy >= 3 and dt < dt_nominal:
                     dt, easy = min(2.0 * dt, dt_nominal), 0
             frame = self.frame()
+            wrong = admissible(frame) if admissible is not None else ""
+            if wrong:
+                raise InadmissibleState(f"{wrong} at t = {frame.t:.6g} s", result)
             result.frames.append(frame)
             if on_frame is not None:
                 on_frame(frame)

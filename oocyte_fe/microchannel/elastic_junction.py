@@ -57,14 +57,19 @@ COLUMNS = ("arc_angle_deg", "x_um", "y_um", "t_x_kPa", "t_y_kPa")
 @dataclass(frozen=True)
 class Attempt:
     """One FE run of the retry ladder that stopped short: its element size [um], its line
-    search (halvings of a Newton step, 0: the full step) and the part of the load it carried."""
+    search (halvings of a Newton step, 0: the full step), the part of the load it carried
+    and whether it stopped because the next frame's surface passed through itself."""
 
     mesh_um: float
     line_search: int
     load_fraction: float
+    folded: bool = False  # the next load step's surface passed through itself
 
     def __str__(self) -> str:
-        return f"{run_name(self.mesh_um, self.line_search)} stopped at {self.load_fraction:.0%}"
+        why = " (then its surface passed through itself)" if self.folded else ""
+        return (
+            f"{run_name(self.mesh_um, self.line_search)} stopped at {self.load_fraction:.0%}{why}"
+        )
 
 
 def run_name(mesh_um: float, line_search: int) -> str:
@@ -143,6 +148,7 @@ def elastic_cell_at_junction(
     retry_mesh_um: tuple[float, ...] = RETRY_MESH_UM,
     follower: bool = False,
     line_search: int = LINE_SEARCH,
+    self_contact: bool = False,
 ) -> ElasticCellAtJunction:
     """Load the layered plane-strain cell with the VOF traction; its b/a (see the module) at
     the last converged of ``frames`` load steps. When Newton stops short of the whole load
@@ -175,6 +181,7 @@ def elastic_cell_at_junction(
                             "zona": {"E_kPa": zona_kPa, "nu": 0.5},
                             "cytoplasm": {"E_kPa": cytoplasm_kPa, "nu": 0.5},
                         },
+                        "self_contact": {} if self_contact else None,
                     },
                     "loads": {
                         "flow": {"type": "traction", "table": str(table), "follower": follower}
@@ -188,7 +195,7 @@ def elastic_cell_at_junction(
             cell = ElasticCellAtJunction(result, b / a, table, size, tuple(stopped), search)
             if result.success:
                 return cell
-            stopped.append(Attempt(size, search, cell.load_fraction))
+            stopped.append(Attempt(size, search, cell.load_fraction, result.folded))
             if best is None or cell.load_fraction > best.load_fraction:
                 best = cell
     assert best is not None
