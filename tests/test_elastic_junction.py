@@ -191,6 +191,9 @@ def test_deform_recompute_stops_when_the_shape_no_longer_changes_the_load(tmp_pa
         replace(c, experiment=replace(c.experiment, success=False)) for c in last.elastic.cells
     )
     short = replace(last, elastic=replace(last.elastic, cells=cells))
+    folds = tuple(replace(c, experiment=replace(c.experiment, folded=True)) for c in cells)
+    assert not short.folded  # stopped by Newton, not by a fold
+    assert replace(last, elastic=replace(last.elastic, cells=folds)).folded
     text_short, _ = recompute_section(replace(result, passes=(first, short)), 300.0)
     row = text_short.split("\n| 1 |")[1].splitlines()[0]
     assert f"| {short.b_over_a:.4f} | - | - |" in row and "nan" not in row

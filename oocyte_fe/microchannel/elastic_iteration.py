@@ -82,6 +82,16 @@ class Pass:
         return self.shape_b_over_a / self.start_b_over_a - 1.0
 
     @property
+    def folded(self) -> bool:
+        """An FE run of the read that stopped short did so where its outline would pass
+        through itself (:attr:`.experiment.driver.ExperimentResult.folded`)."""
+        use = self.elastic.read_from or range(len(self.elastic.cells))
+        return any(
+            not c.experiment.success and c.experiment.folded
+            for c in (self.elastic.cells[k] for k in use)
+        )
+
+    @property
     def load_fraction(self) -> float:
         """The smallest part of its load that an FE run of the read carried."""
         use = self.elastic.read_from or range(len(self.elastic.cells))
@@ -191,6 +201,8 @@ def deform_recompute(
         if not elastic.carried:
             passes.append(Pass(flow_ratio, elastic, start))
             stopped = f"pass {k}: the FE carries {passes[-1].load_fraction:.0%} of the traction"
+            if passes[-1].folded:
+                stopped += " (beyond it the cell's surface passes through itself: a ZP fold)"
             break
         use = elastic.read_from
         shapes = [_centred_outline(elastic.cells[i]) for i in use]
