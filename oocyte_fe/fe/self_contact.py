@@ -155,7 +155,9 @@ def find_pairs(line: SurfacePolyline, x: NDArray, contact: SelfContact) -> Pairs
     return Pairs(node[keep], seg[keep], g[keep])
 
 
-def gap_derivatives(xn: NDArray, a: NDArray, b: NDArray, side: NDArray):
+def gap_derivatives(
+    xn: NDArray, a: NDArray, b: NDArray, side: NDArray
+) -> tuple[NDArray, NDArray, NDArray]:
     """Gap ``g``, gradient (k, 6) and Hessian (k, 6, 6) over ``q = (x, a, b)`` of each pair
     (rows of (k, 2) positions), for ``g = s (e x r) / |e|``."""
     e, r = b - a, xn - a
