@@ -13,7 +13,7 @@ from scipy.optimize import brentq
 from skfem import MeshTri
 
 from oocyte_fe.errors import InputError
-from oocyte_fe.experiment.outline import polygon_crossings
+from oocyte_fe.experiment.outline import crossing_points, polygon_crossings
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.loads import Prescribed
 from oocyte_fe.fe.material import Material
@@ -112,7 +112,7 @@ def test_self_contact_refuses_a_non_positive_setting(field: str, value: float):
 
 def test_crossings_of_polygons_with_known_counts():
     """A circle: none; a figure eight and a limacon with an inner loop (r = 1/2 + cos t):
-    one each; a square's vertices taken in a bow-tie order: one."""
+    one each; a square's vertices taken in a bow-tie order: one, at its centre."""
     t = np.linspace(0, 2 * np.pi, 51, endpoint=False) + 0.01
     r = 0.5 + np.cos(t)
     assert polygon_crossings(np.c_[np.cos(t), np.sin(t)]) == 0
@@ -120,6 +120,7 @@ def test_crossings_of_polygons_with_known_counts():
     assert polygon_crossings(np.c_[r * np.cos(t), r * np.sin(t)]) == 1
     square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     assert polygon_crossings(square[[0, 2, 1, 3]]) == 1
+    assert crossing_points(square[[0, 2, 1, 3]]) == pytest.approx(np.array([[0.5, 0.5]]))
 
 
 def _brute_force(x: np.ndarray) -> int:

@@ -36,7 +36,7 @@ from oocyte_fe.experiment.description import (
     StraightPipette,
     to_material,
 )
-from oocyte_fe.experiment.outline import body_outline_um, polygon_crossings
+from oocyte_fe.experiment.outline import body_outline_um, crossing_points
 from oocyte_fe.experiment.surface_loads import inertia_relief, rigid_pins, surface_loads
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact, ContactLaw
@@ -368,7 +368,7 @@ def run_experiment(
             ),
             on_frame=lambda f: (frames.append(f), record(f)),
             max_dt=exp.time.max_step_s,
-            admissible=lambda f: _surface_check(body, f),
+            admissible=lambda f: _surface_check(problem, f),
         )
         steps = solved.steps
     except SolverError as exc:
@@ -379,9 +379,16 @@ def run_experiment(
     return replace(result, folded=folded)
 
 
-def _surface_check(body: Body, frame: Frame) -> str:
-    """What is wrong with the frame's outline: "" unless it passes through itself."""
-    n = polygon_crossings(body_outline_um(body, frame.x))
+def _surface_check(problem: Problem, frame: Frame) -> str:
+    """What is wrong with the frame's outline: "" unless it passes through itself outside
+    the tools (inside a tool a crossing is the penalty's give: the two sides of a blade's tip
+    pressed into it)."""
+    points = crossing_points(body_outline_um(problem.body, frame.x)).T  # (2, n)
+    for c, _ in problem.contacts:
+        if points.shape[1]:
+            gap, _ = c.obstacle.distance(points - np.asarray(c.motion(frame.t))[:, None])
+            points = points[:, gap >= 0.0]
+    n = points.shape[1]
     if n == 0:
         return ""
     return (

@@ -3,7 +3,8 @@
 A continuum without self-contact lets a fold of its surface go on through the other side of
 the fold: the FE converges to a state that is not one of the solid. The outline (the outer
 surface at its quadrature points, ordered around the section) is checked for crossings at
-every output frame (:mod:`~oocyte_fe.experiment.driver`).
+every output frame (:mod:`~oocyte_fe.experiment.driver`); a crossing inside a rigid tool is
+the contact penalty's give (both sides of a thin blade pressed into it), not a fold.
 """
 
 from __future__ import annotations
@@ -33,21 +34,29 @@ def _orient(p: NDArray, q: NDArray, r: NDArray) -> NDArray:
     return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])
 
 
-def polygon_crossings(x: NDArray) -> int:
-    """The number of crossings of a closed polygon ``x`` (k, 2) with itself: pairs of edges
+def crossing_points(x: NDArray) -> NDArray:
+    """Where a closed polygon ``x`` (k, 2) crosses itself, (n, 2): one point per pair of edges
     that are not neighbours and cross properly (the ends of each strictly on either side of
-    the other, by the signs of ``orient``). Only edges whose midpoints lie within the longest
-    edge of each other can cross; those pairs are found with a k-d tree."""
+    the other, by the signs of ``orient``), at ``p + t (q - p)``,
+    ``t = orient(r, s, p) / (orient(r, s, p) - orient(r, s, q))`` for the edges ``p q`` and
+    ``r s``. Only edges whose midpoints lie within the longest edge of each other can cross;
+    those pairs are found with a k-d tree."""
     a, b = x, np.roll(x, -1, axis=0)
     k = len(x)
     longest = float(np.max(np.linalg.norm(b - a, axis=1)))
     pairs = cKDTree(0.5 * (a + b)).query_pairs(longest * (1 + 1e-9), output_type="ndarray")
     if len(pairs) == 0:
-        return 0
+        return np.zeros((0, 2))
     i, j = pairs.min(axis=1), pairs.max(axis=1)
     apart = (j - i > 1) & ~((i == 0) & (j == k - 1))  # neighbours share a vertex
     i, j = i[apart], j[apart]
-    cross = (_orient(a[i], b[i], a[j]) * _orient(a[i], b[i], b[j]) < 0) & (
-        _orient(a[j], b[j], a[i]) * _orient(a[j], b[j], b[i]) < 0
-    )
-    return int(np.count_nonzero(cross))
+    on_p, on_q = _orient(a[j], b[j], a[i]), _orient(a[j], b[j], b[i])
+    cross = (_orient(a[i], b[i], a[j]) * _orient(a[i], b[i], b[j]) < 0) & (on_p * on_q < 0)
+    t = on_p[cross] / (on_p[cross] - on_q[cross])
+    return a[i[cross]] + t[:, None] * (b[i[cross]] - a[i[cross]])
+
+
+def polygon_crossings(x: NDArray) -> int:
+    """The number of crossings of a closed polygon ``x`` (k, 2) with itself
+    (:func:`crossing_points`)."""
+    return len(crossing_points(x))
