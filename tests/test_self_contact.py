@@ -13,12 +13,18 @@ from scipy.optimize import brentq
 from skfem import MeshTri
 
 from oocyte_fe.errors import InputError
-from oocyte_fe.experiment.outline import crossing_points, polygon_crossings
+from oocyte_fe.experiment.outline import (
+    body_outline_um,
+    crossing_points,
+    facet_length_um,
+    polygon_crossings,
+)
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.loads import Prescribed
 from oocyte_fe.fe.material import Material
 from oocyte_fe.fe.self_contact import SelfContact, gap_derivatives
 from oocyte_fe.fe.solver import Problem
+from oocyte_fe.mesh import LayeredOocyte, layered_oocyte_mesh
 
 
 def test_the_gap_gradient_and_hessian_match_finite_differences():
@@ -144,3 +150,35 @@ def test_the_pruned_crossing_count_equals_the_brute_force_one(k: int, seed: int)
     """Random polygons (uneven edges: the k-d tree's radius is the longest edge)."""
     x = np.random.default_rng(seed).normal(size=(k, 2)) * [1.0, 0.2]
     assert polygon_crossings(x) == _brute_force(x)
+
+
+@pytest.mark.parametrize("form", ["plane_strain", "axisymmetric"])
+def test_the_outline_through_the_nodes_and_the_facet_length_of_a_disc(form: str):
+    """A layered disc (outer radius 90 um, size 6 um), moved rigidly by (3, -2) um (plane
+    strain; axisymmetric: along the axis only): the outline with its nodes has the outer
+    vertices besides the quadrature points, all at the radius (the vertices exactly, the
+    quadrature points of the chords within the sagitta h^2 / 8 R), and crosses itself
+    nowhere; the facet length at a point on the surface is that facet's, within the mesh
+    size's range."""
+    mesh = layered_oocyte_mesh(
+        LayeredOocyte(cytoplasm_radius_um=75.0, zona_thickness_um=15.0, size_um=6.0, form=form)
+    )
+    body = Body(mesh, {"zona": Material(7.0, 0.45), "cytoplasm": Material(1.55, 0.45)}, form)
+    shift = np.array([3.0, -2.0]) if form == "plane_strain" else np.array([0.0, -2.0])
+    x = np.zeros(body.n_u)
+    x[: body.n_u] = body.ubasis.project(lambda X: shift[:, None, None] + 0.0 * X)
+    plain, full = body_outline_um(body, x), body_outline_um(body, x, nodes=True)
+    outer = np.unique(mesh.facets[:, body.facets("outer_surface")])
+    half = 2 if form == "axisymmetric" else 1
+    assert len(full) - len(plain) == half * len(outer)
+    radius = np.hypot(*(full - shift).T)
+    assert radius.max() == pytest.approx(90.0, abs=1e-9)
+    assert radius.min() > 90.0 - 6.0**2 / (8 * 90.0) * 1.5
+    assert polygon_crossings(full) == 0
+    vertex = mesh.p[:, outer[0]] + shift
+    h = facet_length_um(body, x, vertex[None] * (1 - 1e-3))
+    lengths = np.linalg.norm(
+        np.diff(mesh.p[:, mesh.facets[:, body.facets("outer_surface")]], axis=1), axis=0
+    )
+    assert 0.5 * 6.0 < h[0] < 1.5 * 6.0
+    assert np.min(np.abs(lengths - h[0])) < 1e-12

@@ -36,7 +36,7 @@ from oocyte_fe.experiment.description import (
     StraightPipette,
     to_material,
 )
-from oocyte_fe.experiment.outline import body_outline_um, crossing_points
+from oocyte_fe.experiment.outline import body_outline_um, crossing_points, facet_length_um
 from oocyte_fe.experiment.surface_loads import inertia_relief, rigid_pins, surface_loads
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact, ContactLaw
@@ -380,15 +380,18 @@ def run_experiment(
 
 
 def _surface_check(problem: Problem, frame: Frame) -> str:
-    """What is wrong with the frame's outline: "" unless it passes through itself outside
-    the tools (inside a tool a crossing is the penalty's give: the two sides of a blade's tip
-    pressed into it)."""
-    points = crossing_points(body_outline_um(problem.body, frame.x)).T  # (2, n)
-    for c, _ in problem.contacts:
-        if points.shape[1]:
-            gap, _ = c.obstacle.distance(points - np.asarray(c.motion(frame.t))[:, None])
-            points = points[:, gap >= 0.0]
-    n = points.shape[1]
+    """What is wrong with the frame's outline: "" unless it passes through itself away from
+    the tools. Within a facet's length of a tool a crossing is the contact's give (the two
+    sides of a blade's tip pressed into it) or a facet turned round the tool's corner, a
+    wrinkle below the mesh's resolution there; not a fold."""
+    body = problem.body
+    points = crossing_points(body_outline_um(body, frame.x, nodes=True))  # (n, 2)
+    if len(points) and problem.contacts:
+        h = facet_length_um(body, frame.x, points)
+        for c, _ in problem.contacts:
+            gap, _ = c.obstacle.distance(points.T - np.asarray(c.motion(frame.t))[:, None])
+            points, h = points[gap >= h], h[gap >= h]
+    n = len(points)
     if n == 0:
         return ""
     return (
