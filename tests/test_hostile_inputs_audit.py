@@ -22,8 +22,9 @@ from oocyte_fe.cli import app
 from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError
-from oocyte_fe.experiment.description import Experiment
+from oocyte_fe.experiment.description import Cone, Experiment
 from oocyte_fe.experiment.layers import LayerMaterials
+from oocyte_fe.experiment.tools import cone_profile
 from oocyte_fe.fe.material import Material
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.tracking.video import write_overlay_gif, write_tiff
@@ -322,3 +323,20 @@ def test_experiment_accepts_exactly_the_paths_within_the_run(
         Experiment.model_validate(raw)
     says = "length_um: a cone reaching deeper" if reach <= 2.8 else "time_s within time.duration_s"
     assert says in str(err.value)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    angle=st.floats(2.0, 88.0),
+    tip=st.floats(0.0, 100.0),
+    length=st.floats(0.5, 200.0),
+)
+def test_the_cone_reach_is_the_depth_of_its_drawn_flank(
+    angle: float, tip: float, length: float
+) -> None:
+    """The reach the refusal above compares with the travel is the depth below the apex of the
+    last point of the cone the FE is given (``cone_profile``), to round-off."""
+    raw = {"type": "cone", "half_angle_deg": angle, "tip_radius_um": tip, "length_um": length}
+    cone = Cone.model_validate(raw)
+    drawn = cone_profile(angle, tip, length, 0.0)[-1][1]
+    assert cone.reach_um == pytest.approx(drawn, rel=1e-12, abs=1e-12)

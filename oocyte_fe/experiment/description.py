@@ -260,6 +260,13 @@ class Cone(ToolBase):
         0.0, ge=0, le=100, description="a spherically blunted apex (0: sharp; see docs/fe.md)"
     )
 
+    @property
+    def reach_um(self) -> float:
+        """Depth of the flank's end below the apex [um]: ``rho (1 - sin alpha) + L cos alpha``
+        (the blunting sphere's tangent point, then ``length_um`` along the flank)."""
+        a, rho = np.deg2rad(self.half_angle_deg), self.tip_radius_um
+        return float(rho * (1.0 - np.sin(a)) + self.length_um * np.cos(a))
+
 
 class StraightPipette(ToolBase):
     type: Literal["straight_pipette"]
@@ -571,8 +578,7 @@ PATH_FIELDS = ("displacement_um", "suction_Pa", "pressure_Pa", "scale")
 def _cone_reaches(where: str, cone: Cone, travel_um: float) -> None:
     """ValueError unless the cone's flank reaches deeper than its travel into the cell: past
     its end (``length_um`` along the flank) the cell would wrap around the cone's base."""
-    a, rho = np.deg2rad(cone.half_angle_deg), cone.tip_radius_um
-    reach = rho * (1.0 - np.sin(a)) + cone.length_um * np.cos(a)  # as tools.cone_profile
+    reach = cone.reach_um
     if travel_um >= reach:
         raise ValueError(
             f"{where}.length_um: a cone reaching deeper than its travel into the cell "
