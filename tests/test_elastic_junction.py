@@ -391,6 +391,38 @@ def test_the_flow_mesh_note_compares_the_elastic_cell_on_two_meshes(tmp_path: Pa
     assert mesh_note(at(0.64), at(0.72, ok=False), 12.5, 6.25)[1] == {}
 
 
+def test_the_report_names_the_writes_solved_again_in_both_readings(tmp_path: Path):
+    """A write whose first run stopped is named with its attempts and the one that carried
+    it, for the dead load and for the follower reading alike; none stopped: no sentence."""
+    from types import SimpleNamespace
+
+    from oocyte_fe.kinds.microchannel_vof_elastic_notes import follower_note, solved_again_note
+    from oocyte_fe.microchannel.elastic_junction import (
+        Attempt,
+        ElasticAtPressure,
+        ElasticCellAtJunction,
+    )
+
+    def at(stopped: tuple[Attempt, ...], follower: ElasticAtPressure | None = None):
+        ok = SimpleNamespace(success=True)
+        plain = ElasticCellAtJunction(ok, 0.40, tmp_path)  # type: ignore[arg-type]
+        again = ElasticCellAtJunction(ok, 0.38, tmp_path, 3.0, stopped)  # type: ignore[arg-type]
+        for cell in (plain, again):  # a cached property of the FE's frames, which these lack
+            cell.__dict__["smallest_stretch"] = 0.44
+        return ElasticAtPressure(600.0, 0.975, (plain, again), (-8.4, 8.1), follower=follower)
+
+    stops = (Attempt(4.0, 0, 0.7), Attempt(4.0, 4, 0.8, folded=True))
+    said = (
+        "600 hPa, write at +8.1 um: 4 um stopped at 70%, 4 um with line search 4 stopped at "
+        "80% (then its surface passed through itself), carried by 3 um"
+    )
+    assert said in solved_again_note([at(stops)])
+    assert solved_again_note([at(())]) == ""
+    text, _ = follower_note([at((), follower=at(stops))], [0.912])
+    assert "Solved again (the follower reading)" in text and said in text
+    assert "Solved again" not in follower_note([at((), follower=at(()))], [0.912])[0]
+
+
 def test_the_elastic_cell_on_three_flow_meshes_gives_its_mesh_limit(tmp_path: Path):
     """b/a on 12.5 / 6.25 / 4.17 um flows on an exact power law b/a = 0.80 - 0.016 h (dead)
     and 0.85 - 0.001 h^2 (follower): the limits 0.80 and 0.85 (1e-9) and the case's mesh

@@ -15,6 +15,7 @@ from oocyte_fe.kinds.microchannel_vof_elastic_notes import (
     left_out_note,
     mesh_limit_note,
     mesh_note,
+    solved_again_note,
     stretch_note,
 )
 from oocyte_fe.kinds.microchannel_vof_inputs import HPA, VofInputs
@@ -114,22 +115,7 @@ def elastic_section(
     }
     known = np.isfinite(exp) & np.isfinite(elastic)
     text = "\n".join(rows) + "\n\n" + stretch_note(cells)
-    remeshed = [
-        f"{c.pressure_hPa:g} hPa, write at {x:+.1f} um: "
-        + ", ".join(str(attempt) for attempt in cell.stopped)
-        + (f", carried by {cell.attempt}" if cell.experiment.success else ", none carried")
-        for c in cells
-        for cell, x in zip(c.cells, c.traction_x_um, strict=True)
-        if cell.stopped
-    ]
-    if remeshed:
-        text += (
-            "\n\nSolved again where Newton stopped short on the first element size: with a "
-            "line search, then on other sizes, each plain and with it (the answer does not "
-            "depend on the size or the search where two carry the load; the stalls do): "
-            + "; ".join(remeshed)
-            + "."
-        )
+    text += solved_again_note(cells)
     partial = [left_out_note(c) for c in cells if c.left_out]
     if partial:
         text += "\n\n" + " ".join(partial)

@@ -26,6 +26,28 @@ def left_out_note(at: ElasticAtPressure) -> str:
     )
 
 
+def solved_again_note(cells: list[ElasticAtPressure], reading: str = "") -> str:
+    """A paragraph (starting with a blank line; empty when none) naming each write of
+    ``cells`` that the first FE run did not carry: its stopped attempts and the one that
+    carried it (``reading``: which load, e.g. "the follower reading")."""
+    remeshed = [
+        f"{c.pressure_hPa:g} hPa, write at {x:+.1f} um: "
+        + ", ".join(str(attempt) for attempt in cell.stopped)
+        + (f", carried by {cell.attempt}" if cell.experiment.success else ", none carried")
+        for c in cells
+        for cell, x in zip(c.cells, c.traction_x_um, strict=True)
+        if cell.stopped
+    ]
+    if not remeshed:
+        return ""
+    return (
+        f"\n\nSolved again{' (' + reading + ')' if reading else ''} where Newton stopped short "
+        "on the first element size: with a line search, then on other sizes, each plain and "
+        "with it (the answer does not depend on the size or the search where two carry the "
+        "load; the stalls do): " + "; ".join(remeshed) + "."
+    )
+
+
 def mesh_note(
     base: ElasticAtPressure, other: ElasticAtPressure, dx_um: float, other_dx_um: float
 ) -> tuple[str, dict[str, float]]:
@@ -176,4 +198,7 @@ def follower_note(
             f"\n\nFollower reading against the experiment: mean |b/a - experiment| = "
             f"{metrics['elastic_follower_mae']:.4f} over the pressures it carries ({len(misses)})."
         )
+    text += solved_again_note(
+        [c.follower for c in cells if c.follower is not None], "the follower reading"
+    )
     return text, metrics
