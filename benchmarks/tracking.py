@@ -15,7 +15,7 @@ core (issue 21's goal >= 200; issue 29's >= 500 while tracking is the table's co
 tracking (CPU)"). Several minutes (CSRT is slow); run it niced:
 ``nice -n 10 python3 benchmarks/tracking.py [--frames 300] [--no-opencv] [--only NAME ...]
 [--seed-offset N ...] [--model heldout|turn --seed0 N ...] [--trackers NAME ...]
-[--perturb EPS --copies N]``
+[--perturb EPS --copies N] [--speed N]``
 (``--seed-offset 1000 2000``:
 the same 24 sequences drawn anew, :func:`oocyte_fe.tracking.benchmark.reseeded`; ``--model
 heldout``: the 12 conditions of the second, independent video model of
@@ -27,6 +27,9 @@ figures per condition group against OpenCV CSRT: the protocol of docs/tracking.m
 win exceeds the spread). With ``--perturb 1e-4`` it instead runs the trackers (MFAKCF always)
 on ``--copies`` perturbed copies of the same sequences and prints each tracker's pooled
 figures per copy and its paired difference from MFAKCF (:mod:`oocyte_fe.tracking.paired`).
+With ``--speed 5`` it only times the trackers at the 128 px window, five runs each, beside
+the single-feature KCF (HOG) in the same process (issue 21's speed goal; the
+``spindle_tracking`` case reports the speed but does not check it).
 """
 
 from __future__ import annotations
@@ -67,7 +70,18 @@ def main() -> None:
         help="paired comparison: frames x (1 + EPS N(0,1)) on --copies copies (e.g. 1e-4)",
     )
     parser.add_argument("--copies", type=int, default=4, help="perturbed copies (--perturb)")
+    parser.add_argument(
+        "--speed",
+        type=int,
+        default=0,
+        metavar="N",
+        help="only the speed test: N timings of each tracker at the 128 px window",
+    )
     args = parser.parse_args()
+    if args.speed:
+        ours = {k: v for k, v in bench.ABLATION.items() if not args.trackers or k in args.trackers}
+        speed(ours or {"MFAKCF": bench.MFAKCF}, args.speed)
+        return
     if not 0 <= args.perturb < 1 or args.copies < 1:  # NaN fails the first test
         parser.error("--perturb must be a relative perturbation in [0, 1) and --copies >= 1")
     if args.model == "heldout":
@@ -131,6 +145,29 @@ def main() -> None:
         print(
             f"{name}: 128 x 128 window: {cpu:.0f} frames per CPU second (one core), "
             f"{wall:.0f} per wall-clock second (issue 21: >= 200)"
+        )
+    print(f"1-min load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+
+
+def speed(trackers: dict, runs: int, window_px: int = 128) -> None:
+    """Frames per CPU second at a ``window_px`` square search window (one core), ``runs``
+    timings each, interleaved with the single-feature KCF (HOG) in the same process: the
+    best and median run, and the ratio to the baseline's median (a host-independent cost)."""
+    import numpy as np
+
+    names = ["KCF (HOG)", *trackers]
+    configs = {"KCF (HOG)": bench.SINGLE_KCF, **trackers}
+    fps: dict[str, list[float]] = {n: [] for n in names}
+    for _ in range(runs):
+        for n in names:
+            fps[n].append(bench.fps_at_window(configs[n], window_px)[0])
+    base = float(np.median(fps["KCF (HOG)"]))
+    for n in names:
+        best, median = max(fps[n]), float(np.median(fps[n]))
+        print(
+            f"{n}: {window_px} x {window_px} window, {runs} runs: best {best:.0f}, median "
+            f"{median:.0f} frames per CPU second (one core); cost {base / median:.2f} x KCF (HOG)"
+            + (" (issue 21: >= 200)" if n != "KCF (HOG)" else "")
         )
     print(f"1-min load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 

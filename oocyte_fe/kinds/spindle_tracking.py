@@ -40,7 +40,8 @@ class TrackingInputs(CaseInputs):
     )  # fmt: skip
     fps_goal: float = Field(
         200.0, gt=0, le=1e6,
-        description="MFAKCF frames per second at the speed-test window, one core",
+        description="issue 21's MFAKCF frames per CPU second at the speed-test window, shown "
+        "beside the measured speed (benchmarks/tracking.py checks it; not a case check)",
         json_schema_extra={"unit": "frames/s"},
     )  # fmt: skip
 
@@ -107,10 +108,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "kcf_fps_window": fps_kcf,
         **gains,
     }
-    checks = [
-        Check(f"MFAKCF fps, {inp.fps_window_px} px window", fps, fps >= inp.fps_goal,
-              f">= {inp.fps_goal:g}", None, "issue 21 goal", "frames/s"),
-    ]  # fmt: skip
+    checks = []
     for key, label in (("occlusion", "occlusion"), ("light", "light drift")):
         name = f"precision_gain_{key}_pct"
         if name in gains:
@@ -139,12 +137,23 @@ def run(ctx: CaseContext) -> CaseOutcome:
                 "| measure | ours | seed 000 |\n|---|---|---|\n" + seed_rows,
             ),
             (
+                "Speed (reported, not checked)",
+                f"At a {inp.fps_window_px} x {inp.fps_window_px} px search window, one core: "
+                f"MFAKCF {fps:.0f} frames per CPU second ({fps_wall:.0f} per wall-clock second), "
+                f"the single-feature KCF (HOG) {fps_kcf:.0f}: MFAKCF costs "
+                f"{fps_kcf / fps:.2f} times the single-feature filter, measured in the same "
+                f"process. Issue 21's goal is >= {inp.fps_goal:g} frames per CPU second; a "
+                "case's outcome does not depend on the speed of the machine it runs on (on a "
+                "shared host the figure moves by half from run to run: docs/tracking.md), so "
+                "the goal is measured by benchmarks/tracking.py, which repeats the timing and "
+                "prints it with this ratio.",
+            ),
+            (
                 "Run conditions",
                 f"sequences: {', '.join(s.name for s in specs)}; {inp.n_frames} frames each; "
                 f"OpenCV: {result.opencv or 'not installed or not asked'}; "
                 f"1-min load average during the run {load:.1f} on {os.cpu_count()} cores "
-                "(the speed goal is checked on frames per CPU second of the process; "
-                "the table's fps are wall-clock and fall with the load).",
+                "(the table's fps are wall-clock and fall with the load).",
             ),
         ],
         checks=checks,
