@@ -135,9 +135,9 @@ def test_fit_indentation_arguments() -> None:
 @example(piezo_scale=math.nan, force_scale=1.0, k=70.0)
 def _scaled_curves(piezo_scale: float, force_scale: float, k: object) -> None:
     def call() -> tuple[float, float]:
-        curve = ForceCurve(
-            GOOD_CURVE.piezo_um * piezo_scale, GOOD_CURVE.force_nN * force_scale, k, "scaled.csv"
-        )
+        with np.errstate(invalid="ignore", over="ignore"):  # the fuzz input: 0 x inf is NaN
+            piezo, force = GOOD_CURVE.piezo_um * piezo_scale, GOOD_CURVE.force_nN * force_scale
+        curve = ForceCurve(piezo, force, k, "scaled.csv")
         return _fit_numbers(fit_indentation(curve))
 
     check_outcome("afm.ForceCurve + fit_indentation (scaled)", call, own_file=True)
