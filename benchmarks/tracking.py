@@ -78,12 +78,14 @@ def main() -> None:
         help="only the speed test: N timings of each tracker at the 128 px window",
     )
     args = parser.parse_args()
-    if args.speed:
-        ours = {k: v for k, v in bench.ABLATION.items() if not args.trackers or k in args.trackers}
-        speed(ours or {"MFAKCF": bench.MFAKCF}, args.speed)
-        return
     if not 0 <= args.perturb < 1 or args.copies < 1:  # NaN fails the first test
         parser.error("--perturb must be a relative perturbation in [0, 1) and --copies >= 1")
+    if args.speed < 0:
+        parser.error("--speed must be a number of timings >= 1 (0: no speed-only run)")
+    ours = {k: v for k, v in bench.ABLATION.items() if not args.trackers or k in args.trackers}
+    if args.speed:
+        speed(ours, args.speed)
+        return
     if args.model == "heldout":
         specs = [s for seed0 in args.seed0 for s in heldout_grid(args.frames, seed0)]
         render = generate_heldout
@@ -97,7 +99,6 @@ def main() -> None:
         specs = [s for n in args.seed_offset for s in (bench.reseeded(grid, n) if n else grid)]
         render = generate
     t0 = time.perf_counter()
-    ours = {k: v for k, v in bench.ABLATION.items() if not args.trackers or k in args.trackers}
     if args.perturb > 0:
         ours = {"MFAKCF": bench.MFAKCF, **ours}
         copies = [
@@ -155,8 +156,8 @@ def speed(trackers: dict, runs: int, window_px: int = 128) -> None:
     best and median run, and the ratio to the baseline's median (a host-independent cost)."""
     import numpy as np
 
-    names = ["KCF (HOG)", *trackers]
-    configs = {"KCF (HOG)": bench.SINGLE_KCF, **trackers}
+    configs = {"KCF (HOG)": bench.SINGLE_KCF, **trackers}  # the baseline once, first
+    names = list(configs)
     fps: dict[str, list[float]] = {n: [] for n in names}
     for _ in range(runs):
         for n in names:
