@@ -4,7 +4,9 @@ quick run takes long), are not blank and have labelled axes.
 Kinds come from the registry and their cases from ``cases/*/case.toml``, so a new kind with a
 case is covered without editing this file; a kind with no case must be listed in
 ``NO_CASE`` with the reason. A sweep case's own figures (histograms, scatter, sensitivity)
-are rendered by the sweep's aggregation on a synthetic design of 32 samples.
+are rendered by the sweep's aggregation on a synthetic design of 32 samples. A case whose
+quick run other tests read too (``SHARED``) is checked on that run (tests/conftest.py), its
+figures' labels recorded as they were saved.
 
 Checks:
 
@@ -19,8 +21,11 @@ Checks:
 
 from __future__ import annotations
 
+import json
 import logging
 import math
+import re
+from collections.abc import Iterator
 from pathlib import Path
 
 import matplotlib
@@ -29,11 +34,11 @@ matplotlib.use("Agg")
 import numpy as np
 import pytest
 from matplotlib.figure import Figure as MplFigure
-from PIL import Image
 
 from oocyte_fe.microchannel.vof.runner import INSTALL_HINT, openfoam_available
 from oocyte_fe.runner.casefile import load_case, read_toml
 from oocyte_fe.runner.registry import CaseContext, kinds
+from tests.figure_checks import LABELS_FILE, blank, check_outputs, label_problems, recorded_labels
 
 ROOT = Path(__file__).parents[1]
 CASES = ROOT / "cases"
@@ -59,10 +64,10 @@ CHEAPER: dict[str, dict] = {
     "nmsd_calibration_tableII": {"n_starts": 1, "max_evaluations": 8},
     "nmsd_spindle_offset": {"n_starts": 1, "max_evaluations": 8},
     "rtdc_elastic_cell": {"flow_size_um": 2.0, "mesh_fraction": 0.2},
-    # one run (no dt/2 check): its run and checks are tests/test_vof_openfoam.py's
-    # and half the writes (the elastic cell on 2-3 writes around x = 0 instead of 4-5)
-    "microchannel_vof_quick": {"dt_refinements": 0, "time_step_s": 2e-6, "writes": 40},
 }
+SHARED = {"microchannel_vof_quick"}
+"""Cases whose figures are checked on the quick run that other tests read too (tests/conftest.py:
+run once per test run, its figures' labels recorded as they were saved)."""
 NO_CASE = {
     "analytic_linear": "the closed-form test kind of the sweep tests; it draws nothing",
     "nmsd_spindle_offset_resampled": "the sweep kind of sweep_spindle_offset; draws nothing "
@@ -86,70 +91,11 @@ def _sweep_dirs() -> list[Path]:
     return [f.parent for f in sorted(CASES.glob("*/case.toml")) if "sweep" in read_toml(f)]
 
 
-def _label_problems(fig: MplFigure) -> list[str]:
-    """What is unlabelled in ``fig`` (empty when every axes is labelled)."""
-    problems = []
-    for i, ax in enumerate(fig.axes):
-        if not ax.get_visible():
-            continue
-        where = f"axes {i} ({ax.get_title() or 'untitled'})"
-        if hasattr(ax, "_colorbar"):
-            if not (ax.get_xlabel() or ax.get_ylabel()):
-                problems.append(f"{where}: colour bar without a label")
-            continue
-        if not ax.axison:
-            if not ax.get_title():
-                problems.append(f"{where}: drawn without axes and without a title")
-            continue
-        if ax.get_legend() is not None:
-            problems += [
-                f"{where}: a line left out of the legend without a label"
-                for line in ax.get_lines()
-                if line.get_label().startswith("_child")
-            ]
-        xs = ax.get_shared_x_axes().get_siblings(ax)
-        ys = ax.get_shared_y_axes().get_siblings(ax)
-        if not any(a.get_xlabel() for a in xs):
-            problems.append(f"{where}: no x label")
-        if not any(a.get_ylabel() for a in ys):
-            problems.append(f"{where}: no y label")
-    return problems
-
-
 @pytest.fixture
-def saved_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, list[str]]:
+def saved_figures() -> Iterator[dict[str, list[str]]]:
     """file name -> label problems of every matplotlib figure saved while the test runs."""
-    seen: dict[str, list[str]] = {}
-    original = MplFigure.savefig
-
-    def savefig(self: MplFigure, fname, *args, **kwargs):
-        seen[str(fname)] = _label_problems(self)
-        return original(self, fname, *args, **kwargs)
-
-    monkeypatch.setattr(MplFigure, "savefig", savefig)
-    return seen
-
-
-def _blank(path: Path) -> str | None:
-    """Why the PNG ``path`` looks blank, or None."""
-    image = np.asarray(Image.open(path).convert("RGB"), dtype=float)
-    background = np.median(image.reshape(-1, 3), axis=0)
-    away = (np.abs(image - background).max(axis=2) > 30).mean()
-    if image.std() <= 15.0 or away < 0.02:
-        return f"{path.name}: pixel SD {image.std():.1f}, {100 * away:.1f} % off-background"
-    return None
-
-
-def _check_outputs(out: Path, saved: dict[str, list[str]]) -> None:
-    pngs = sorted(out.rglob("*.png"))
-    assert pngs, f"no figure written in {out}"
-    blank = [why for p in pngs if (why := _blank(p))]
-    assert not blank, blank
-    unlabelled = {}
-    for file, problems in saved.items():
-        if problems:
-            unlabelled[str(Path(file).relative_to(out))] = problems
-    assert not unlabelled, "\n".join(f"{f}: {p}" for f, ps in unlabelled.items() for p in ps)
+    with recorded_labels() as seen:
+        yield seen
 
 
 def test_every_kind_has_a_case_or_a_reason() -> None:
@@ -162,22 +108,30 @@ def test_every_kind_has_a_case_or_a_reason() -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("kind", sorted(_case_dirs()))
 def test_kind_figures(
-    kind: str, tmp_path: Path, saved_figures: dict[str, list[str]], monkeypatch
+    kind: str, tmp_path: Path, saved_figures: dict[str, list[str]], monkeypatch, request
 ) -> None:
     monkeypatch.setenv("OOCYTE_FE_CACHE", str(tmp_path / "mesh_cache"))
     folder = _case_dirs()[kind]
+    if kind == "microchannel_vof" and not openfoam_available():
+        pytest.skip(f"OpenFOAM not installed: {INSTALL_HINT}")
+    if folder.name in SHARED:
+        out = request.getfixturevalue("quick_run")(folder.name)
+        listed = re.findall(r"^!\[.*\]\(([^()\s]+)\)$", (out / "report.md").read_text(), re.M)
+        assert listed, f"{folder.name}: no figure listed in its report"
+        for file in listed:
+            assert (out / file).is_file(), f"{file} listed but not written"
+        check_outputs(out, json.loads((out.parent / LABELS_FILE).read_text()))
+        return
     case = load_case(folder, quick=True)
     raw = {**case.spec.inputs, **case.spec.quick, **CHEAPER.get(folder.name, {})}
     inputs = case.kind.inputs.model_validate(raw, context={"case_dir": folder})
     out = tmp_path / "out"
     out.mkdir()
     ctx = CaseContext(case.name, folder, out, inputs, True, logging.getLogger(f"figures.{kind}"))
-    if kind == "microchannel_vof" and not openfoam_available():
-        pytest.skip(f"OpenFOAM not installed: {INSTALL_HINT}")
     outcome = case.kind.run(ctx)
     for figure in outcome.figures:
         assert (out / figure.file).is_file(), f"{figure.file} listed but not written"
-    _check_outputs(out, saved_figures)
+    check_outputs(out, saved_figures)
 
 
 @pytest.mark.slow
@@ -210,7 +164,7 @@ def test_sweep_figures(folder: Path, tmp_path: Path, saved_figures) -> None:
     outcome = aggregate(case, rows, list(sweep.parameters), tmp_path)
     assert math.isclose(outcome.metrics["ok_fraction"], 1.0)
     assert {f.file for f in outcome.figures} == {"histograms.png", "scatter.png", "sensitivity.png"}
-    _check_outputs(tmp_path, saved_figures)
+    check_outputs(tmp_path, saved_figures)
 
 
 def test_nmsd_snapshots_share_one_colour_scale(tmp_path: Path, monkeypatch) -> None:
@@ -227,7 +181,7 @@ def test_nmsd_snapshots_share_one_colour_scale(tmp_path: Path, monkeypatch) -> N
     def savefig(self: MplFigure, fname, *args, **kwargs):
         scatters = [c for ax in self.axes for c in ax.collections if isinstance(c, PathCollection)]
         limits.append([(c.norm.vmin, c.norm.vmax) for c in scatters])
-        assert not _label_problems(self), _label_problems(self)
+        assert not label_problems(self), label_problems(self)
         return original(self, fname, *args, **kwargs)
 
     monkeypatch.setattr(MplFigure, "savefig", savefig)
@@ -238,4 +192,4 @@ def test_nmsd_snapshots_share_one_colour_scale(tmp_path: Path, monkeypatch) -> N
     plot_snapshots(tmp_path / "b.png", lattice, Pipette(), {0.0: lattice.nodes})
     assert limits[0] == [(0.0, 5.0)] * 3  # |(3, 4)| = 5 um, shared by the three panels
     assert limits[1] == [(0.0, 1.0)]  # nothing moved: 0..1, not -0.1..0.1
-    assert _blank(tmp_path / "a.png") is None
+    assert blank(tmp_path / "a.png") is None

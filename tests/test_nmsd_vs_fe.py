@@ -28,6 +28,7 @@ from oocyte_fe.fe.material import Material
 from oocyte_fe.kinds.crosscheck_inputs import CrosscheckInputs
 from oocyte_fe.kinds.fe_nmsd_crosscheck import nmsd_setup
 from oocyte_fe.runner.registry import CaseContext
+from oocyte_fe.runner.result import read_result
 from oocyte_fe.runner.run import plan, run_cases
 
 CASES = Path(__file__).parents[1] / "cases"
@@ -105,9 +106,10 @@ def test_spindle_goal_is_the_larger_of_2_um_and_10_percent() -> None:
 
 
 @pytest.mark.slow
-def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_path: Path) -> None:
-    [result] = run_cases(plan([CASE], quick=True), tmp_path, quick=True)
-    data = json.loads((tmp_path / "nmsd_vs_fe" / "metrics.json").read_text())
+def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(quick_run) -> None:
+    folder = quick_run("nmsd_vs_fe")  # shared with the round-off test (tests/conftest.py)
+    result = read_result(folder)
+    data = json.loads((folder / "metrics.json").read_text())
     checks = {c["name"]: c for c in data["checks"]}
     m = data["metrics"]
     # held: the NMSD reproduces the FE force curve it is calibrated to (R^2 0.981, similarity
@@ -133,7 +135,7 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(tmp_pa
     assert m["near_best_fits"] >= 2 and lo <= m["spindle_goal_ratio_max"] <= hi
     assert hi - lo < 0.3
     assert [n for n, c in checks.items() if not c["passed"]] == ["spindle_goal_ratio_max"]
-    assert {p.name for p in (tmp_path / "nmsd_vs_fe").glob("*.png")} >= {
+    assert {p.name for p in folder.glob("*.png")} >= {
         "force_curves.png",
         "displacement_arrows.png",
         "fe_section_end.png",

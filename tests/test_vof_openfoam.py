@@ -85,28 +85,16 @@ def test_shear_thinning_slit_matches_rabinowitsch(tmp_path: Path, model: str) ->
     assert math.isfinite(exact.flow_rate)
 
 
-@pytest.fixture(scope="module")
-def quick_case(tmp_path_factory: pytest.TempPathFactory, worker_id: str):
-    """The quick junction case, run once per test run: (its result, its metrics). Under
-    pytest-xdist the workers share one run (the folder above each worker's temporary folder
-    is the run's, and a file lock lets one worker run it while the others wait: about 2 min of
-    OpenFOAM and FE that the two tests below would otherwise each pay)."""
+@pytest.fixture
+def quick_case(quick_run):
+    """The quick junction case (tests/conftest.py: run once per test run, shared by the xdist
+    workers; about 2 min of OpenFOAM and FE): (its result, its metrics)."""
     import json
 
-    from filelock import FileLock
-
     from oocyte_fe.runner.result import read_result
-    from oocyte_fe.runner.run import plan, run_cases
 
-    base = tmp_path_factory.getbasetemp()
-    out = (base if worker_id == "master" else base.parent) / "quick_vof_case"
-    folder = out / "microchannel_vof_quick"
-    with FileLock(f"{out}.lock"):
-        if read_result(folder) is None:
-            run_cases(plan([CASES / "microchannel_vof_quick"], quick=True), out, quick=True)
-    result = read_result(folder)
-    assert result is not None, f"no result in {folder}"
-    return result, json.loads((folder / "metrics.json").read_text())["metrics"]
+    folder = quick_run("microchannel_vof_quick")
+    return read_result(folder), json.loads((folder / "metrics.json").read_text())["metrics"]
 
 
 @pytest.mark.slow

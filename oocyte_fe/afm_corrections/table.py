@@ -188,9 +188,12 @@ class Column:
     e_fit: np.ndarray  # E_fit / E_ZP
 
 
-def column(e_ratio: float, probe_h: float, depth_h: np.ndarray, **kw: float) -> Column:
-    """Run (or read from the cache) one FE curve and fit it to each d/h of ``depth_h``."""
-    exp = experiment(e_ratio, probe_h, **kw)
+def column(
+    e_ratio: float, probe_h: float, depth_h: np.ndarray, *, run_to_h: float | None = None, **kw
+) -> Column:
+    """Run (or read from the cache) one FE curve, to d/h = ``run_to_h`` (default:
+    :func:`max_depth_h`), and fit it to each d/h of ``depth_h``."""
+    exp = experiment(e_ratio, probe_h, depth_h=run_to_h, **kw)
     zona = exp.cell.zona_thickness_um
     rstar = effective_radius_um(probe_h * zona, exp.cell.radius_um)
     d, f = force_curve(exp)
