@@ -23,7 +23,9 @@ from afm.synthetic import indentation_curve
 
 def _long_curve() -> ForceCurve:
     # 10 000 points over 25 um with contact at 20 um: the contact region is 5 um of 25
-    curve = indentation_curve(5.0, 20.0, max_piezo_um=25.0, n_points=10_000, noise_fraction=0.01)
+    curve = indentation_curve(
+        5.0, 20.0, max_piezo_um=25.0, n_points=10_000, noise_fraction=0.01, seed=2
+    )
     return ForceCurve(
         curve.piezo_um,
         curve.force_nN,

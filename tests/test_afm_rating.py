@@ -14,7 +14,10 @@ from tests.instrument_data import instrument_file
 
 
 def test_clean_curve_is_good_and_the_rating_gives_every_figure():
-    fit = fit_indentation(indentation_curve(5.0, 3.0, max_piezo_um=6.0, noise_fraction=0.01))
+    # one fixed draw (seed 0: spread 0.044); over 200 draws the spread's 99th percentile is
+    # 0.080 and 1 draw in 200 exceeds 0.1 (an unseeded draw made this test fail once)
+    curve = indentation_curve(5.0, 3.0, max_piezo_um=6.0, noise_fraction=0.01, seed=0)
+    fit = fit_indentation(curve)
     assert fit.quality == "good"
     assert fit.systematic_residual < 0.02 and fit.modulus_spread < 0.1
     for figure in ("R^2", "points in contact", "systematic residual", "snap-in", "E(delta)"):
@@ -23,7 +26,9 @@ def test_clean_curve_is_good_and_the_rating_gives_every_figure():
 
 def test_snap_in_at_contact_is_rated_poor():
     # a -20 % dip just before contact (the tip jumping onto the sample), R^2 stays high
-    clean = indentation_curve(5.0, 3.0, max_piezo_um=6.0, n_points=1500, noise_fraction=0.005)
+    clean = indentation_curve(
+        5.0, 3.0, max_piezo_um=6.0, n_points=1500, noise_fraction=0.005, seed=1
+    )
     peak = float(clean.force_nN.max())
     dip = 0.2 * peak * np.exp(-(((clean.piezo_um - 2.97) / 0.02) ** 2))
     curve = ForceCurve(clean.piezo_um, clean.force_nN - dip, clean.spring_constant_nN_per_um)
