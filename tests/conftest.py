@@ -10,6 +10,10 @@ test starting last and leaving the other worker idle.
 workers share it (the folder above each worker's temporary folder is the run's, and a file
 lock lets one worker run it while the others wait), so the tests that read the same quick run
 (its checks, its figures, the unperturbed side of a round-off test) do not each pay for it.
+
+Hypothesis draws the same examples in every run (profile ``default``: derandomized, no example
+database), so the test command passes or fails the same way on every machine and CI is not red
+by a new draw; ``--hypothesis-profile=explore`` draws fresh examples to look for failures.
 """
 
 from __future__ import annotations
@@ -19,10 +23,15 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 from tests.figure_checks import LABELS_FILE, recorded_labels
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
+
+settings.register_profile("default", derandomize=True, database=None)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile("default")
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
