@@ -6,7 +6,6 @@ import json
 import logging
 import math
 import shutil
-import time
 from pathlib import Path
 
 import numpy as np
@@ -135,8 +134,9 @@ def test_zp_draws_that_cannot_pass_the_floor_are_refused_at_validation(tmp_path:
 
 def test_redraw_loop_is_bounded(tmp_path: Path) -> None:
     """A floor 2.99 SD above the mean passes validation (the 3 SD rule) but almost every draw
-    falls below it: the run gives up after MAX_REDRAW_ROUNDS rounds, in well under a second,
-    naming the floor and how many draws stayed below it."""
+    falls below it: the run gives up after MAX_REDRAW_ROUNDS rounds (the message counts them; a
+    time limit here would be a timed test), naming the floor and how many draws stayed below
+    it."""
     case = _copy(tmp_path, "afm_zp_cytoplasm")
     raw = (case / "case.toml").read_text()
     for key, value in (
@@ -153,10 +153,8 @@ def test_redraw_loop_is_bounded(tmp_path: Path) -> None:
     ctx = CaseContext(
         loaded.name, loaded.directory, tmp_path / "out", loaded.inputs, False, logging.getLogger()
     )
-    start = time.perf_counter()
     with pytest.raises(InputError) as err:
         loaded.kind.run(ctx)
-    assert time.perf_counter() - start < 1.0
     assert str(err.value) == (
         f"{case / 'case.toml'}: inputs.min_E_kPa: expected a floor most draws of N(1, 1) kPa "
         f"pass; {MAX_REDRAW_ROUNDS} redraw rounds left 13 of 60 below 3.99 kPa"
