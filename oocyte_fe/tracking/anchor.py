@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from oocyte_fe.tracking.kcf import KcfModel
+from oocyte_fe.tracking.kcf import KcfModel, respond_models, update_models
 
 NEAR = np.array([-1, 0, 1])
 """Cell shifts within one cell of zero, in both axes (the response is periodic)."""
@@ -78,11 +78,10 @@ class Anchor(ScoreReference):
         if self.complete:
             return
         self.n += 1
-        for model, xf in zip(self.models, feats, strict=True):
-            model.update(xf, yf, 1.0 / self.n)
+        update_models(self.models, feats, yf, 1.0 / self.n)
 
     def score(self, feats: list[np.ndarray]) -> float:
         """``A(z)``: the mean anchor response's maximum within one cell of zero shift."""
-        response = sum(m.respond(zf) for m, zf in zip(self.models, feats, strict=True))
+        response = sum(respond_models(self.models, feats))
         near = response[np.ix_(NEAR, NEAR)] / len(self.models)  # shifts -1, 0, 1 (wrapped)
         return float(near.max())

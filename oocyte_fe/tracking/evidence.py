@@ -34,6 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from oocyte_fe.tracking.window_stats import median, smooth
+
 S0 = 1.3
 S1 = 2.0
 SMOOTH_PX = 1.0
@@ -48,14 +50,14 @@ def noise_sigma(window: np.ndarray) -> float:
     d = (w[:, 1::2] - w[:, : w.shape[1] - 1 : 2]).ravel()
     if d.size == 0:
         return 0.0
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2.0))
+    return float(1.4826 * median(np.abs(d - median(d))) / np.sqrt(2.0))
 
 
 def contrast_to_noise(box_patch: np.ndarray, sigma_n: float) -> float:
     """``s``: the smoothed box's standard deviation over that of smoothed white noise of
     ``sigma_n``; 0 for a constant box (to rounding), inf for structure without noise."""
     patch = np.asarray(box_patch, dtype=float)
-    spread = float(ndimage.gaussian_filter(patch, SMOOTH_PX).std())
+    spread = float(smooth(patch, SMOOTH_PX).std())
     if spread <= 1e-9 * (abs(float(patch.mean())) + 1.0):
         return 0.0
     return spread / (K_SMOOTH * sigma_n) if sigma_n > 0 else float("inf")
@@ -63,7 +65,7 @@ def contrast_to_noise(box_patch: np.ndarray, sigma_n: float) -> float:
 
 def confidence_factor(s: float) -> float:
     """``e = clip((s - s_0) / (s_1 - s_0), 0, 1)``."""
-    return float(np.clip((s - S0) / (S1 - S0), 0.0, 1.0))
+    return min(max((s - S0) / (S1 - S0), 0.0), 1.0)
 
 
 def _gradient_noise_gain(sigma_px: float) -> float:
@@ -161,7 +163,7 @@ def measure(
     around = inside(frame, centre, window)
     if min(box.shape) < 3 or min(around.shape) < 3:
         return 0.0, 0.0
-    level = float(np.median(around[::2, ::2]))
+    level = median(around[::2, ::2])
     return brightness(box, level), coherence(box, noise_sigma(around))
 
 
@@ -169,7 +171,7 @@ def inside(frame: np.ndarray, centre: tuple[float, float], size: tuple[float, fl
     """The frame's pixels inside the (w, h) rectangle ``size`` px about ``centre`` px."""
     rows, cols = frame.shape
     (x0, x1), (y0, y1) = (
-        (int(np.clip(round(c - n / 2), 0, m)), int(np.clip(round(c + n / 2), 0, m)))
+        (min(max(round(c - n / 2), 0), m), min(max(round(c + n / 2), 0), m))
         for c, n, m in zip(centre, size, (cols, rows), strict=True)
     )
     return frame[y0:y1, x0:x1]

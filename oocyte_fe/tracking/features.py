@@ -31,6 +31,8 @@ import functools
 
 import numpy as np
 
+from oocyte_fe.tracking.window_stats import median
+
 HOG_CLIP = 0.2
 """Dalal-Triggs truncation of the normalised histogram."""
 
@@ -50,6 +52,14 @@ def _cell_index(shape: tuple[int, int], cell: int, n_bins: int) -> np.ndarray:
     rows = np.arange(h)[:, None] // cell
     cols = np.arange(w)[None, :] // cell
     index = (rows * (w // cell) + cols) * n_bins
+    index.flags.writeable = False
+    return index
+
+
+@functools.lru_cache(maxsize=64)
+def _edge_padded(n: int) -> np.ndarray:
+    """Indices ``0, 0, 1, ..., n - 1, n - 1``: an axis of n cells padded by its edge cells."""
+    index = np.clip(np.arange(-1, n + 1), 0, n - 1)
     index.flags.writeable = False
     return index
 
@@ -84,8 +94,8 @@ def hog_cells(patch: np.ndarray, cell: int = 4, n_orient: int = 9) -> np.ndarray
     img = _crop(np.asarray(patch, dtype=np.float64), cell)
     hist = orientation_votes(img, cell, n_orient)
     energy = np.sum(hist * hist, axis=2)
-    padded = np.pad(energy, 1, mode="edge")
     hc, wc = energy.shape
+    padded = energy[_edge_padded(hc)][:, _edge_padded(wc)]  # np.pad(energy, 1, mode="edge")
     nbhd = sum(padded[i : i + hc, j : j + wc] for i in range(3) for j in range(3))
     scale = np.sqrt(nbhd / 9.0 + 1e-12)
     return np.minimum(hist / scale[..., None], HOG_CLIP)
@@ -110,7 +120,7 @@ def gray_histogram_cells(
 ) -> np.ndarray:
     """Grayscale-histogram map, shape ``(H // cell, W // cell, n_bins)`` (see module doc)."""
     img = _crop(np.asarray(patch, dtype=np.float64), cell)
-    level = float(np.median(img[::2, ::2]))
+    level = median(img[::2, ::2])
     u = (img / (level if level > 0 else 1.0) - 1.0) / spread
     return _gray_votes(u, cell, n_bins, u_max) / (cell * cell)
 

@@ -51,15 +51,45 @@ def fft_features(x: np.ndarray) -> np.ndarray:
     return fft.fft2(x, axes=(0, 1))
 
 
+def fft_feature_maps(maps: list[np.ndarray]) -> list[np.ndarray]:
+    """:func:`fft_features` of several ``(h, w, c_k)`` maps on one grid, in one call (each
+    channel is transformed alone: the same numbers), each returned as its own array."""
+    if len(maps) == 1:
+        return [fft_features(maps[0])]
+    stacked = fft_features(np.concatenate(maps, axis=2))
+    ends = np.cumsum([m.shape[2] for m in maps])
+    return [np.ascontiguousarray(f) for f in np.split(stacked, ends[:-1], axis=2)]
+
+
+def gaussian_correlations(
+    xfs: list[np.ndarray], zfs: list[np.ndarray], sigma: float
+) -> list[np.ndarray]:
+    """DFTs of ``k^{xz}(d) = kappa(roll(x, -d), z)`` (eq 31 above) for each pair of DFTs
+    ``(xfs[k], zfs[k])`` on the same ``h x w`` grid (one pair per feature; channels may differ).
+
+    The pairs' inverse and forward 2-D DFTs are taken in one call each: pocketfft transforms
+    each slice of a stack alone, so the numbers are those of one call per pair to the last bit,
+    at a fraction of the calls' overhead (a tracked frame makes about a dozen of them).
+    """
+    h, w = xfs[0].shape[:2]
+    n_px = h * w
+    cross = np.real(
+        fft.ifft2(
+            np.array([np.sum(xf * np.conj(zf), axis=2) for xf, zf in zip(xfs, zfs, strict=True)])
+        )
+    )
+    kernels = []
+    for xf, zf, xz in zip(xfs, zfs, cross, strict=True):
+        xx = np.real(np.vdot(xf, xf)) / n_px
+        zz = np.real(np.vdot(zf, zf)) / n_px
+        dist = np.maximum(0.0, xx + zz - 2.0 * xz) / (n_px * xf.shape[2])
+        kernels.append(np.exp(-dist / sigma**2))
+    return list(fft.fft2(np.array(kernels)))
+
+
 def gaussian_correlation(xf: np.ndarray, zf: np.ndarray, sigma: float) -> np.ndarray:
     """DFT of ``k^{xz}(d) = kappa(roll(x, -d), z)`` from the DFTs of x and z (eq 31 above)."""
-    h, w, c = xf.shape
-    n_px = h * w
-    xx = np.real(np.vdot(xf, xf)) / n_px
-    zz = np.real(np.vdot(zf, zf)) / n_px
-    xz = np.real(fft.ifft2(np.sum(xf * np.conj(zf), axis=2)))
-    dist = np.maximum(0.0, xx + zz - 2.0 * xz) / (n_px * c)
-    return fft.fft2(np.exp(-dist / sigma**2))
+    return gaussian_correlations([xf], [zf], sigma)[0]
 
 
 def train(xf: np.ndarray, yf: np.ndarray, sigma: float, lam: float) -> np.ndarray:
@@ -69,7 +99,18 @@ def train(xf: np.ndarray, yf: np.ndarray, sigma: float, lam: float) -> np.ndarra
 
 def respond(alphaf: np.ndarray, model_xf: np.ndarray, zf: np.ndarray, sigma: float) -> np.ndarray:
     """Response map ``f(z) = F^-1(k_hat^{zx} . alpha_hat)`` over all cyclic shifts (eq 22)."""
-    return np.real(fft.ifft2(alphaf * gaussian_correlation(zf, model_xf, sigma)))
+    return respond_all([alphaf], [model_xf], [zf], sigma)[0]
+
+
+def respond_all(
+    alphafs: list[np.ndarray], model_xfs: list[np.ndarray], zfs: list[np.ndarray], sigma: float
+) -> list[np.ndarray]:
+    """:func:`respond` of each filter (one per feature) to its feature's DFT, the DFTs of all
+    filters taken together (:func:`gaussian_correlations`)."""
+    kernels = gaussian_correlations(zfs, model_xfs, sigma)
+    return list(
+        np.real(fft.ifft2(np.array([a * k for a, k in zip(alphafs, kernels, strict=True)])))
+    )
 
 
 def subpixel_peak(response: np.ndarray) -> tuple[float, float, float]:
@@ -120,8 +161,33 @@ class KcfModel:
         return respond(self.alphaf, self.xf, zf, self.sigma)
 
     def update(self, xf: np.ndarray, yf: np.ndarray, eta: float) -> None:
-        if eta <= 0.0:
-            return
-        alphaf = train(xf, yf, self.sigma, self.lam)
-        self.xf = (1.0 - eta) * self.xf + eta * xf
-        self.alphaf = (1.0 - eta) * self.alphaf + eta * alphaf
+        update_models([self], [xf], yf, eta)
+
+
+def _shared_sigma(models: list[KcfModel]) -> float:
+    sigma = models[0].sigma
+    if any(m.sigma != sigma for m in models):
+        raise ValueError("filters answered together must share one kernel width sigma")
+    return sigma
+
+
+def respond_models(models: list[KcfModel], zfs: list[np.ndarray]) -> list[np.ndarray]:
+    """``[m.respond(zf) for m, zf in zip(models, zfs)]`` with the DFTs of all filters taken
+    together (:func:`respond_all`; the same numbers)."""
+    return respond_all(
+        [m.alphaf for m in models], [m.xf for m in models], zfs, _shared_sigma(models)
+    )
+
+
+def update_models(
+    models: list[KcfModel], xfs: list[np.ndarray], yf: np.ndarray, eta: float
+) -> None:
+    """``m.update(xf, yf, eta)`` for each filter and its feature's DFT, the training DFTs of
+    all filters taken together (:func:`gaussian_correlations`; the same numbers)."""
+    if eta <= 0.0:
+        return
+    kernels = gaussian_correlations(xfs, xfs, _shared_sigma(models))
+    for model, xf, k in zip(models, xfs, kernels, strict=True):
+        alphaf = yf / (k + model.lam)
+        model.xf = (1.0 - eta) * model.xf + eta * xf
+        model.alphaf = (1.0 - eta) * model.alphaf + eta * alphaf

@@ -40,7 +40,6 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy import ndimage
 
 from oocyte_fe.tracking import evidence, kcf
 from oocyte_fe.tracking.anchor import Anchor
@@ -53,6 +52,7 @@ from oocyte_fe.tracking.motion import CentreFilter, MotionModel
 from oocyte_fe.tracking.rotation import BankScore, RotationBank, RotationModel, folded
 from oocyte_fe.tracking.scale import ScaleFilter, ScaleModel
 from oocyte_fe.tracking.update import ReliabilityHistory, UpdatePolicy
+from oocyte_fe.tracking.window_stats import smooth
 
 
 @dataclass(frozen=True)
@@ -375,11 +375,9 @@ class Tracker:
         """Feature DFTs (``names``, default the tracker's) of a window-sized patch (smoothed
         first, under the cosine window)."""
         if self.config.smooth_px > 0:
-            patch = ndimage.gaussian_filter(patch, self.config.smooth_px)
-        return [
-            kcf.fft_features(FEATURES[name](patch, self.config.cell) * self.cos)
-            for name in (names or self.config.features)
-        ]
+            patch = smooth(patch, self.config.smooth_px)
+        maps = [FEATURES[name](patch, self.config.cell) for name in (names or self.config.features)]
+        return kcf.fft_feature_maps([m * self.cos for m in maps])
 
     def _bank_learn(self, frame: np.ndarray) -> None:
         """Keep the square crop about the centre for the bank; when there are enough, build
@@ -471,7 +469,10 @@ class Tracker:
         """Fused response at ``centre``: (new centre, peak, APCE, r, weights, feature APCEs)."""
         feats, at = self._features(frame, centre)
         self._last = (self.n_frame, centre, feats, at)
-        responses = [m.respond(zf) for m, zf in zip(self.models, feats, strict=True)]
+        if self.config.context > 0:
+            responses = [m.respond(zf) for m, zf in zip(self.models, feats, strict=True)]
+        else:
+            responses = kcf.respond_models(self.models, feats)
         apces = np.array([apce(r) for r in responses])
         if self.config.adaptive:
             ref = self.apce_ref / self.apce_n if self.apce_n else apces
@@ -643,9 +644,12 @@ class Tracker:
             eta = cfg.policy.eta0
         if eta > 0:
             feats, _ = self._features(frame, self.centre)
-            train = self._with_context(frame, self.centre, feats) if cfg.context > 0 else feats
-            for model, xf in zip(self.models, train, strict=True):
-                model.update(xf, self.yf, eta)
+            if cfg.context > 0:
+                train = self._with_context(frame, self.centre, feats)
+                for model, xf in zip(self.models, train, strict=True):
+                    model.update(xf, self.yf, eta)
+            else:
+                kcf.update_models(self.models, feats, self.yf, eta)
             if note:  # the anchor's reference <A>, on the window just learnt from
                 self.anchor.note(self.anchor.score(feats))
                 if self.bank is not None and self.bank.due():

@@ -30,8 +30,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 
 @dataclass(frozen=True)
 class UpdatePolicy:
@@ -72,7 +70,7 @@ class ReliabilityHistory:
     def learning_rate(self, r: float) -> float:
         """``eta = eta_0 clip((r - r_stop) / (1 - r_stop), 0, 1)``."""
         p = self.policy
-        return p.eta0 * float(np.clip((r - p.r_stop) / (1.0 - p.r_stop), 0.0, 1.0))
+        return p.eta0 * min(max((r - p.r_stop) / (1.0 - p.r_stop), 0.0), 1.0)
 
     def accept(self, peak: float, apce_value: float, r: float) -> None:
         """Add a frame to the running means if it is fully reliable (``r >= 1``); the first
