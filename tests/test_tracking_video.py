@@ -256,3 +256,24 @@ def test_track_command_refuses_an_unknown_tracker_and_a_bad_speed(tmp_path: Path
         assert not out.exists()
     default = inspect.signature(track_command).parameters["max_speed"].default.default
     assert default == MAX_SPEED_UM_S
+
+
+def test_misleading_inputs_get_the_message_of_what_is_wrong(tmp_path: Path) -> None:
+    """A TIFF renamed .txt (it read as one 64 x 64 frame: "at least 2 frames"), a (T, Z, H, W)
+    stack (read as "at least 2 frames" too), a truth file with other column names (a bare
+    ``'x_px'`` KeyError) and a non-number in a box column: each message names the cause."""
+    import tifffile
+
+    tifffile.imwrite(tmp_path / "s.tif", np.ones((12, 64, 64), dtype=np.uint16))
+    (tmp_path / "s.txt").write_bytes((tmp_path / "s.tif").read_bytes())
+    with pytest.raises(InputError, match=r"by its extension: \.tif, .*got '\.txt'"):
+        read_frames(tmp_path / "s.txt")
+    tifffile.imwrite(tmp_path / "z.tif", np.ones((12, 5, 64, 64), dtype=np.uint16))
+    with pytest.raises(InputError, match=r"\(T, Z, H, W\).*got \(12, 5, 64, 64\)"):
+        read_frames(tmp_path / "z.tif")
+    (tmp_path / "t.csv").write_text("x,y,w,h\n1,2,3,4\n")
+    with pytest.raises(InputError, match=r"header: expected the columns x_px, y_px, w_px, h_px"):
+        read_boxes_csv(tmp_path / "t.csv")
+    (tmp_path / "t2.csv").write_text("x_px,y_px,w_px,h_px\n1,2,3,4\n1,a,3,4\n")
+    with pytest.raises(InputError, match=r"data row 2: expected numbers in x_px.*'1, a, 3, 4'"):
+        read_boxes_csv(tmp_path / "t2.csv")

@@ -24,18 +24,21 @@ def read_columns(path: Path) -> dict[str, np.ndarray]:
     every cell must be a finite number.
     """
     text = checks.read_text(path)
-    try:
-        rows = list(csv.reader(text.splitlines()))
-    except csv.Error as exc:
-        raise InputError(path, "", f"a comma-separated table ({exc})") from None
-    rows = [r for r in rows if r and any(c.strip() for c in r) and not r[0].startswith("#")]
-    if len(rows) < 2:
+    numbered = []  # (line of the file, cells), comments and blank lines left out
+    for line, text_line in enumerate(text.splitlines(), start=1):
+        try:
+            row = next(csv.reader([text_line]), [])
+        except csv.Error as exc:
+            raise InputError(path, f"line {line}", f"comma-separated values ({exc})") from None
+        if row and any(c.strip() for c in row) and not row[0].startswith("#"):
+            numbered.append((line, row))
+    if len(numbered) < 2:
         raise InputError(path, "", "a header row and at least one data row")
-    header = [h.strip() for h in rows[0]]
+    header = [h.strip() for h in numbered[0][1]]
     if len(set(header)) != len(header):
         raise InputError(path, "header", "distinct column names", got=", ".join(header)[:80])
     columns: dict[str, list[float]] = {h: [] for h in header}
-    for line, row in enumerate(rows[1:], start=2):
+    for line, row in numbered[1:]:
         if len(row) != len(header):
             raise InputError(path, f"line {line}", f"{len(header)} comma-separated values")
         for name, cell in zip(header, row, strict=True):

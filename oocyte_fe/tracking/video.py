@@ -17,6 +17,8 @@ from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
 TIFF_SUFFIXES = (".tif", ".tiff")
+VIDEO_SUFFIXES = (".gif", ".avi", ".mp4", ".mov", ".mkv", ".m4v", ".webm")
+"""Read by imageio (videos need its FFmpeg or PyAV plugin installed)."""
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,11 @@ def read_frames(path: str | Path) -> np.ndarray:
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "", "an existing TIFF stack, video or GIF file")
+    if path.suffix.lower() not in TIFF_SUFFIXES + VIDEO_SUFFIXES:
+        expected = "a TIFF stack, video or GIF by its extension: " + ", ".join(
+            TIFF_SUFFIXES + VIDEO_SUFFIXES
+        )
+        raise InputError(path, "", expected, path.suffix or "no extension")
     try:
         if path.suffix.lower() in TIFF_SUFFIXES:
             import tifffile
@@ -77,6 +84,9 @@ def as_gray_stack(frames: np.ndarray, path: str | Path) -> np.ndarray:
         raise InputError(path, "", "frames (T, H, W) or (T, H, W, 3), not planar colour", shape)
     elif frames.ndim == 3 and shape[-1] in COLOUR_CHANNELS:
         raise InputError(path, "", "a stack of frames, not a single colour image (H, W, 3)", shape)
+    elif frames.ndim > 3:
+        expected = "frames (T, H, W) or (T, H, W, 3 or 4), not a stack of planes per frame"
+        raise InputError(path, "", expected + " (T, Z, H, W): save one plane per frame", shape)
     if frames.ndim != 3 or frames.shape[0] < 2:
         raise InputError(path, "", "at least 2 grayscale or colour frames", shape)
     if not np.all(np.isfinite(frames)):
@@ -145,10 +155,18 @@ def read_boxes_csv(path: str | Path) -> np.ndarray:
     for number, row in enumerate(rows, start=1):
         if None in row or None in row.values():  # cells beyond the header, or missing
             raise InputError(path, f"data row {number}", "as many cells as header columns")
-    try:
-        return np.array([[float(r[k]) for k in BOX_COLUMNS] for r in rows])
-    except (KeyError, ValueError) as exc:
-        raise InputError(path, field, "a CSV with these columns", str(exc)) from None
+    missing = [k for k in BOX_COLUMNS if rows and k not in rows[0]]
+    if missing:
+        header = ", ".join(str(k) for k in rows[0])
+        raise InputError(path, "header", f"the columns {field}", checks.excerpt(header))
+    boxes = []
+    for number, row in enumerate(rows, start=1):
+        try:
+            boxes.append([float(row[k]) for k in BOX_COLUMNS])
+        except ValueError:
+            cells = checks.excerpt(", ".join(str(row[k]) for k in BOX_COLUMNS))
+            raise InputError(path, f"data row {number}", f"numbers in {field}", cells) from None
+    return np.array(boxes)
 
 
 GIF_MAX_DELAY_MS = 655_350.0
