@@ -12,9 +12,11 @@ Format (units kPa, s; read by the FE core)::
     g = [0.2, 0.1]
     tau_s = [0.1, 1.0]
 
-``[prony]`` may be left out (or hold empty lists) for an elastic material. Validation: E > 0,
--1 < nu <= 0.5, every g_i >= 0 with sum g < 1 (a solid: G_inf > 0), tau_i > 0, as many g as
-tau, no unknown keys. Errors name the file and the field.
+``[prony]`` may be left out (or hold empty lists) for an elastic material. Validation
+(:func:`material_constants`, the one check of a layer's constants: the FE description's inline
+materials use it too): E in [1e-6, 1e9] kPa, 0 <= nu <= 0.5, every g_i in [0, 1) with sum g < 1
+(a solid: G_inf > 0), tau_i in [1e-9, 1e9] s, as many g as tau, no unknown keys. Errors name
+the file and the field.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from pathlib import Path
 
 import tomli_w
 
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
 HEADER = (
@@ -36,6 +39,49 @@ HEADER = (
 MAX_FILE_BYTES = 1_000_000
 _MATERIAL_KEYS = {"name", "source", "E_kPa", "nu"}
 _PRONY_KEYS = {"g", "tau_s"}
+E_KPA_RANGE = checks.QUANTITIES["modulus_kPa"][:2]
+"""Young's modulus of a layer [kPa]: the physical bounds of a modulus (1 mPa to 1 TPa)."""
+NU_RANGE = (0.0, 0.5)
+"""Poisson's ratio of a layer: 0 to 0.5 (incompressible); no auxetic cell."""
+TAU_S_RANGE = checks.QUANTITIES["time_s"][:2]
+"""Relaxation time of a Prony term [s]: the physical bounds of a time (1 ns to 30 years)."""
+
+
+def material_constants(
+    file: str | Path,
+    E_kPa: object,
+    nu: object,
+    g: tuple[object, ...] | list[object] = (),
+    tau_s: tuple[object, ...] | list[object] = (),
+) -> tuple[float, float, tuple[float, ...], tuple[float, ...]]:
+    """The constants of a layer checked (the one check of a material file and of an inline
+    material in ``case.toml``): ``(E_kPa, nu, g, tau_s)`` as floats, or :class:`InputError`
+    naming ``file`` and the field (``material.E_kPa``, ``material.nu``, ``prony.g``,
+    ``prony.tau_s``)."""
+    (e_lo, e_hi), (nu_lo, nu_hi), (t_lo, t_hi) = E_KPA_RANGE, NU_RANGE, TAU_S_RANGE
+    e = _number(file, "material.E_kPa", E_kPa)
+    if not e_lo <= e <= e_hi:
+        raise InputError(
+            file, "material.E_kPa", f"a value in [{e_lo:g}, {e_hi:g}] kPa (Young's modulus)", e
+        )
+    n = _number(file, "material.nu", nu)
+    if not nu_lo <= n <= nu_hi:
+        raise InputError(
+            file, "material.nu", f"a value in [{nu_lo:g}, {nu_hi:g}] (Poisson's ratio)", n
+        )
+    gs = tuple(_number(file, "prony.g", v) for v in g)
+    taus = tuple(_number(file, "prony.tau_s", v) for v in tau_s)
+    if len(gs) != len(taus):
+        raise InputError(file, "prony.tau_s", f"one tau per g ({len(gs)})", len(taus))
+    if any(not 0 <= v < 1 for v in gs):
+        raise InputError(file, "prony.g", "terms g_i in [0, 1)", list(gs))
+    if not sum(gs) < 1.0:
+        raise InputError(file, "prony.g", "terms summing to less than 1", sum(gs))
+    if any(not t_lo <= v <= t_hi for v in taus):
+        raise InputError(
+            file, "prony.tau_s", f"relaxation times in [{t_lo:g}, {t_hi:g}] s", list(taus)
+        )
+    return e, n, gs, taus
 
 
 @dataclass(frozen=True)
@@ -56,22 +102,7 @@ class MaterialFile:
             raise InputError(f, "material.name", "a non-empty string", self.name)
         if not isinstance(self.source, str):
             raise InputError(f, "material.source", "a string", self.source)
-        e = _number(f, "material.E_kPa", self.E_kPa)
-        if not e > 0:
-            raise InputError(f, "material.E_kPa", "a positive modulus in kPa", e)
-        nu = _number(f, "material.nu", self.nu)
-        if not -1.0 < nu <= 0.5:
-            raise InputError(f, "material.nu", "a Poisson ratio in (-1, 0.5]", nu)
-        g = tuple(_number(f, "prony.g", v) for v in self.g)
-        tau = tuple(_number(f, "prony.tau_s", v) for v in self.tau_s)
-        if len(g) != len(tau):
-            raise InputError(f, "prony.tau_s", f"one tau per g ({len(g)})", len(tau))
-        if any(v < 0 for v in g):
-            raise InputError(f, "prony.g", "non-negative terms", list(g))
-        if not sum(g) < 1.0:
-            raise InputError(f, "prony.g", "terms summing to less than 1", sum(g))
-        if any(v <= 0 for v in tau):
-            raise InputError(f, "prony.tau_s", "positive relaxation times in s", list(tau))
+        e, nu, g, tau = material_constants(f, self.E_kPa, self.nu, self.g, self.tau_s)
         object.__setattr__(self, "E_kPa", e)
         object.__setattr__(self, "nu", nu)
         object.__setattr__(self, "g", g)
@@ -88,7 +119,7 @@ class MaterialFile:
         return 1.0 - sum(g * (1.0 - math.exp(-t_s / tau)) for g, tau in pairs)
 
 
-def _number(file: str, field: str, value: object) -> float:
+def _number(file: str | Path, field: str, value: object) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(file, field, "a number", value)
     value = float(value)

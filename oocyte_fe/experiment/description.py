@@ -22,11 +22,14 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import AfterValidator, Discriminator, Field, Tag, model_validator
 
+from afm.material_file import material_constants
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment import relations as rel
 from oocyte_fe.experiment.loads import Load, TractionLoad, read_traction_table
 from oocyte_fe.experiment.paths import PathSpec
 from oocyte_fe.fe.material import Material, Prony, read_material_file
 from oocyte_fe.kinds.data_templates import ZONA_MATERIAL
+from oocyte_fe.neck import pipette as neck
 from oocyte_fe.runner.schema import CaseInputs, DataFile, Relation, RuleBroken
 
 Side = Literal["top", "bottom", "left", "right"]
@@ -48,27 +51,49 @@ MaterialFile = Annotated[DataFile, AfterValidator(_readable_material)]
 """A material TOML written by the AFM route (``afm.write_material``): E, nu, Prony terms."""
 
 
+SHARED_CHECK = {"max_abs": 1e300}
+"""The bounds of these fields are the material file's (one check, reported by its message)."""
+
+
 class PronyTerms(CaseInputs):
-    """Normalised relaxation terms ``G(t)/G0 = g_inf + sum g_i exp(-t/tau_i)``."""
+    """Normalised relaxation terms ``G(t)/G0 = g_inf + sum g_i exp(-t/tau_i)`` (checked with
+    the material they belong to, by :func:`afm.material_file.material_constants`)."""
 
-    g: list[Annotated[float, Field(ge=0, lt=1)]] = Field(description="relaxation fractions g_i")
-    tau_s: list[Annotated[float, Field(ge=1e-9, le=1e9)]] = Field(
-        description="relaxation times", json_schema_extra={"unit": "s"}
+    g: list[float] = Field(
+        description="relaxation fractions g_i in [0, 1), sum(g) < 1",
+        json_schema_extra=SHARED_CHECK,
     )
-
-    @model_validator(mode="after")
-    def _paired(self) -> PronyTerms:
-        if len(self.g) != len(self.tau_s) or sum(self.g) >= 1:
-            raise ValueError("as many g as tau_s, with sum(g) < 1")
-        return self
+    tau_s: list[float] = Field(
+        description="relaxation times in [1e-9, 1e9] s, as many as g",
+        json_schema_extra=SHARED_CHECK,
+    )
 
 
 class InlineMaterial(CaseInputs):
-    """A neo-Hookean layer with an optional Prony series (the seed's ANSYS model)."""
+    """A neo-Hookean layer with an optional Prony series (the seed's ANSYS model); its
+    constants pass the one check of a material file
+    (:func:`afm.material_file.material_constants`: E in [1e-6, 1e9] kPa, nu in [0, 0.5],
+    tau in [1e-9, 1e9] s), so a number refused in a file is refused here too, in the same
+    words."""
 
-    E_kPa: float = Field(ge=1e-6, le=1e9, description="Young's modulus at t = 0")
-    nu: float = Field(0.5, ge=0, le=0.5, description="Poisson's ratio (0.5: incompressible)")
+    E_kPa: float = Field(
+        description="Young's modulus at t = 0, in [1e-6, 1e9] kPa", json_schema_extra=SHARED_CHECK
+    )
+    nu: float = Field(
+        0.5,
+        description="Poisson's ratio in [0, 0.5] (0.5: incompressible)",
+        json_schema_extra=SHARED_CHECK,
+    )
     prony: PronyTerms | None = None
+
+    @model_validator(mode="after")
+    def _constants(self) -> InlineMaterial:
+        g, tau = (self.prony.g, self.prony.tau_s) if self.prony else ((), ())
+        try:
+            material_constants("case.toml", self.E_kPa, self.nu, g, tau)
+        except InputError as exc:  # reported against the inline field (RuleBroken)
+            raise RuleBroken(exc.field.removeprefix("material."), exc.expected, exc.got) from None
+        return self
 
 
 def _material_form(value: object) -> str:
@@ -204,6 +229,7 @@ class Cell(CaseInputs):
             "half the cytoplasm radius",
         ),
         Relation("refine_size_um", "<=", lambda m: m.mesh_size_um, "mesh_size_um"),
+        Relation("refine_depth_um", "<", lambda m: m.radius_um, "the cell's radius"),
     )
 
     @property
@@ -485,6 +511,8 @@ class Experiment(CaseInputs):
                     raise ValueError(f"loads.{name}.table: {exc}") from None
                 if load.follower and axisym:
                     raise ValueError(f"loads.{name}.follower: a plane-strain cell (symmetry)")
+            elif load.window_deg is not None:
+                rel.window_meets_section(f"loads.{name}.window_deg", load.window_deg, axisym)
         if self.support == "inertia_relief":
             if self.tools or not self.loads:
                 raise ValueError("support 'inertia_relief': a free cell with loads, no tools")
@@ -507,36 +535,102 @@ class Experiment(CaseInputs):
             if isinstance(tool, HoldingPipette) and (tool.half_width_um or 0) >= r:
                 raise ValueError(f"{where}.half_width_um < the cell radius {r:g} um")
             if isinstance(tool, NeckedPipette):
-                if not axisym or tool.side != "top":
-                    raise ValueError(f"{where}: a necked pipette is axisymmetric, side 'top'")
-                if r + tool.clearance_um >= tool.bore_diameter_um / 2:
-                    raise ValueError(f"{where}.bore_diameter_um > the cell's diameter + clearance")
-                control = tool.suction_control
-                driver = self.tools.get(control.tool) if control else None
-                if control and not (isinstance(driver, HoldingPipette) and driver.displacement_um):
-                    raise ValueError(
-                        f"{where}.suction_control.tool: a holding pipette with displacement_um"
-                    )
+                self._necked(name, tool)
             if isinstance(tool, Sphere | Cone | Plate) and tool.displacement_um is None:
                 raise ValueError(f"{where}.displacement_um (a path)")
             path = tool.displacement_um if isinstance(tool, ToolBase) else None
             if path is not None and max(path.value) - tool.gap_um >= 2 * r:
-                raise ValueError(f"{where}.displacement_um: a travel into the cell below {2 * r:g}")
+                raise RuleBroken(
+                    f"{where}.displacement_um",
+                    f"a travel into the cell (advance less gap_um) below its diameter {2 * r:g} um",
+                    max(path.value) - tool.gap_um,
+                )
+            if path is not None and not isinstance(tool, NeckedPipette):
+                rel.presses(self._travel(name))
             if isinstance(tool, Cone) and path is not None:
                 _cone_reaches(where, tool, max(path.value) - tool.gap_um)
+        pressing = [n for n, t in self.tools.items() if not isinstance(t, NeckedPipette)]
+        rel.opposed([self._travel(n) for n in pressing], 2 * r)
         held = any(
             isinstance(t, HoldingPipette) or (isinstance(t, StraightPipette) and t.seal == "fixed")
             for t in self.tools.values()
         )
         if not held:
-            sides = {t.side for t in self.tools.values()}
-            if not (axisym and {"top", "bottom"} <= sides):
-                raise ValueError(
-                    "tools: a holding_pipette, a pipette with seal 'fixed', or (axisymmetric) "
-                    "tools on top and bottom that press the cell throughout: the cell needs "
-                    "support (a free cell under loads only: support = 'inertia_relief')"
-                )
+            self._supported(axisym)
         return self._sections()
+
+    def _travel(self, name: str) -> rel.Travel:
+        """The tool's advance into the cell (a holding pipette carries its surface: gap 0)."""
+        tool = self.tools[name]
+        return rel.Travel(
+            f"tools.{name}.displacement_um",
+            tool.side,
+            tool.displacement_um,
+            getattr(tool, "gap_um", 0.0),
+        )
+
+    def _supported(self, axisym: bool) -> None:
+        """Without a hold the cell is held by tools on top and bottom (axisymmetric), those
+        with a displacement path pressing it at every time after t = 0."""
+        why = "plane strain needs a hold"
+        if axisym:
+            found = {
+                side: [
+                    rel.presses_throughout(self._travel(n)) if t.displacement_um else None
+                    for n, t in self.tools.items()
+                    if t.side == side and isinstance(t, ToolBase)
+                ]
+                for side in ("top", "bottom")
+            }
+            if all(None in whys for whys in found.values()):
+                return
+            missing = [side for side, whys in found.items() if not whys]
+            why = (
+                f"no tool on the {missing[0]}"
+                if missing
+                else next(w for whys in found.values() for w in whys if w)
+            )
+        raise ValueError(
+            "tools: a holding_pipette, a pipette with seal 'fixed', or (axisymmetric) "
+            "tools on top and bottom that press the cell throughout: the cell needs "
+            f"support (a free cell under loads only: support = 'inertia_relief'; {why})"
+        )
+
+    def _necked(self, name: str, tool: NeckedPipette) -> None:
+        """A necked pipette: axisymmetric on top, a bore that takes the cell, a neck narrower
+        than it, a controlling cap, an advance onto the taper within the modelled glass."""
+        where = f"tools.{name}"
+        if self.cell.symmetry != "axisymmetric" or tool.side != "top":
+            raise ValueError(f"{where}: a necked pipette is axisymmetric, side 'top'")
+        diameter, clearance = self.cell.outer_diameter_um, tool.clearance_um
+        rel.neck_fits(
+            diameter, tool.bore_diameter_um, tool.neck_diameter_um, clearance, f"{where}."
+        )
+        control = tool.suction_control
+        driver = self.tools.get(control.tool) if control else None
+        if control and not (isinstance(driver, HoldingPipette) and driver.displacement_um):
+            raise ValueError(
+                f"{where}.suction_control.tool: a holding pipette with displacement_um"
+            )
+        caps = [
+            n
+            for n, t in self.tools.items()
+            if isinstance(t, HoldingPipette) and t.side == "bottom" and t.displacement_um
+        ]
+        moving = ([self._travel(name)] if tool.displacement_um else []) + [
+            self._travel(n) for n in caps
+        ]
+        if not moving:
+            return
+        t = np.unique(np.concatenate([m.times for m in moving]))
+        total = PathSpec(time_s=list(t), value=list(sum(m.at(t) + m.gap_um for m in moving)))
+        field = moving[-1].field if len(moving) == 1 else " + ".join(m.field for m in moving)
+        rel.neck_advance(
+            self.cell.radius_um,
+            neck_geometry(tool),
+            clearance,
+            rel.Travel(field, "bottom", total),
+        )
 
     def _small_strain(self) -> None:
         """Small strain: Sneddon's frictionless indenters only (no loads, no pipettes)."""
@@ -569,6 +663,18 @@ class Experiment(CaseInputs):
                             "its values after the duration would never be applied)"
                         )
         return self
+
+
+def neck_geometry(tool: NeckedPipette) -> neck.NeckedPipette:
+    """The necked pipette's wall (not yet placed against the cell)."""
+    return neck.NeckedPipette(
+        bore_radius_um=tool.bore_diameter_um / 2,
+        neck_radius_um=tool.neck_diameter_um / 2,
+        taper_length_um=tool.taper_length_um,
+        bore_length_um=tool.bore_length_um,
+        neck_length_um=tool.neck_length_um,
+        taper_points=tool.taper_points,
+    )
 
 
 PATH_FIELDS = ("displacement_um", "suction_Pa", "pressure_Pa", "scale")

@@ -8,8 +8,12 @@ from typing import Annotated
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.experiment import relations as rel
+from oocyte_fe.experiment.paths import PathSpec
 from oocyte_fe.fe.material import read_material_file
 from oocyte_fe.kinds.data_templates import CYTOPLASM_MATERIAL, ZONA_MATERIAL
+from oocyte_fe.neck.passage import PassageSettings
+from oocyte_fe.neck.pipette import NeckedPipette
 from oocyte_fe.runner.casefile import read_toml
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Refining, Relation
 
@@ -154,6 +158,26 @@ class NeckInputs(CaseInputs):
             )
         if self.material_case is not None and given:
             raise ValueError("material_case or the two material files, not both")
+        return self
+
+    @model_validator(mode="after")
+    def _passage(self) -> NeckInputs:
+        """The passage experiment's own rules (``fe_experiment``'s necked pipette, the same
+        functions), so that ``validate`` finds what ``run`` would: a bore that takes the cell,
+        a neck narrower than it, a rear-cap advance onto the taper within the modelled neck."""
+        if self.neck_diameter_um >= self.bore_diameter_um:
+            return self  # the rule below names it
+        settings = PassageSettings()
+        radius = self.cytoplasm_radius_um + self.zona_thickness_um
+        rel.neck_fits(
+            2 * radius, self.bore_diameter_um, self.neck_diameter_um, settings.clearance_um
+        )
+        pipette = NeckedPipette(
+            self.bore_diameter_um / 2, self.neck_diameter_um / 2, self.taper_length_um
+        )
+        advance = PathSpec(time_s=[0.0, self.duration_s], value=[0.0, self.advance_um])
+        travel = rel.Travel("advance_um", "bottom", advance)
+        rel.neck_advance(radius, pipette, settings.clearance_um, travel)
         return self
 
     rules = (
