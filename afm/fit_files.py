@@ -27,6 +27,7 @@ import fnmatch
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import NamedTuple
 
 from afm.batch import BatchResult, BatchRow, GroupStats, ReadOptions, fit_batch
 from afm.corrected_batch import Correction, apply_correction, corrected_stats
@@ -34,8 +35,11 @@ from afm.creep import CreepFit, fit_creep_tip
 from afm.curve_io import read_creep
 from afm.material_file import MaterialFile
 from afm.ramp_files import GroupRampFit, RampFilesResult, RampOptions, fit_ramp_files
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 
+KNOWN_HEADER = "file,E_kPa"
+"""Header row of a known-moduli CSV."""
 SOURCE = "afm_fit_files case"
 """How the material files' source lines name where they came from."""
 
@@ -123,19 +127,85 @@ class FitFilesResult:
         return bool(errors) and len(errors) == self.n_known and worst < tolerance_pct
 
 
+class KnownModulus(NamedTuple):
+    """One row of a known-moduli CSV: the curve file (relative path), its modulus [kPa] and
+    the row's line in the file (1 = the first line)."""
+
+    file: str
+    E_kPa: float
+    line: int
+
+
+def read_known_rows(path: str | Path) -> list[KnownModulus]:
+    """The rows of a known-moduli CSV (:func:`read_known_moduli`) with their line numbers.
+
+    Refused (:class:`InputError` naming the file, the column and the line): a file that is not
+    a regular UTF-8 file, no header with columns ``file`` and ``E_kPa``, no data row, a row
+    without a file name, a modulus that is not a number within the physical bounds of
+    :data:`oocyte_fe.checks.QUANTITIES` (``modulus_kPa``: positive, finite), a file listed twice.
+    """
+    text = checks.read_text(path)
+    lines = [
+        (n, line)
+        for n, line in enumerate(text.splitlines(), start=1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if not lines:
+        raise InputError(path, "", f"a header row {KNOWN_HEADER!r} and a row per curve (no rows)")
+    try:
+        table = list(csv.reader(line for _, line in lines))
+    except csv.Error as exc:
+        raise InputError(path, "", f"a comma-separated table ({exc})") from None
+    n_header, names = lines[0][0], [name.strip() for name in table[0]]
+    if "file" not in names or "E_kPa" not in names:
+        raise InputError(
+            path,
+            f"header (line {n_header})",
+            f"columns {KNOWN_HEADER!r} (the curve file relative to the case folder, its "
+            "modulus in kPa)",
+            got=", ".join(names)[:80],
+        )
+    if len(lines) < 2:
+        raise InputError(path, "", f"a row per curve below the header {KNOWN_HEADER!r}")
+    at_file, at_e = names.index("file"), names.index("E_kPa")
+    rows: list[KnownModulus] = []
+    seen: dict[str, int] = {}
+    for (n, _), cells in zip(lines[1:], table[1:], strict=True):
+        if len(cells) != len(names):
+            raise InputError(path, f"line {n}", f"{len(names)} comma-separated values")
+        name = cells[at_file].strip()
+        if not name:
+            raise InputError(path, f"file (line {n})", "a curve file (relative to the case folder)")
+        if name in seen:
+            raise InputError(
+                path, f"file (line {n})", f"each file once (listed on line {seen[name]} too)", name
+            )
+        cell = cells[at_e].strip()
+        try:
+            value = float(cell)
+        except ValueError:
+            raise InputError(
+                path, f"E_kPa (line {n})", "a number (kPa)", got=checks.excerpt(cell)
+            ) from None
+        low, high, _ = checks.QUANTITIES["modulus_kPa"]
+        expected = f"a positive modulus in kPa, within [{low:g}, {high:g}]"
+        e_kPa = checks.number(path, f"E_kPa (line {n})", value, ge=low, le=high, expected=expected)
+        seen[name] = n
+        rows.append(KnownModulus(name, e_kPa, n))
+    return rows
+
+
 def read_known_moduli(path: str | Path) -> dict[str, float]:
     """Known moduli from a CSV of columns ``file`` (path relative to the folder the curve
-    files are named from) and ``E_kPa``; lines starting with ``#`` are comments."""
-    path = Path(path)
-    known: dict[str, float] = {}
-    with path.open() as fh:
-        rows = csv.DictReader(line for line in fh if not line.startswith("#"))
-        for i, row in enumerate(rows, start=2):
-            try:
-                known[row["file"]] = float(row["E_kPa"])
-            except (KeyError, TypeError, ValueError):
-                raise InputError(path, f"row {i}", "columns file, E_kPa (a number)") from None
-    return known
+    files are named from) and ``E_kPa``; lines starting with ``#`` are comments. Checked as
+    :func:`read_known_rows`."""
+    return {row.file: row.E_kPa for row in read_known_rows(path)}
+
+
+def pattern_group(relative: str, patterns: Mapping[str, str]) -> str | None:
+    """The group of the first glob pattern (group -> pattern) matching ``relative`` (a curve
+    file's path relative to the case folder, ``/``-separated), or None."""
+    return next((g for g, p in patterns.items() if fnmatch.fnmatch(relative, p)), None)
 
 
 def regroup(
@@ -146,7 +216,7 @@ def regroup(
     rows = []
     for row in result.rows:
         relative = Path(row.file).relative_to(relative_to).as_posix()
-        name = next((g for g, p in patterns.items() if fnmatch.fnmatch(relative, p)), None)
+        name = pattern_group(relative, patterns)
         rows.append(row if name is None else replace(row, group=name))
     return BatchResult(rows)
 

@@ -6,12 +6,15 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from afm.corrected_batch import BondedLayer, Correction, ShelledOocyte
 from afm.fit_files import FitFilesResult
-from afm.models import get_model
 from oocyte_fe.errors import InputError
-from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs, ShelledOocyteCorrection
+from oocyte_fe.kinds.afm_fit_files_args import tip_geometry
+
+if TYPE_CHECKING:  # the inputs module checks a case with correction()
+    from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
 
 CORRECTION_COLUMNS = {
     "E_corrected_kPa": "the modulus corrected for the sample's shape (option correction), kPa",
@@ -22,20 +25,28 @@ CORRECTION_COLUMNS = {
 def correction(inp: FitFilesInputs, where: Path) -> Correction | None:
     """The correction of ``inp.correction``, refused (:class:`InputError`) where it does not
     apply: another tip, nu other than 0.5, nanite's analysis or no ``max_indentation_um``, a
-    depth, probe or cell outside the table or the formula's range."""
+    ZP as thick as the cell's radius, a depth, probe or cell outside the table or the
+    formula's range."""
     spec = inp.correction
     if spec is None:
         return None
     if inp.analysis != "default":
         raise InputError(where, "inputs.analysis", '"default" with a correction (a fit range)')
     option: Correction
-    if isinstance(spec, ShelledOocyteCorrection):
-        option = ShelledOocyte(
-            spec.zona_thickness_um, spec.cytoplasm_modulus_kPa, spec.cell_radius_um
-        )
+    if spec.type == "shelled_oocyte":
+        h, radius = spec.zona_thickness_um, spec.cell_radius_um
+        if h >= radius:
+            raise InputError(
+                where,
+                "inputs.correction.zona_thickness_um",
+                f"a ZP thinner than the cell's radius (zona_thickness_um < cell_radius_um = "
+                f"{radius:g} um)",
+                h,
+            )
+        option = ShelledOocyte(h, spec.cytoplasm_modulus_kPa, radius)
     else:
         option = BondedLayer(spec.layer_thickness_um, spec.type)
-    geometry = get_model(inp.model).check_geometry(inp.geometry, str(where))
+    geometry = tip_geometry(inp, where)
     option.check(
         inp.model, geometry, inp.nu, inp.max_indentation_um, str(where), "inputs.correction"
     )

@@ -1,22 +1,40 @@
 """Inputs and metrics of the case kind ``afm_fit_files`` (its schema, apart from its run), and
-what the inputs name: the curve files, each file's reader keywords, the creep records, the fit
-keywords, the known-moduli file."""
+the check of what the inputs name (:func:`check_case`, run by ``validate`` and before ``run``
+with the functions ``run`` uses): the curve files, the tip's geometry, the groups, the creep
+records, the fit keywords, the correction, the known-moduli file. The creep records and the
+known-moduli file are read at validation with the run's readers (:class:`DataReader`)."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import Discriminator, Field, Tag, ValidationInfo, field_validator, model_validator
 
+from afm.creep_data import CreepData
+from afm.curve_io import read_creep
+from afm.fit_files import read_known_moduli, read_known_rows
 from afm.models import MODELS
 from afm.ramp_files import RampOptions
 from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.afm_fit_files_args import (
+    creep_records,
+    default_group,
+    file_groups,
+    find_curve_files,
+    first_readable_curve,
+    fit_options,
+    known_moduli_file,
+    read_options,
+    tip_geometry,
+)
+from oocyte_fe.kinds.afm_fit_files_correction import correction
 from oocyte_fe.kinds.data_templates import KNOWN_MODULI
 from oocyte_fe.runner.casefile import DataFile
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, DataReader, RuleBroken
 
 
 class Calibration(CaseInputs):
@@ -181,7 +199,7 @@ class FitFilesInputs(CaseInputs):
     height_channel: str | None = Field(
         None, description="height channel of instrument files (default: as the instrument does)"
     )
-    creep: dict[str, DataFile] = Field(
+    creep: Annotated[dict[str, DataFile], DataReader(read_creep_records)] = Field(
         default_factory=dict,
         description="group name -> force-clamp creep CSV: its material gets E0 and a Prony series",
     )
@@ -212,7 +230,7 @@ class FitFilesInputs(CaseInputs):
         "(spherical probe on the layered oocyte), dimitriadis_bonded (sphere) or garcia_bonded "
         "(cone) on a layer bonded to a rigid support; needs max_indentation_um",
     )
-    known_moduli: str | None = Field(
+    known_moduli: Annotated[str, DataReader(read_known_moduli)] | None = Field(
         None,
         description="optional CSV (file, E_kPa) of known moduli to check the fits against, "
         "relative to the case folder",
@@ -226,16 +244,17 @@ class FitFilesInputs(CaseInputs):
     @classmethod
     def _known_moduli_file(cls, value: str | None, info: ValidationInfo) -> str | None:
         """A known-moduli file must exist inside the case folder (checked at ``validate``;
-        a plain string, not a data file, so ``oocyte-fe new`` leaves it out)."""
+        a plain string, not a data file, so ``oocyte-fe new`` leaves it out). Resolved, so
+        that ``validate`` reads it with the run's reader (:class:`DataReader`) wherever it
+        runs from."""
         case_dir = (info.context or {}).get("case_dir")
         if value is None or case_dir is None:
             return value
         where = Path(case_dir) / "case.toml"
         try:
-            regular_file(inside(value, case_dir, where, "inputs.known_moduli"))
+            return str(regular_file(inside(value, case_dir, where, "inputs.known_moduli")))
         except InputError as exc:
             raise ValueError(exc.expected + ("" if exc.got is None else f" ({exc.got})")) from None
-        return value
 
     @field_validator("model")
     @classmethod
@@ -250,6 +269,100 @@ class FitFilesInputs(CaseInputs):
             if not math.isfinite(value):
                 raise ValueError(f"geometry.{key}: a finite number")
         return self
+
+    @model_validator(mode="after")
+    def _what_the_case_names(self, info: ValidationInfo) -> FitFilesInputs:
+        """:func:`check_case` when the case folder is known (``validate``, and ``run`` before
+        it starts): its refusal names the input in ``case.toml``."""
+        case_dir = (info.context or {}).get("case_dir")
+        if case_dir is None:
+            return self
+        where = Path(case_dir) / "case.toml"
+        try:
+            check_case(self, Path(case_dir))
+        except InputError as exc:
+            expected = exc.expected
+            if exc.file != str(where):  # (check_case names case.toml; kept for safety)
+                expected += f" ({exc.file}{': ' + exc.field if exc.field else ''})"
+            raise RuleBroken(exc.field.removeprefix("inputs."), expected, exc.got) from None
+        return self
+
+
+def read_creep_records(files: Mapping[str, Path]) -> dict[str, CreepData]:
+    """Each group's creep record, read as the run reads it (:func:`afm.curve_io.read_creep`):
+    ``validate`` refuses an empty, short or non-finite record, naming the file and column."""
+    return {group: read_creep(path) for group, path in files.items()}
+
+
+def check_case(inp: FitFilesInputs, case_dir: Path) -> None:
+    """Refuse (:class:`InputError` naming ``case.toml`` and the input) what ``run`` would
+    refuse before fitting or only later, with the functions ``run`` uses: the curve files
+    (:func:`find_curve_files`; at least one that the reader reads), the tip's geometry (the
+    model's own check), a ``groups`` pattern that takes no curve file, a creep record for a
+    group no curve file belongs to, its tip, the fit range against ``analysis``, the
+    ``correction`` against the tip, ``nu`` and the fit range, a known-moduli row naming a
+    file that does not exist.
+
+    The data files' own faults (a creep record or known-moduli table that cannot be read)
+    are left to their readers (:func:`read_creep_records`, :func:`read_known_moduli`), which
+    ``validate`` runs next and which name the data file and its line.
+    """
+    where = case_dir / "case.toml"
+    files = find_curve_files(case_dir, inp.curves)
+    first_readable_curve(files, case_dir, read_options(inp, case_dir))
+    creep_records(inp, case_dir)  # the creep tip first, as run
+    tip_geometry(inp, where)
+    by_pattern = file_groups(files, case_dir, inp.groups)
+    for group, pattern in inp.groups.items():
+        if group not in by_pattern.values():
+            raise InputError(
+                where,
+                f"inputs.groups.{group}",
+                "a glob matching at least one curve file of inputs.curves (its path relative "
+                "to the case folder, e.g. 'curves/zp/*.csv'; a file goes to the first pattern "
+                "matching it)",
+                pattern,
+            )
+    unknown = sorted(set(inp.creep) - set(by_pattern.values()))
+    if unknown:  # the groups of the files no pattern takes: read only when needed
+        groups = {g or default_group(f) for f, g in by_pattern.items()}
+        unknown = sorted(set(inp.creep) - groups)
+        if unknown:
+            raise InputError(
+                where,
+                f"inputs.creep.{unknown[0]}",
+                f"a group of the curve files (one of {', '.join(sorted(groups))}: their "
+                "subfolders, '# group' metadata or inputs.groups)",
+            )
+    fit_options(inp, where)
+    correction(inp, where)
+    _known_rows_name_files(inp, case_dir)
+
+
+def _known_rows_name_files(inp: FitFilesInputs, case_dir: Path) -> None:
+    """Every row of the known-moduli file names an existing file of the case folder (one that
+    ``inputs.curves`` leaves out is the check's business: it fails, not fitted)."""
+    known = known_moduli_file(inp, case_dir)
+    if known is None:
+        return
+    try:
+        rows = read_known_rows(known)
+    except InputError:
+        return  # the table's own fault: its reader names the file and line (DataReader)
+    for row in rows:
+        try:
+            inside(row.file, case_dir, known, "file")
+            exists = (case_dir / row.file).is_file()
+        except (ValueError, OSError):  # outside the case folder, a name too long or with NUL
+            exists = False
+        if not exists:
+            raise InputError(
+                case_dir / "case.toml",
+                "inputs.known_moduli",
+                f"an existing curve file (path relative to the case folder) on every row "
+                f"({known.name} line {row.line} names a file that does not exist)",
+                row.file,
+            )
 
 
 METRICS = {

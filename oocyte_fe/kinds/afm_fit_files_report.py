@@ -60,7 +60,9 @@ def fit_range_text(inp: FitFilesInputs) -> str:
         parts.append(f"to {inp.max_indentation_um:g} um past contact")
     if inp.max_force_fraction is not None:
         parts.append(f"to {inp.max_force_fraction:g} of the peak force")
-    return " and ".join(parts) or "whole approach"
+    if len(parts) == 2:  # afm.fit.fit_window: the window ends where the first of them ends
+        return f"{parts[0]} or {parts[1]}, whichever ends first"
+    return "".join(parts) or "whole approach"
 
 
 def _reason(row: BatchRow) -> str:
