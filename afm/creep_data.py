@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from oocyte_fe.checks import QUANTITIES, increasing, numbers_array
+from oocyte_fe.checks import QUANTITIES, finite_column, increasing, numbers_array
 from oocyte_fe.errors import InputError
 
 FORCE_CLAMP_TOLERANCE = 0.05
@@ -39,12 +39,7 @@ class CreepData:
         if t.size < 10:
             raise InputError(src, "time_s", "at least 10 samples", t.size)
         for name, values in (("force_nN", f), ("indentation_um", d)):
-            bad = np.flatnonzero(~np.isfinite(values))
-            if bad.size:
-                row = int(bad[0])
-                raise InputError(
-                    src, name, f"finite numbers (data row {row + 1} holds {values[row]!r})"
-                )
+            finite_column(src, name, values)
         t = increasing(src, "time_s", t)
         if np.any(d <= 0):
             raise InputError(src, "indentation_um", "positive indentation during the hold")

@@ -185,20 +185,28 @@ def numbers_array(
     return array
 
 
-def increasing(where: str | Path, name: str, values: object, unit: str = "s") -> np.ndarray:
-    """``values`` as a 1-D float array of finite numbers increasing row by row (a time column).
-
-    Refused, naming the first bad data row (1 = the first row below the header): a NaN or
-    inf, a value not larger than the one above it (a decreasing or repeated time: rows
-    shuffled, approach and retract mixed, or a clock reset).
-    """
+def finite_column(where: str | Path, name: str, values: object) -> np.ndarray:
+    """``values`` as a 1-D float array of finite numbers; a NaN or inf is refused naming its
+    data row (1 = the first row below the header)."""
     array = float_array(where, name, values)
     if array.ndim != 1:
         raise InputError(where, name, "a 1-D column of numbers", got=f"shape {array.shape}")
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         row = int(bad[0])
-        raise InputError(where, name, f"finite numbers (data row {row + 1} holds {array[row]!r})")
+        value = float(array[row])
+        raise InputError(where, name, f"finite numbers (data row {row + 1} holds {value!r})")
+    return array
+
+
+def increasing(where: str | Path, name: str, values: object, unit: str = "s") -> np.ndarray:
+    """``values`` as a 1-D float array of finite numbers increasing row by row (a time column).
+
+    Refused, naming the first bad data row (1 = the first row below the header): a NaN or
+    inf (:func:`finite_column`), a value not larger than the one above it (a decreasing or
+    repeated time: rows shuffled, approach and retract mixed, or a clock reset).
+    """
+    array = finite_column(where, name, values)
     back = np.flatnonzero(np.diff(array) <= 0)
     if back.size:
         row = int(back[0]) + 1

@@ -104,7 +104,7 @@ REFUSED = {
     "creep_nan": (
         {},
         _edit_file("creep/zp_creep.csv", _cell(11, 1, "nan")),
-        CREEP + ": force_nN: expected finite numbers (data row 7 holds np.float64(nan))",
+        CREEP + ": force_nN: expected finite numbers (data row 7 holds nan)",
     ),
     "creep_two_rows": (
         {},

@@ -354,3 +354,28 @@ def test_refine_depth_beyond_the_cell_radius_is_refused(tmp_path: Path) -> None:
 def test_refine_depth_within_the_cell_radius_is_accepted(tmp_path: Path) -> None:
     case = load_case(edited_case(tmp_path, PLATES, **{"cell.refine_depth_um": 69.0}))
     assert case.inputs.cell.refine_depth_um == 69.0
+
+
+@pytest.mark.parametrize(
+    ("window", "refused"),
+    [
+        ([1000.0, 2000.0, 3000.0, 4000.0], True),  # passed validate: an empty figure
+        ([-20.0, 20.0, 50.0, 60.0], True),  # above the 50 um cell; the pipette does not move
+        ([-20.0, 20.0, 30.0, 60.0], False),  # the shipped window over the apex
+        ([49.0, 60.0, -60.0, -49.0], False),  # a corner of the cell's extent
+    ],
+)
+def test_section_window_must_show_part_of_the_cell(
+    tmp_path: Path, window: list[float], refused: bool
+) -> None:
+    """The figures' window against the cell's extent (R = 50 um about the origin; a tool's
+    travel widens it along the axis, here none: the pipette sucks, it does not move)."""
+    folder = edited_case(tmp_path, "fe_aspiration_theret", **{"record.section_window_um": window})
+    if not refused:
+        assert load_case(folder).inputs.record.section_window_um == window
+        return
+    assert _refused(folder) == (
+        "fe_aspiration_theret/case.toml: inputs.record.section_window_um: expected a window that "
+        "shows part of the cell: x within (-50, 50) um and y within (-50, 50) um (the cell about "
+        f"the origin, and as far as the tools move), got {window}"
+    ).replace("fe_aspiration_theret/", f"{folder}/")

@@ -651,6 +651,15 @@ class Experiment(CaseInputs):
         for t in self.record.sections_at_s:
             if t > self.time.duration_s:
                 raise ValueError(f"record.sections_at_s within the duration ({t:g} s)")
+        if self.record.section_window_um is not None:
+            paths = [getattr(t, "displacement_um", None) for t in self.tools.values()]
+            reach = max([max(abs(v) for v in p.value) for p in paths if p] + [0.0])
+            rel.window_shows_cell(
+                "record.section_window_um",
+                self.record.section_window_um,
+                self.cell.radius_um,
+                reach,
+            )
         parts = [("tools", self.tools), ("loads", self.loads)]
         for group, named in parts:
             for name, part in named.items():

@@ -185,3 +185,20 @@ def window_meets_section(field: str, window_deg: list[float], axisymmetric: bool
             "(x >= 0; this one selects no surface, so the load would do nothing)",
             list(window_deg),
         )
+
+
+def window_shows_cell(
+    field: str, window_um: list[float], radius_um: float, reach_um: float
+) -> None:
+    """RuleBroken if a section window ``[x_min, x_max, y_min, y_max]`` um misses the cell: it
+    must overlap the cell's extent, ``|x| < R`` and ``|y| < R + reach`` (the cell centred at
+    the origin, moved along the axis at most as far as the tools travel, ``reach``)."""
+    x0, x1, y0, y1 = window_um
+    r, far = radius_um, radius_um + reach_um
+    if x1 <= -r or x0 >= r or y1 <= -far or y0 >= far:
+        raise RuleBroken(
+            field,
+            f"a window that shows part of the cell: x within ({-r:g}, {r:g}) um and y within "
+            f"({-far:g}, {far:g}) um (the cell about the origin, and as far as the tools move)",
+            list(window_um),
+        )
