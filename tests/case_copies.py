@@ -16,6 +16,11 @@ def edited_case(tmp_path: Path, name: str, **inputs: Any) -> Path:
     """A copy of ``cases/<name>`` with ``inputs`` set (dotted keys reach nested tables)."""
     folder = tmp_path / name
     shutil.copytree(CASES / name, folder)
+    return set_inputs(folder, **inputs)
+
+
+def set_inputs(folder: Path, **inputs: Any) -> Path:
+    """``folder/case.toml`` with ``inputs`` set (dotted keys reach nested tables)."""
     raw = tomllib.loads((folder / "case.toml").read_text())
     for key, value in inputs.items():
         table = raw["inputs"]

@@ -11,7 +11,6 @@ accepted, so every rule is tested from both sides.
 from __future__ import annotations
 
 import shutil
-import tomllib
 from pathlib import Path
 
 import pytest
@@ -21,7 +20,7 @@ from typer.testing import CliRunner
 from oocyte_fe.cli import app
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import load_case
-from tests.case_copies import CASES, edited_case
+from tests.case_copies import CASES, edited_case, set_inputs
 
 
 def _path(*value: float, end: float = 1.0) -> dict:
@@ -42,15 +41,7 @@ def _template_case(tmp_path: Path, template: str, **inputs: object) -> Path:
     folder = tmp_path / template
     result = CliRunner().invoke(app, ["new", "fe_experiment", str(folder), "--template", template])
     assert result.exit_code == 0, result.output
-    raw = tomllib.loads((folder / "case.toml").read_text())
-    for key, value in inputs.items():
-        table = raw["inputs"]
-        *parents, last = key.split(".")
-        for part in parents:
-            table = table.setdefault(part, {})
-        table[last] = value
-    (folder / "case.toml").write_text(tomli_w.dumps(raw))
-    return folder
+    return set_inputs(folder, **inputs)
 
 
 def _refused(folder: Path) -> str:
@@ -284,6 +275,18 @@ MATERIAL_REFUSED = [
 ]
 
 
+def _file_material_case(tmp_path: Path, changes: dict) -> Path:
+    """The plates case with its cytoplasm in a material file ``mat.toml`` of ``changes``."""
+    material = _material(**changes)
+    prony = material.pop("prony", None)
+    record = {"material": {"name": "cyto", "source": "test"} | material}
+    if prony:
+        record["prony"] = prony
+    folder = edited_case(tmp_path / "file", PLATES, **{"cell.materials.cytoplasm": "mat.toml"})
+    (folder / "mat.toml").write_text(tomli_w.dumps(record))
+    return folder
+
+
 def _material(**changes: object) -> dict:
     table: dict = {"E_kPa": 1.0, "nu": 0.5} | changes
     return table
@@ -300,13 +303,7 @@ def test_material_file_and_inline_constants_have_the_same_bounds(
     )
     assert f"inputs.cell.materials.cytoplasm.inline.{inline_field}: expected {says}" in inline
 
-    material = _material(**changes)
-    prony = material.pop("prony", None)
-    record = {"material": {"name": "cyto", "source": "test"} | material}
-    if prony:
-        record["prony"] = prony
-    folder = edited_case(tmp_path / "file", PLATES, **{"cell.materials.cytoplasm": "mat.toml"})
-    (folder / "mat.toml").write_text(tomli_w.dumps(record))
+    folder = _file_material_case(tmp_path, changes)
     message = _refused(folder)
     head = f"{PLATES}/case.toml: inputs.cell.materials.cytoplasm.file: expected a material file ("
     assert head in message, message
@@ -330,13 +327,7 @@ def test_material_constants_at_the_bounds_are_accepted_in_both_forms(
             tmp_path / "inline", PLATES, **{"cell.materials.cytoplasm": _material(**changes)}
         )
     )
-    material = _material(**changes)
-    prony = material.pop("prony", None)
-    record = {"material": {"name": "cyto", "source": "test"} | material}
-    if prony:
-        record["prony"] = prony
-    folder = edited_case(tmp_path / "file", PLATES, **{"cell.materials.cytoplasm": "mat.toml"})
-    (folder / "mat.toml").write_text(tomli_w.dumps(record))
+    folder = _file_material_case(tmp_path, changes)
     load_case(folder)
 
 

@@ -42,6 +42,7 @@ from oocyte_fe.experiment.description import (
     Sphere,
     StraightPipette,
     WedgePipette,
+    neck_geometry,
 )
 from oocyte_fe.fe.obstacles import Circle, Obstacle, Polyline, wedge_tip
 from oocyte_fe.neck import pipette as neck
@@ -159,14 +160,7 @@ def held_facets(tool: HoldingPipette, midpoints: NDArray, radius_um: float) -> N
 
 def necked_pipette(tool: NeckedPipette, radius_um: float) -> neck.NeckedPipette:
     """The necked pipette placed ``clearance_um`` from a cell of ``radius_um`` at the origin."""
-    return neck.NeckedPipette(
-        bore_radius_um=tool.bore_diameter_um / 2,
-        neck_radius_um=tool.neck_diameter_um / 2,
-        taper_length_um=tool.taper_length_um,
-        bore_length_um=tool.bore_length_um,
-        neck_length_um=tool.neck_length_um,
-        taper_points=tool.taper_points,
-    ).touching(radius_um, tool.clearance_um)
+    return neck_geometry(tool).touching(radius_um, tool.clearance_um)
 
 
 def sealed_facets(tool: StraightPipette, midpoints: NDArray) -> NDArray:
