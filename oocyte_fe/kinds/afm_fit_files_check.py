@@ -1,0 +1,107 @@
+"""What the inputs of ``afm_fit_files`` name, checked with the functions ``run`` uses
+(:func:`check_case`, run by ``validate`` and before ``run`` through the inputs' model
+check), and the creep records read as the run reads them (:func:`read_creep_records`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from afm.creep_data import CreepData
+from afm.curve_io import read_creep
+from afm.fit_files import read_known_rows
+from oocyte_fe.checks import inside
+from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.afm_fit_files_args import (
+    creep_records,
+    default_group,
+    file_groups,
+    find_curve_files,
+    first_readable_curve,
+    fit_options,
+    known_moduli_file,
+    read_options,
+    tip_geometry,
+)
+from oocyte_fe.kinds.afm_fit_files_correction import correction
+
+if TYPE_CHECKING:
+    from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
+
+
+def read_creep_records(files: Mapping[str, Path]) -> dict[str, CreepData]:
+    """Each group's creep record, read as the run reads it (:func:`afm.curve_io.read_creep`):
+    ``validate`` refuses an empty, short or non-finite record, naming the file and column."""
+    return {group: read_creep(path) for group, path in files.items()}
+
+
+def check_case(inp: FitFilesInputs, case_dir: Path) -> None:
+    """Refuse (:class:`InputError` naming ``case.toml`` and the input) what ``run`` would
+    refuse before fitting or only later, with the functions ``run`` uses: the curve files
+    (:func:`find_curve_files`; at least one that the reader reads), the tip's geometry (the
+    model's own check), a ``groups`` pattern that takes no curve file, a creep record for a
+    group no curve file belongs to, its tip, the fit range against ``analysis``, the
+    ``correction`` against the tip, ``nu`` and the fit range, a known-moduli row naming a
+    file that does not exist.
+
+    The data files' own faults (a creep record or known-moduli table that cannot be read)
+    are left to their readers (:func:`read_creep_records`, :func:`read_known_moduli`), which
+    ``validate`` runs next and which name the data file and its line.
+    """
+    where = case_dir / "case.toml"
+    files = find_curve_files(case_dir, inp.curves)
+    first_readable_curve(files, case_dir, read_options(inp, case_dir))
+    creep_records(inp, case_dir)  # the creep tip first, as run
+    tip_geometry(inp, where)
+    by_pattern = file_groups(files, case_dir, inp.groups)
+    for group, pattern in inp.groups.items():
+        if group not in by_pattern.values():
+            raise InputError(
+                where,
+                f"inputs.groups.{group}",
+                "a glob matching at least one curve file of inputs.curves (its path relative "
+                "to the case folder, e.g. 'curves/zp/*.csv'; a file goes to the first pattern "
+                "matching it)",
+                pattern,
+            )
+    unknown = sorted(set(inp.creep) - set(by_pattern.values()))
+    if unknown:  # the groups of the files no pattern takes: read only when needed
+        groups = {g or default_group(f) for f, g in by_pattern.items()}
+        unknown = sorted(set(inp.creep) - groups)
+        if unknown:
+            raise InputError(
+                where,
+                f"inputs.creep.{unknown[0]}",
+                f"a group of the curve files (one of {', '.join(sorted(groups))}: their "
+                "subfolders, '# group' metadata or inputs.groups)",
+            )
+    fit_options(inp, where)
+    correction(inp, where)
+    _known_rows_name_files(inp, case_dir)
+
+
+def _known_rows_name_files(inp: FitFilesInputs, case_dir: Path) -> None:
+    """Every row of the known-moduli file names an existing file of the case folder (one that
+    ``inputs.curves`` leaves out is the check's business: it fails, not fitted)."""
+    known = known_moduli_file(inp, case_dir)
+    if known is None:
+        return
+    try:
+        rows = read_known_rows(known)
+    except InputError:
+        return  # the table's own fault: its reader names the file and line (DataReader)
+    for row in rows:
+        try:
+            inside(row.file, case_dir, known, "file")
+            exists = (case_dir / row.file).is_file()
+        except (ValueError, OSError):  # outside the case folder, a name too long or with NUL
+            exists = False
+        if not exists:
+            raise InputError(
+                case_dir / "case.toml",
+                "inputs.known_moduli",
+                f"an existing curve file (path relative to the case folder) on every row "
+                f"({known.name} line {row.line} names a file that does not exist)",
+                row.file,
+            )
