@@ -22,7 +22,6 @@ written or drawn here: the result goes to a report (the ``afm_fit_files`` case k
 
 from __future__ import annotations
 
-import csv
 import fnmatch
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -145,18 +144,10 @@ def read_known_rows(path: str | Path) -> list[KnownModulus]:
     :data:`oocyte_fe.checks.QUANTITIES` (``modulus_kPa``: positive, finite), a file listed twice.
     """
     text = checks.read_text(path)
-    lines = [
-        (n, line)
-        for n, line in enumerate(text.splitlines(), start=1)
-        if line.strip() and not line.lstrip().startswith("#")
-    ]
+    lines = checks.csv_lines(path, text)
     if not lines:
         raise InputError(path, "", f"a header row {KNOWN_HEADER!r} and a row per curve (no rows)")
-    try:
-        table = list(csv.reader(line for _, line in lines))
-    except csv.Error as exc:
-        raise InputError(path, "", f"a comma-separated table ({exc})") from None
-    n_header, names = lines[0][0], [name.strip() for name in table[0]]
+    n_header, names = lines[0][0], [name.strip() for name in lines[0][1]]
     if "file" not in names or "E_kPa" not in names:
         raise InputError(
             path,
@@ -170,7 +161,7 @@ def read_known_rows(path: str | Path) -> list[KnownModulus]:
     at_file, at_e = names.index("file"), names.index("E_kPa")
     rows: list[KnownModulus] = []
     seen: dict[str, int] = {}
-    for (n, _), cells in zip(lines[1:], table[1:], strict=True):
+    for n, cells in lines[1:]:
         if len(cells) != len(names):
             raise InputError(path, f"line {n}", f"{len(names)} comma-separated values")
         name = cells[at_file].strip()
@@ -180,13 +171,7 @@ def read_known_rows(path: str | Path) -> list[KnownModulus]:
             raise InputError(
                 path, f"file (line {n})", f"each file once (listed on line {seen[name]} too)", name
             )
-        cell = cells[at_e].strip()
-        try:
-            value = float(cell)
-        except ValueError:
-            raise InputError(
-                path, f"E_kPa (line {n})", "a number (kPa)", got=checks.excerpt(cell)
-            ) from None
+        value = checks.number_cell(path, f"E_kPa (line {n})", cells[at_e].strip(), "a number (kPa)")
         low, high, _ = checks.QUANTITIES["modulus_kPa"]
         expected = f"a positive modulus in kPa, within [{low:g}, {high:g}]"
         e_kPa = checks.number(path, f"E_kPa (line {n})", value, ge=low, le=high, expected=expected)

@@ -25,6 +25,7 @@ content reaches an error message: a short, clearly marked piece of one line.
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import errno
 import math
@@ -255,6 +256,29 @@ def excerpt(text: str) -> str:
     line = text.splitlines()[0] if text else ""
     cut = line[:EXCERPT_CHARS] + (" ..." if len(line) > EXCERPT_CHARS else "")
     return f"[excerpt: {cut!r}]"
+
+
+def csv_lines(path: str | Path, text: str) -> list[tuple[int, list[str]]]:
+    """The rows of a comma-separated text with the file's own line numbers (1 = the first
+    line), blank lines and ``#`` comment lines left out; a row the CSV reader refuses is named
+    by its line."""
+    rows = []
+    for line, text_line in enumerate(text.splitlines(), start=1):
+        if not text_line.strip() or text_line.lstrip().startswith("#"):
+            continue
+        try:
+            rows.append((line, next(csv.reader([text_line]))))
+        except csv.Error as exc:
+            raise InputError(path, f"line {line}", f"comma-separated values ({exc})") from None
+    return rows
+
+
+def number_cell(path: str | Path, field: str, cell: str, expected: str = "a number") -> float:
+    """A table cell as a float, or :class:`InputError` quoting the cell (:func:`excerpt`)."""
+    try:
+        return float(cell)
+    except ValueError:
+        raise InputError(path, field, expected, got=excerpt(cell)) from None
 
 
 def _kind_of(mode: int) -> str:

@@ -7,7 +7,6 @@ line. Units are the caller's business (e.g. :mod:`oocyte_fe.microchannel.tables`
 
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 
@@ -24,14 +23,7 @@ def read_columns(path: Path) -> dict[str, np.ndarray]:
     every cell must be a finite number.
     """
     text = checks.read_text(path)
-    numbered = []  # (line of the file, cells), comments and blank lines left out
-    for line, text_line in enumerate(text.splitlines(), start=1):
-        try:
-            row = next(csv.reader([text_line]), [])
-        except csv.Error as exc:
-            raise InputError(path, f"line {line}", f"comma-separated values ({exc})") from None
-        if row and any(c.strip() for c in row) and not row[0].startswith("#"):
-            numbered.append((line, row))
+    numbered = [(n, row) for n, row in checks.csv_lines(path, text) if any(c.strip() for c in row)]
     if len(numbered) < 2:
         raise InputError(path, "", "a header row and at least one data row")
     header = [h.strip() for h in numbered[0][1]]
@@ -42,12 +34,7 @@ def read_columns(path: Path) -> dict[str, np.ndarray]:
         if len(row) != len(header):
             raise InputError(path, f"line {line}", f"{len(header)} comma-separated values")
         for name, cell in zip(header, row, strict=True):
-            try:
-                value = float(cell)
-            except ValueError:
-                raise InputError(
-                    path, f"{name} (line {line})", "a number", got=checks.excerpt(cell)
-                ) from None
+            value = checks.number_cell(path, f"{name} (line {line})", cell)
             if not math.isfinite(value):
                 raise InputError(path, f"{name} (line {line})", "a finite number", got=value)
             columns[name].append(value)
