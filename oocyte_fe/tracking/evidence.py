@@ -92,7 +92,7 @@ def coherence(box_patch: np.ndarray, sigma_n: float) -> float:
     ``kappa`` is 0 for an isotropic pattern (a round droplet centred in the box, noise) and
     near 1 for a pattern of one orientation (a barrel with fibres along its axis); it does
     not change when the pattern turns. 0 when no gradient energy is left above the noise."""
-    img = ndimage.gaussian_filter(np.asarray(box_patch, dtype=float), ORIENT_SMOOTH_PX)
+    img = smooth(box_patch, ORIENT_SMOOTH_PX)
     gy, gx = np.gradient(img)
     noise = img.size * GRAD_NOISE_GAIN * sigma_n**2
     jxx = float(np.sum(gx * gx)) - noise

@@ -30,9 +30,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from oocyte_fe.tracking.evidence import inside
+from oocyte_fe.tracking.window_stats import median, smooth
 
 
 @dataclass(frozen=True)
@@ -66,10 +66,10 @@ def spreads(
     region = inside(frame, centre, (size[0] * model.region, size[1] * model.region))
     if min(region.shape) < 4:
         return None
-    level = float(np.median(region))
+    level = median(region)
     if level <= 0 or float(region.min()) < model.dark * level:
         return None
-    excess = ndimage.gaussian_filter(region, 1.0) / level - 1.0
+    excess = smooth(region, 1.0) / level - 1.0
     rows, cols = region.shape
     ci, cj = rows // 2, cols // 2
     hi, hj = max(1, int(size[1] / 4)), max(1, int(size[0] / 4))

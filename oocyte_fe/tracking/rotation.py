@@ -54,6 +54,7 @@ from scipy import ndimage
 
 from oocyte_fe.tracking.anchor import ScoreReference
 from oocyte_fe.tracking.kcf import KcfModel
+from oocyte_fe.tracking.window_stats import median
 
 TAPER_PX = 2.0
 """Width of the soft edge of the target's ellipse in the bank's windows, px."""
@@ -181,7 +182,7 @@ class RotationBank(ScoreReference):
         weight = ellipse_weight(self.side, self.axes)
         out = []
         for c in self.crops:
-            level = float(np.median(c))
+            level = median(c)
             flat = level + weight * (c - level)
             # ndimage turns counter-clockwise on (row, col) arrays: -angle turns the target
             # by +angle from the x axis towards +y (image rows down), the frame's convention

@@ -53,6 +53,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from oocyte_fe.tracking.window_stats import median
+
 
 @dataclass(frozen=True)
 class ScaleModel:
@@ -153,7 +155,7 @@ class ScaleFilter:
         r = np.clip(np.arange(top, int(np.ceil(centre[1] + half_h)) + 1), 0, rows - 1)
         c = np.clip(np.arange(left, int(np.ceil(centre[0] + half_w)) + 1), 0, cols - 1)
         patch = frame[r[:, None], c[None, :]]
-        level = float(np.median(patch[::2, ::2]))
+        level = median(patch[::2, ::2])
         box = max(1, int(round(self.scale * self.model.region * self.size0[0] / self.tw)))
         patch = ndimage.uniform_filter(patch, box, mode="nearest") if box > 1 else patch
         y0, fy = _taps(centre[1] - top, extent * self.size0[1], self.th, len(r))
