@@ -72,6 +72,16 @@ NECK_REFUSED = [
         {"advance_um": 0.05},
         "inputs.advance_um: expected an advance beyond clearance_um = 0.1 um",
     ),
+    (  # an element of 100 um on the 90 um cell: the five points 47.1 um apart share elements
+        {"size_um": 100.0},
+        "inputs.size_um: expected size_um <= (cytoplasm_radius_um + zona_thickness_um) pi / 6 "
+        "= 47.1239, got 100.0",
+    ),
+    (
+        {"mesh_study_sizes_um": [48.0, 10.0]},
+        "inputs.mesh_study_sizes_um: expected max(mesh_study_sizes_um) <= ",
+    ),
+    ({"sensitivity_size_um": 48.0}, "inputs.sensitivity_size_um: expected sensitivity_size_um <= "),
 ]
 
 
@@ -89,6 +99,7 @@ def test_neck_aspiration_pipette_against_the_cell_is_refused(
         {"bore_diameter_um": 180.5, "neck_diameter_um": 150.0},
         {"neck_diameter_um": 179.0},
         {"advance_um": 539.0},
+        {"size_um": 47.0, "mesh_study_sizes_um": [47.0, 10.0], "sensitivity_size_um": 47.0},
     ],
 )
 def test_neck_aspiration_pipette_just_inside_the_bounds_is_accepted(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -18,6 +19,13 @@ from oocyte_fe.runner.casefile import read_toml
 from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Refining, Relation
 
 SizeUm = Annotated[float, Field(ge=1, le=100)]
+
+POINT_ARC = "(cytoplasm_radius_um + zona_thickness_um) pi / 6"
+
+
+def _point_arc_um(m: NeckInputs) -> float:
+    """Arc between two neighbouring surface points of the five (30 deg apart), um."""
+    return (m.cytoplasm_radius_um + m.zona_thickness_um) * math.pi / 6
 
 
 class NeckInputs(CaseInputs):
@@ -183,6 +191,16 @@ class NeckInputs(CaseInputs):
     rules = (
         Relation("neck_diameter_um", "<", lambda m: m.bore_diameter_um, "bore_diameter_um"),
         Refining("mesh_study_sizes_um"),
+        # an element no longer than the arc between two of the five surface points (30 deg):
+        # a coarser mesh cannot tell them apart (the study's and the sensitivity's meshes too)
+        *(
+            Relation(name, "<=", _point_arc_um, POINT_ARC, measure)
+            for name, measure in (
+                ("size_um", "value"),
+                ("mesh_study_sizes_um", "max"),
+                ("sensitivity_size_um", "value"),
+            )
+        ),
     )
 
 
