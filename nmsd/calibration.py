@@ -258,6 +258,15 @@ def calibrate(
     names = _FREE[model] + extra
 
     curves = [(setup, data), *also]
+    for press, curve in curves:  # beyond its travel a press's force is held at the end value
+        top = float(np.max(curve.displacement_um))
+        if top > press.travel_um * (1 + 1e-9):
+            raise InputError(
+                curve.source or "calibrate",
+                "displacement_um",
+                f"displacements within the press travel ({press.travel_um:g} um)",
+                got=top,
+            )
 
     def press_for(values: np.ndarray, press: PressSetup) -> tuple[PressSetup, NmsdParameters]:
         params = params_for(model, values[: len(names) - ("gap_um" in extra)], base, extra_p)

@@ -139,7 +139,7 @@ def predict_spindle_offset(
     )
     travel = approach.travel_um
     step_um = checks.number(
-        "predict_spindle_offset", "step_um", step_um, gt=0, ge=travel / MAX_STEPS
+        "predict_spindle_offset", "step_um", step_um, ge=travel / MAX_STEPS, le=travel
     )
     n_steps = max(1, int(np.ceil(travel / step_um)))
     record = list(np.linspace(0.0, travel, n_steps + 1)[1:])

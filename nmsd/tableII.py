@@ -38,10 +38,14 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     """Read the CSV; raise :class:`InputError` naming file and column on bad content."""
     path = Path(path)
     try:
-        rows = list(csv.DictReader(checks.read_text(path).splitlines()))
+        reader = csv.DictReader(checks.read_text(path).splitlines())
+        rows, lines = [], []  # each row and its line in the file (blank lines are skipped)
+        for row in reader:
+            rows.append(row)
+            lines.append(reader.line_num)
     except csv.Error as exc:
         raise InputError(str(path), "", f"a comma-separated table ({exc})") from None
-    header = set(rows[0]) if rows else set()
+    header = set(reader.fieldnames or ())
     for column in ("displacement_um", "force_experiment_uN"):
         if column not in header:
             close = difflib.get_close_matches(column, [str(h) for h in header], n=1)
@@ -51,18 +55,27 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     for name in ("displacement_um", "force_experiment_uN", "force_simulation_uN"):
         if name not in header:
             continue
-        try:
-            columns[name] = np.array([float(r[name]) for r in rows])
-        except (TypeError, ValueError):
-            raise InputError(str(path), name, "numbers in every row") from None
+        values = []
+        for line, row in zip(lines, rows, strict=True):
+            try:
+                values.append(float(row[name]))
+            except (TypeError, ValueError):
+                raise InputError(
+                    str(path), name, f"numbers in every row (line {line})", got=row[name]
+                ) from None
+        columns[name] = np.array(values)
         if not np.all(np.isfinite(columns[name])):
             raise InputError(str(path), name, "finite numbers in every row (no nan, inf)")
     d = columns["displacement_um"]
     if len(d) < MIN_ROWS:
         raise InputError(str(path), "displacement_um", f"at least {MIN_ROWS} rows", got=len(d))
     if np.any(np.diff(d) <= 0) or d[0] < 0 or d[-1] > checks.QUANTITIES["length_um"][1]:
+        bad = np.flatnonzero(np.diff(d) <= 0)
+        where = f" (line {lines[bad[0] + 1]} is not above line {lines[bad[0]]})" if len(bad) else ""
         raise InputError(
-            str(path), "displacement_um", "non-negative, strictly increasing, at most 1e6 um"
+            str(path),
+            "displacement_um",
+            f"non-negative, strictly increasing, at most 1e6 um{where}",
         )
     high = checks.QUANTITIES["force_nN"][1]
     forces = {}

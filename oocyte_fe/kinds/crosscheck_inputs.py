@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated
 
-from pydantic import Field
+from pydantic import Field, field_validator, model_validator
 
 from afm.curve_io import read_creep
 from nmsd.pipette import (
@@ -16,6 +16,14 @@ from nmsd.pipette import (
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.experiment.description import MAX_FRAMES
 from oocyte_fe.kinds.data_templates import CREEP
+from oocyte_fe.kinds.nmsd_checks import (
+    CELLS_ACROSS,
+    FINEST,
+    ZonaRatioReading,
+    radius,
+    ratio_or_reading,
+    second_speed_given,
+)
 from oocyte_fe.kinds.nmsd_inputs import (
     CellDiameter,
     ContactStiffness,
@@ -40,8 +48,6 @@ from oocyte_fe.runner.schema import (
     Relation,
     Setup,
 )
-
-ZonaRatioReading = Literal["afm_relaxed", "afm_instantaneous"]
 
 
 class CrosscheckInputs(CaseInputs):
@@ -226,6 +232,10 @@ class CrosscheckInputs(CaseInputs):
             lambda m: 0.25 * m.cytoplasm_diameter_um,
             "half the cytoplasm radius",
         ),
+        *(
+            Relation(name, ">=", lambda m: m.cell_diameter_um / CELLS_ACROSS, FINEST)
+            for name in ("fe_size_um", "fe_refine_size_um", "grid_spacing_um")
+        ),
         Relation("fe_refine_size_um", "<=", lambda m: m.fe_size_um, "fe_size_um"),
         Relation(
             "fe_step_um",
@@ -234,6 +244,10 @@ class CrosscheckInputs(CaseInputs):
             f"travel_um / {MAX_FRAMES} (at most {MAX_FRAMES} output frames)",
         ),
         Distinct("arrow_advances_um"),
+        Relation("hold_half_width_um", "<", radius, "cell_diameter_um / 2"),
+        Relation("grid_margin_um", "<", radius, "cell_diameter_um / 2 (a grid inside the cell)"),
+        Relation("arrow_advances_um", "<=", lambda m: m.travel_um, "travel_um", measure="max"),
+        Relation("fe_step_um", "<=", lambda m: m.travel_um, "travel_um"),
         Setup(
             lambda m: PressScenario(
                 m.cell_diameter_um,
@@ -246,6 +260,9 @@ class CrosscheckInputs(CaseInputs):
             )
         ),
     )
+
+    _ratio = field_validator("nmsd_zona_stiffness_ratio", mode="before")(ratio_or_reading)
+    _second_speed = model_validator(mode="after")(second_speed_given)
 
 
 METRICS = {

@@ -5,8 +5,10 @@ aspirating at the spindle's initial position and at a fixed offset
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from nmsd.approach_pid import PidGains
 from nmsd.calibration import calibrate
@@ -15,15 +17,19 @@ from nmsd.parameters import NmsdParameters, node_mass_for
 from nmsd.press import press_setup
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.errors import InputError
-from oocyte_fe.kinds.data_templates import TABLE_II
-from oocyte_fe.runner.casefile import DataFile
+from oocyte_fe.kinds.nmsd_checks import data_extent_um
+from oocyte_fe.kinds.nmsd_inputs import TableIIFile
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs, Relation
+from oocyte_fe.runner.schema import CaseInputs, Relation, RuleBroken
 from oocyte_fe.tracking import enucleation as loop
 from oocyte_fe.tracking.plots import plot_loop_distances
 from oocyte_fe.tracking.synthetic import CELL_DIAMETER_UM, SequenceSpec
 
 SEED = "seed 000, Section III.D"
+TRAVEL_UM = 65.0
+"""Travel of the calibration press (the paper's 65 um; Table II ends at 62.375 um)."""
+BOX_UM = {f.name: f.default for f in dataclasses.fields(SequenceSpec)}["spindle_length_um"]
+"""Spindle length in the video (um): a first box off by more misses the spindle."""
 
 
 def _unit(unit: str) -> dict:
@@ -33,11 +39,10 @@ def _unit(unit: str) -> dict:
 class LoopInputs(CaseInputs):
     """Calibration, virtual cells, video and controller of the loop."""
 
-    data: DataFile = Field(
-        description="Table II CSV (displacement_um, force_experiment_uN, ...)",
-        json_schema_extra=TABLE_II,
+    data: TableIIFile
+    n_cells: int = Field(
+        10, ge=1, le=1000, description="virtual cells", json_schema_extra=_unit("1")
     )
-    n_cells: int = Field(10, ge=1, description="virtual cells", json_schema_extra=_unit("1"))
     spacings_across: int = Field(
         12, ge=4, description="NMSD grid spacings across the cell", json_schema_extra=_unit("1")
     )
@@ -54,7 +59,9 @@ class LoopInputs(CaseInputs):
     param_spread: float = Field(
         0.25,
         ge=0,
-        description="SD of log k1, k2, d0, d1 between cells",
+        le=2.3,
+        description="SD of log k1, k2, d0, d1 between cells (at most ln 10 = 2.3: one SD a "
+        "factor of 10)",
         json_schema_extra=_unit("1"),
     )
     start_spread_um: float = Field(
@@ -94,7 +101,24 @@ class LoopInputs(CaseInputs):
         Relation("removal_pipette_um", "<", lambda m: CELL_DIAMETER_UM, "the cell diameter"),
         Relation("spindle_length_um", "<", lambda m: CELL_DIAMETER_UM, "the cell diameter"),
         Relation("start_spread_um", "<", lambda m: CELL_DIAMETER_UM / 2, "the cell radius"),
+        Relation(
+            "click_error_um",
+            "<",
+            lambda m: BOX_UM,
+            "the spindle's length in the video (a first box that still overlaps the spindle)",
+        ),
     )
+
+    @model_validator(mode="after")
+    def _data_within_travel(self) -> LoopInputs:
+        extent = data_extent_um(self.data)
+        if extent > TRAVEL_UM:
+            raise RuleBroken(
+                "data",
+                f"displacement_um at most the calibration press's travel {TRAVEL_UM:g} um",
+                extent,
+            )
+        return self
 
 
 METRICS = {
@@ -108,16 +132,33 @@ METRICS = {
 }
 
 
+def _run_cell(ctx: CaseContext, cell: loop.VirtualCell, *args: object) -> loop.CellOutcome:
+    """:func:`loop.run_cell`; a tracked start outside the lattice (the tracker lost the
+    spindle) names ``click_error_um``, a true start outside it ``start_spread_um``."""
+    inp: LoopInputs = ctx.inputs  # type: ignore[assignment]
+    try:
+        return loop.run_cell(cell, *args, inp.click_error_um)  # type: ignore[arg-type]
+    except InputError as exc:
+        if exc.field != "spindle_initial_um":
+            raise
+        true = np.allclose(np.asarray(exc.got, dtype=float), cell.initial_um)
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            "inputs." + ("start_spread_um" if true else "click_error_um"),
+            f"a spindle start inside the cell's lattice: in virtual cell {cell.seed} the "
+            + ("true start" if true else "tracked start (the tracker lost the spindle)")
+            + f" {exc.expected.removeprefix('a point ')}",
+            got=exc.got,
+        ) from None
+
+
 @case_kind("enucleation_loop", inputs=LoopInputs, metrics=METRICS)
 def run(ctx: CaseContext) -> CaseOutcome:
     """Video -> MFAKCF -> NMSD removal point -> PID -> loss, vs initial position / fixed offset."""
     inp: LoopInputs = ctx.inputs  # type: ignore[assignment]
-    try:
-        data = read_force_displacement(inp.data)
-        lattice = circular_lattice(CELL_DIAMETER_UM, inp.spacings_across)
-        setup = press_setup(lattice, n_steps=inp.n_steps)
-    except InputError as exc:
-        raise InputError(ctx.case_dir / "case.toml", f"inputs ({exc.field})", str(exc)) from None
+    data = read_force_displacement(inp.data)  # read at validation: names file, column, row
+    lattice = circular_lattice(CELL_DIAMETER_UM, inp.spacings_across)
+    setup = press_setup(lattice, n_steps=inp.n_steps, travel_um=TRAVEL_UM)
     base = NmsdParameters(dl_c=inp.dl_c, node_mass=node_mass_for(CELL_DIAMETER_UM, lattice.n_nodes))
     ctx.step("calibrating on Table II")
     cal = calibrate(setup, data, "nmsd", base, inp.n_starts, max_evaluations=inp.max_evaluations)
@@ -136,9 +177,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     outcomes = []
     for cell in loop.virtual_cells(cal.params, inp.n_cells, inp.param_spread, inp.start_spread_um):
         ctx.step(f"cell {cell.seed}")
-        outcomes.append(
-            loop.run_cell(cell, lattice, cal.params, offset, video, gains, inp.click_error_um)
-        )
+        outcomes.append(_run_cell(ctx, cell, lattice, cal.params, offset, video, gains))
     dist = {m: float(np.mean([o.distance(m) for o in outcomes])) for m in loop.METHODS}
     loss = {
         m: float(

@@ -3,23 +3,27 @@ their runs: the press, calibration and spindle inputs and their checks at valida
 
 from __future__ import annotations
 
-import functools
 from typing import Annotated, Literal
 
 from pydantic import Field
 
 from nmsd.calibration import MODELS
-from nmsd.lattice import circular_lattice
 from nmsd.pipette import (
     CONTACT_STIFFNESS_NN_PER_UM,
     HOLD_HALF_WIDTH_UM,
     TABLE_I_TIP_ANGLE_DEG,
     TABLE_I_WIDTH_UM,
 )
-from nmsd.press import press_setup
-from nmsd.spindle import approach_setup
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.kinds.data_templates import TABLE_II
+from oocyte_fe.kinds.nmsd_checks import (
+    LIBRARY_ARGS,
+    approach_at_validation,
+    approach_travel_um,
+    data_extent_um,
+    data_inside_cell,
+    press_at_validation,
+)
 from oocyte_fe.runner.schema import (
     CaseInputs,
     DataFile,
@@ -28,55 +32,6 @@ from oocyte_fe.runner.schema import (
     Relation,
     Setup,
 )
-
-LIBRARY_ARGS = (
-    ("diameter_um", "cell_diameter_um"),
-    ("width_um", "pipette_width_um"),
-    ("contact_stiffness", "contact_stiffness_nN_per_um"),
-)
-"""Library argument -> case input, for the errors of the setups run at validation."""
-
-
-@functools.lru_cache(maxsize=16)
-def _press_geometry(*args: object) -> None:
-    """:func:`press_setup` on a fresh lattice, built once per geometry (a sweep's probes vary
-    other inputs); the mirror pairs are left to ``run`` (costly)."""
-    diameter, spacings, *rest = args
-    press_setup(circular_lattice(diameter, spacings), *rest, symmetric=False)  # type: ignore[arg-type]
-
-
-@functools.lru_cache(maxsize=16)
-def _approach_geometry(diameter: float, spacings: int, *rest: object) -> None:
-    """:func:`approach_setup` on a fresh lattice, built once per geometry."""
-    approach_setup(circular_lattice(diameter, spacings), *rest)  # type: ignore[arg-type]
-
-
-def _press_at_validation(m: PressInputs) -> None:
-    _press_geometry(
-        m.cell_diameter_um,
-        m.spacings_across,
-        m.pipette_width_um,
-        m.tip_angle_deg,
-        m.hold_half_width_um,
-        m.contact_stiffness_nN_per_um,
-        m.speed_um_s,
-        m.travel_um,
-        m.n_steps,
-        m.gap_um,
-    )
-
-
-def _approach_at_validation(m: SpindleInputs) -> None:
-    _approach_geometry(
-        m.cell_diameter_um,
-        m.spacings_across,
-        m.spindle_initial_um,
-        m.pipette_width_um,
-        m.tip_angle_deg,
-        m.hold_half_width_um,
-        m.contact_stiffness_nN_per_um,
-    )
-
 
 TableIIFile = Annotated[
     DataFile,
@@ -209,7 +164,15 @@ class PressInputs(CaseInputs):
         Relation(
             "travel_um", "<", lambda m: m.cell_diameter_um - m.gap_um, "cell_diameter_um - gap_um"
         ),
-        Setup(_press_at_validation, LIBRARY_ARGS),
+        Setup(data_inside_cell),
+        Relation(
+            "travel_um",
+            ">=",
+            lambda m: data_extent_um(m.data),
+            "the largest displacement_um of data (the press must reach every point it is "
+            "fitted to)",
+        ),
+        Setup(press_at_validation, LIBRARY_ARGS),
         Distinct("calibrate_extra"),
     )
 
@@ -295,6 +258,17 @@ class SpindleInputs(PressInputs):
         ),
         Relation("removal_pipette_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
         Relation("spindle_length_um", "<", lambda m: m.cell_diameter_um, "cell_diameter_um"),
-        Relation("approach_step_um", "<=", lambda m: m.cell_diameter_um, "cell_diameter_um"),
-        Setup(_approach_at_validation, LIBRARY_ARGS),
+        Setup(approach_at_validation, LIBRARY_ARGS),
+        Relation(
+            "approach_step_um",
+            "<=",
+            approach_travel_um,
+            "the approach's travel (mouth clear of the lattice to spindle_initial_um)",
+        ),
+        Relation(
+            "resolution_um",
+            "<",
+            lambda m: m.removal_pipette_um / 2,
+            "removal_pipette_um / 2 (a coarser step can leave the spindle outside the bore)",
+        ),
     )
