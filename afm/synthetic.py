@@ -192,6 +192,54 @@ def pierce_curve(
     return ForceCurve(piezo, measured, k, source, group)
 
 
+def check_pierce_visible(
+    E_zp_kPa: float,
+    E_cytoplasm_kPa: float,
+    contact_point_um: float,
+    *,
+    pierce_force_nN: float,
+    residual_fraction: float,
+    trigger_force_nN: float,
+    k_nN_per_um: float,
+    geometry: Mapping[str, float],
+    nu: float,
+    tilt_nN_per_um: float,
+    min_drop_fraction: float = 0.1,
+) -> None:
+    """Raise :class:`InputError` unless :func:`afm.pierce.detect_pierce` finds the pierce of the
+    noise-free :func:`pierce_curve` of these moduli: the drop, ``pierce_force_nN x (1 -
+    residual_fraction)``, must exceed ``min_drop_fraction`` of the force range, which the
+    trigger force and the baseline tilt over the approach make up. The error names
+    ``pierce_force_nN`` if the drop is too small even without tilt, else ``tilt_nN_per_um``."""
+    from afm.pierce import detect_pierce  # afm.pierce does not import this module
+
+    options = dict(
+        pierce_force_nN=pierce_force_nN,
+        residual_fraction=residual_fraction,
+        trigger_force_nN=trigger_force_nN,
+        k_nN_per_um=k_nN_per_um,
+        geometry=geometry,
+        nu=nu,
+    )
+    for tilt, field in ((0.0, "pierce_force_nN"), (tilt_nN_per_um, "tilt_nN_per_um")):
+        curve = pierce_curve(
+            E_zp_kPa, E_cytoplasm_kPa, contact_point_um, tilt_nN_per_um=tilt, **options
+        )  # type: ignore[arg-type]
+        try:
+            detect_pierce(curve, min_drop_fraction)
+        except InputError:
+            drop = pierce_force_nN * (1 - residual_fraction)
+            span = float(np.ptp(curve.force_nN))
+            raise InputError(
+                "<input>",
+                field,
+                f"a pierce drop (pierce_force_nN x (1 - residual_fraction) = {drop:.3g} nN) above "
+                f"{min_drop_fraction:g} of the curve's force range ({span:.3g} nN with "
+                f"tilt_nN_per_um = {tilt:g}, at the mean moduli): else no pierce is detected",
+                pierce_force_nN if field == "pierce_force_nN" else tilt_nN_per_um,
+            ) from None
+
+
 def creep_indentation(
     relaxation: RelaxationProny,
     time_s: np.ndarray,

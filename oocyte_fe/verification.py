@@ -19,10 +19,14 @@ structured meshes; these run it on gmsh meshes at case resolution (``cases/fe_ve
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
+from oocyte_fe.errors import InputError
 from oocyte_fe.fe.body import Body
 from oocyte_fe.fe.contact import Contact, ContactLaw
 from oocyte_fe.fe.loads import FollowerPressure, Prescribed
@@ -156,10 +160,53 @@ def hertz(
     )
 
 
-def observed_order(values: list[float], ratio: float = 2.0) -> float:
-    """Observed convergence order from three solutions on meshes refined by ``ratio``."""
-    f1, f2, f3 = values
-    return float(np.log(abs((f1 - f2) / (f2 - f3))) / np.log(ratio))
+def _log_abs_expm1(a: float) -> float:
+    """``log|exp(a) - 1|`` without overflow (``a != 0``)."""
+    return a + math.log(-math.expm1(-a)) if a > 0 else math.log(-math.expm1(a))
+
+
+def observed_order(
+    values: Sequence[float], ratio: float = 2.0, sizes: Sequence[float] | None = None
+) -> float:
+    """Observed convergence order ``p`` from three solutions, coarsest first.
+
+    With ``sizes`` (the three mesh sizes, strictly decreasing) the refinement ratios are
+    ``r21 = h1/h2`` and ``r32 = h2/h3``, else both are ``ratio``. With ``f_i = f + C h_i^p``
+    (generalized Richardson, Roache 1998; Celik et al. 2008)::
+
+        |f1 - f2| / |f2 - f3| = r32^p (r21^p - 1) / (r32^p - 1)
+
+    which for ``r21 = r32 = r`` is ``p = ln(|f1 - f2| / |f2 - f3|) / ln r``; for unequal ratios
+    it is solved for ``p`` (its right side rises monotonically from 0 to infinity in ``p``).
+    Equal solutions give ``-inf`` (``f1 = f2``) or ``inf`` (``f2 = f3``).
+    """
+    f1, f2, f3 = (float(v) for v in values)
+    h = [ratio**2, ratio, 1.0] if sizes is None else [float(v) for v in sizes]
+    if len(h) != 3 or not all(math.isfinite(v) and v > 0 for v in h) or not h[0] > h[1] > h[2]:
+        raise InputError("<input>", "sizes", "three positive, strictly decreasing sizes", sizes)
+    d21, d32 = abs(f1 - f2), abs(f2 - f3)
+    if d21 == 0 or d32 == 0:
+        return -math.inf if d21 == 0 else math.inf
+    target = math.log(d21 / d32)
+    l21, l32 = math.log(h[0] / h[1]), math.log(h[1] / h[2])
+    if math.isclose(l21, l32, rel_tol=1e-12):
+        return target / l32
+
+    def excess(p: float) -> float:
+        if p == 0:
+            return math.log(l21 / l32) - target
+        return p * l32 + _log_abs_expm1(p * l21) - _log_abs_expm1(p * l32) - target
+
+    low, high = -1.0, 1.0
+    for _ in range(200):
+        if excess(low) <= 0:
+            break
+        low *= 2
+    for _ in range(200):
+        if excess(high) >= 0:
+            break
+        high *= 2
+    return float(brentq(excess, low, high, xtol=1e-14, rtol=1e-12))
 
 
 # --- closed forms of the experiments (oocyte_fe.experiment) ----------------------------------

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from typing import Annotated
 
 import numpy as np
 from pydantic import Field, model_validator
 
 from afm.creep import fit_creep
+from afm.creep_data import FORCE_CLAMP_TOLERANCE
 from afm.curve import spring_constant_nN_per_um
 from afm.curve_io import read_creep, write_creep
 from afm.fe_export import ansys_prony_block, febio_material
@@ -15,6 +17,7 @@ from afm.material_file import MaterialFile, read_material, write_material
 from afm.plotting import plot_creep
 from afm.prony_series import RelaxationProny
 from afm.synthetic import creep_indentation
+from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 from oocyte_fe.runner.schema import CaseInputs, Relation
 
@@ -25,6 +28,16 @@ MIN_SAMPLES = 10
 MAX_SAMPLES = 2e5
 """Most samples of the synthetic record (200 s at 1 kHz, 33 x the paper's 6 s hold): each 1e5
 samples cost about a CPU second (CSV, fit, plot); 1e6 took 10 s, beyond a cheap kind."""
+
+
+def _force_to_depth(m: CreepInputs, depth_um: float) -> float:
+    """Clamp force [nN] whose noise-free indentation reaches ``depth_um`` at the end of the hold
+    (Lee-Radok: the indentation grows as sqrt(force)); inf if the series is not yet valid."""
+    if len(m.prony_g) != len(m.prony_tau_s) or sum(m.prony_g) >= 1:
+        return math.inf  # refused by _series with its own message
+    truth = RelaxationProny(m.E0_kPa / (2 * (1 + m.nu)), m.prony_g, m.prony_tau_s)
+    unit = float(creep_indentation(truth, np.array([m.hold_s]), 1.0, m.half_angle_deg, m.nu)[0])
+    return (depth_um / unit) ** 2
 
 
 class CreepInputs(CaseInputs):
@@ -42,6 +55,26 @@ class CreepInputs(CaseInputs):
             "<=",
             lambda m: MAX_SAMPLES / m.sample_rate_Hz,
             f"{MAX_SAMPLES:g} / sample_rate_Hz (at most {MAX_SAMPLES:g} samples)",
+        ),
+        Relation(
+            "prony_tau_s",
+            "<",
+            lambda m: m.hold_s,
+            "hold_s (each relaxation time within the record it is identified from)",
+            measure="max",
+        ),
+        Relation(
+            "clamp_force_nN",
+            ">=",
+            lambda m: m.force_noise_nN / (0.5 * FORCE_CLAMP_TOLERANCE),
+            f"force_noise_nN / {0.5 * FORCE_CLAMP_TOLERANCE:g} (force SD/mean within half the "
+            f"{FORCE_CLAMP_TOLERANCE:g} a clamped record allows)",
+        ),
+        Relation(
+            "clamp_force_nN",
+            "<",
+            lambda m: _force_to_depth(m, m.cell_diameter_um),
+            "the force [nN] indenting cell_diameter_um deep by the end of the hold",
         ),
     )
 
@@ -116,6 +149,12 @@ class CreepInputs(CaseInputs):
     seed: int = Field(
         0, ge=0, description="random seed of the noise", json_schema_extra={"unit": "1"}
     )
+    cell_diameter_um: float = Field(
+        115.625,
+        gt=0,
+        description="diameter of the oocyte (with ZP); the final indentation stays below it",
+        json_schema_extra={"unit": "um"},
+    )
 
     @model_validator(mode="after")
     def _series(self) -> CreepInputs:
@@ -164,7 +203,15 @@ def run(ctx: CaseContext) -> CaseOutcome:
     )
 
     ctx.step("Lee-Radok compliance, Prony fit, exact relaxation series")
-    fit = fit_creep(read_creep(csv), inp.half_angle_deg, inp.nu, inp.per_decade)
+    try:
+        fit = fit_creep(read_creep(csv), inp.half_angle_deg, inp.nu, inp.per_decade)
+    except InputError as exc:  # name the inputs, not the record written from them
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            "inputs (clamp_force_nN, force_noise_nN, noise_fraction, prony_tau_s)",
+            f"a synthetic record the creep fit accepts ({exc.field}: {exc.expected})",
+            exc.got,
+        ) from None
     material = fit.material(
         "zona_pellucida",
         "afm_creep_prony case: SYNTHETIC ZP creep (5 nN clamp, 6 s), Lee-Radok cone, "

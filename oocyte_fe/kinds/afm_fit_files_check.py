@@ -27,7 +27,23 @@ from oocyte_fe.kinds.afm_fit_files_args import (
 from oocyte_fe.kinds.afm_fit_files_correction import correction
 
 if TYPE_CHECKING:
-    from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
+    from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs, Viscoelastic
+
+
+def unused_options(ve: Viscoelastic) -> None:
+    """Refuse an option of ``viscoelastic`` given for a relaxation that does not use it
+    (``terms``: Prony only; ``t0_s``: power law only), which would be ignored silently. A
+    value equal to the default is let through (a re-validated dump of the inputs holds it)."""
+    for option, used_by in (("terms", "prony"), ("t0_s", "power_law")):
+        default = type(ve).model_fields[option].default
+        if ve.relaxation != used_by and getattr(ve, option) != default:
+            raise InputError(
+                "<input>",
+                option,
+                f'{option} only with relaxation = "{used_by}" (relaxation = '
+                f'"{ve.relaxation}" does not use it): remove it',
+                getattr(ve, option),
+            )
 
 
 def read_creep_records(files: Mapping[str, Path]) -> dict[str, CreepData]:

@@ -17,10 +17,10 @@ from afm.models import MODELS
 from afm.ramp_files import RampOptions
 from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError
-from oocyte_fe.kinds.afm_fit_files_check import check_case, read_creep_records
+from oocyte_fe.kinds.afm_fit_files_check import check_case, read_creep_records, unused_options
 from oocyte_fe.kinds.data_templates import KNOWN_MODULI
 from oocyte_fe.runner.casefile import DataFile
-from oocyte_fe.runner.schema import CaseInputs, DataReader, RuleBroken
+from oocyte_fe.runner.schema import CaseInputs, DataReader, RuleBroken, Setup
 
 
 class Calibration(CaseInputs):
@@ -39,6 +39,8 @@ class Calibration(CaseInputs):
 
 class Viscoelastic(CaseInputs):
     """The viscoelastic fit of every ramp in time (Ting's method, afm.viscoelastic)."""
+
+    rules = (Setup(unused_options),)
 
     relaxation: Literal["prony", "power_law", "sls"] = Field(
         "prony",

@@ -9,12 +9,14 @@ times stiffer support (:mod:`oocyte_fe.afm_corrections.bottom_check`) in its own
 
 from __future__ import annotations
 
+import math
 from typing import Annotated
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, ValidationInfo, field_validator
 
 from afm.corrections import cone_shell_ratio, shell_ratio
+from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
 from oocyte_fe.runner.schema import CaseInputs
 
@@ -24,6 +26,18 @@ METRICS = {
     "dimitriadis_vs_fe_max_error": "largest |FE / Dimitriadis - 1| for x_min <= x <= x_max",
     "garcia_vs_fe_max_error": "largest |(FE layer / FE homogeneous) / Garcia - 1|, y range",
 }
+
+
+RANGE_LIMIT = 1.0
+"""Largest upper end of ``dimitriadis_x`` and ``garcia_y`` (both checks stop below it)."""
+REACH = {
+    # bonded_layer_check: a 5 um sphere (R* = 5 x 1000 / 1005 um) 3 um into a 5 um layer
+    "dimitriadis_x": math.sqrt(5.0 * 1000.0 / 1005.0 * 3.0) / 5.0,
+    # cone_layer_check: a 70 deg cone 1.8 um into a 5 um layer
+    "garcia_y": 1.8 * math.tan(math.radians(70.0)) / 5.0,
+}
+"""Deepest x = sqrt(R* d)/h and y = d tan(alpha)/h of the FE checks (defaults of
+:mod:`oocyte_fe.afm_corrections.bottom_check`): a range starting beyond selects no point."""
 
 
 class OffNode(CaseInputs):
@@ -59,6 +73,19 @@ class ShellCheckInputs(CaseInputs):
         description="the y = d tan(alpha)/h range of the cone check (70 deg)",
         json_schema_extra={"unit": "1"},
     )
+
+    @field_validator("dimitriadis_x", "garcia_y")
+    @classmethod
+    def _range(cls, value: list[float], info: ValidationInfo) -> list[float]:
+        """[lo, hi] with 0 <= lo < hi <= 1 and lo below the deepest point of the FE check."""
+        reach = REACH[str(info.field_name)]
+        lo, hi = value
+        if not (0 <= lo < hi <= RANGE_LIMIT and lo < reach):
+            raise ValueError(
+                f"a range [lo, hi] with 0 <= lo < hi <= {RANGE_LIMIT:g} and lo below "
+                f"{reach:.3f}, the deepest point of the FE check"
+            )
+        return value
 
 
 @case_kind("afm_shell_correction", inputs=ShellCheckInputs, metrics=METRICS)
@@ -104,6 +131,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
     check = bonded_layer_check()
     lo, hi = inp.dimitriadis_x
     use = (check["x"] >= lo) & (check["x"] <= hi)
+    if not use.any():
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            "inputs.dimitriadis_x",
+            f"a range holding an FE point (x = {', '.join(f'{x:.3f}' for x in check['x'])})",
+            [lo, hi],
+        )
     rel = check["layer"][use] / check["dimitriadis"][use]
     lines = ["| x | FE / Hertz | Dimitriadis | ratio |", "|---|---|---|---|"]
     lines += [
@@ -114,6 +148,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
     cone = cone_layer_check()
     ylo, yhi = inp.garcia_y
     in_y = (cone["y"] >= ylo) & (cone["y"] <= yhi)
+    if not in_y.any():
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            "inputs.garcia_y",
+            f"a range holding an FE point (y = {', '.join(f'{y:.3f}' for y in cone['y'])})",
+            [ylo, yhi],
+        )
     cone_rel = cone["layer_over_homogeneous"][in_y] / cone["garcia"][in_y]
     cone_lines = ["| y | FE layer / homogeneous | Garcia | ratio |", "|---|---|---|---|"]
     cone_lines += [

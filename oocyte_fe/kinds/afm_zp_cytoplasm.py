@@ -11,13 +11,34 @@ from afm.batch import curve_files, fit_batch, write_batch_table
 from afm.curve import spring_constant_nN_per_um
 from afm.curve_io import write_curve
 from afm.plotting import plot_batch, plot_fit, plot_histogram
-from afm.synthetic import pierce_curve
+from afm.synthetic import check_pierce_visible, pierce_curve
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Relation, Setup
+
+
+def _pierce_visible(m: ZpCytoplasmInputs) -> None:
+    """The pierce of the noise-free curve at the mean moduli is detected (else no curve fits)."""
+    check_pierce_visible(
+        m.E_zp_mean_kPa,
+        m.E_cytoplasm_mean_kPa,
+        m.contact_point_um,
+        pierce_force_nN=m.pierce_force_nN,
+        residual_fraction=m.residual_fraction,
+        trigger_force_nN=m.trigger_force_nN,
+        k_nN_per_um=spring_constant_nN_per_um(m.spring_constant_N_per_m),
+        geometry={"half_angle_deg": m.half_angle_deg},
+        nu=m.nu,
+        tilt_nN_per_um=m.tilt_nN_per_um,
+    )
 
 
 class ZpCytoplasmInputs(CaseInputs):
+    rules = (
+        Relation("trigger_force_nN", ">", lambda m: m.pierce_force_nN, "pierce_force_nN"),
+        Setup(_pierce_visible),
+    )
+
     n_oocytes: int = Field(
         ge=1,
         le=1000,
@@ -93,8 +114,6 @@ class ZpCytoplasmInputs(CaseInputs):
                     f"min_E_kPa below E_{what}_mean_kPa + 3 E_{what}_sd_kPa (almost every draw "
                     f"would be redrawn: mean {mean:g}, SD {sd:g}, floor {self.min_E_kPa:g} kPa)"
                 )
-        if self.trigger_force_nN <= self.pierce_force_nN * self.residual_fraction:
-            raise ValueError("trigger_force_nN above pierce_force_nN x residual_fraction")
         if self.n_oocytes * self.points_per_oocyte > 10_000:
             raise ValueError("n_oocytes x points_per_oocyte at most 10 000 curves")
         return self
@@ -205,6 +224,12 @@ def run(ctx: CaseContext) -> CaseOutcome:
     batch = fit_batch(curve_files(folder), pierce=True, geometry=geometry, nu=inp.nu)
     write_batch_table(batch, ctx.output("fits.csv"), relative_to=ctx.out_dir)
     good = [r for r in batch.rows if not r.error]
+    if not good:
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            "inputs (pierce_force_nN, tilt_nN_per_um, noise_fraction)",
+            f"curves whose pierce is detected; all {n} failed, first: {batch.failures[0].error}",
+        )
     zp = np.array([r.fit.E_kPa for r in good])
     cyt = np.array([r.cytoplasm.E_kPa for r in good])
     truth = np.array([drawn[Path(r.file).name] for r in good])

@@ -34,7 +34,7 @@ from oocyte_fe.runner.result import CaseResult
 from oocyte_fe.sweep.paths import PathError
 from oocyte_fe.sweep.report import SampleRow, aggregate
 from oocyte_fe.sweep.sampling import design
-from oocyte_fe.sweep.spec import apply_values, resolved_inputs
+from oocyte_fe.sweep.spec import apply_values, error_field, resolved_inputs
 from oocyte_fe.sweep.store import (
     SAMPLES,
     SampleRecord,
@@ -75,7 +75,13 @@ def plan_samples(case: Case) -> list[PlannedSample]:
             inputs = case.kind.inputs.model_validate(
                 apply_values(base, values), context={"case_dir": case.directory}
             )
-        except (ValidationError, PathError) as exc:
+        except ValidationError as exc:
+            first = exc.errors()[0]
+            loc, msg = error_field(first, "")
+            where = f"inputs.{loc}" if loc else "inputs"
+            planned.append(PlannedSample(key, values, unit, None, f"{where}: {msg}"))
+            continue
+        except PathError as exc:
             planned.append(PlannedSample(key, values, unit, None, str(exc).splitlines()[0]))
             continue
         sample = Case(key, case.directory, spec, case.kind, inputs, case.quick, case.full)
@@ -170,6 +176,9 @@ def run_sweep(
         planned = plan_samples(case)
         records = run_samples(planned, samples_dir, client, say, count)
         rows = [SampleRow(i, p.values, p.unit, records[p.key]) for i, p in enumerate(planned)]
+        if rows and not any(r.ok for r in rows):
+            first = records[planned[0].key].reason
+            raise RuntimeError(f"all {len(rows)} samples failed, the first: {first}")
         say("aggregating")
         names = list(case.spec.sweep.parameters)  # type: ignore[union-attr]
         outcome = aggregate(case, rows, names, tmp)

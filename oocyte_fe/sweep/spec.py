@@ -26,6 +26,7 @@ cumulative distribution function, so the sampler's stratification carries over t
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -35,6 +36,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from oocyte_fe.errors import InputError
+from oocyte_fe.runner.schema import RuleBroken
 from oocyte_fe.sweep.paths import PathError, set_path
 
 STATISTICS = ("mean", "sd", "p05", "p50", "p95")
@@ -123,7 +125,10 @@ class Choice(_Distribution):
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
         index = np.minimum((np.asarray(u) * len(self.values)).astype(int), len(self.values) - 1)
-        return np.array(self.values, dtype=object)[index]
+        out = np.empty(index.size, dtype=object)  # one cell per draw: a vector value stays whole
+        for i, k in enumerate(index.ravel()):
+            out[i] = copy.deepcopy(self.values[int(k)])
+        return out
 
     def probes(self) -> list[Any]:
         return list(self.values)
@@ -188,6 +193,15 @@ def check_sweep(
             raise InputError(
                 file, "sweep.metrics", f"metrics of kind {kind_name!r}: {', '.join(kind_metrics)}"
             )
+    names = list(sweep.parameters)
+    for name in names:
+        for other in names:
+            if other.startswith(f"{name}."):
+                raise InputError(
+                    file,
+                    f"sweep.parameters.{other}",
+                    f"a path apart from sweep.parameters.{name} (both would set the same input)",
+                )
     for name, param in sweep.parameters.items():
         field = f"sweep.parameters.{name}"
         for probe in param.probes():
@@ -199,14 +213,25 @@ def check_sweep(
                 ) from None
             except ValidationError as exc:
                 first = exc.errors()[0]
-                loc = ".".join(str(p) for p in first["loc"])
-                msg = first["msg"].removeprefix("Value error, ")
+                loc, msg = error_field(first, name)
                 expected = f"values that inputs.{loc} accepts ({msg[0].lower()}{msg[1:]})"
                 if first["type"] == "extra_forbidden":
                     expected = f"a path to a field of [inputs] (inputs.{loc} is no such key)"
                 raise InputError(file, field, expected, got=probe) from None
             if isinstance(probe, float) and not math.isfinite(probe):
                 raise InputError(file, field, "finite values", got=probe)
+
+
+def error_field(error: Mapping[str, Any], path: str) -> tuple[str, str]:
+    """The input a pydantic error names and its message: the field of its location, else of
+    the cross-field rule that raised it (:class:`RuleBroken`), else the parameter's first
+    path segment; the message without pydantic's prefix and without a repeat of the field."""
+    msg = str(error["msg"]).removeprefix("Value error, ")
+    loc = ".".join(str(p) for p in error["loc"])
+    cause = (error.get("ctx") or {}).get("error")
+    if not loc and isinstance(cause, RuleBroken):
+        loc, msg = cause.field, cause.expected
+    return loc or path.split(".")[0], msg or "a valid value"
 
 
 def resolved_inputs(inputs: BaseModel) -> dict[str, Any]:
