@@ -48,7 +48,15 @@ class CreepData:
         force_max = QUANTITIES["force_nN"][1]
         numbers_array(src, "force_nN", f, ge=-force_max, le=force_max)
         mean = float(np.mean(f))
-        spread = float(np.std(f)) / mean if mean > 0 else math.inf
+        if not mean > 0:
+            raise InputError(
+                src,
+                "force_nN",
+                "a positive clamped force (its mean over the hold > 0: the probe pushes on the "
+                "cell)",
+                f"mean = {mean:.3g} nN",
+            )
+        spread = float(np.std(f)) / mean
         if not spread <= FORCE_CLAMP_TOLERANCE:
             raise InputError(
                 src,

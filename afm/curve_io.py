@@ -39,6 +39,7 @@ from afm.instrument_io import (
     read_instrument_file,
     recognises,
 )
+from oocyte_fe.checks import excerpt
 from oocyte_fe.errors import InputError
 
 TEXT_SUFFIXES = {".csv", ".tsv", ".txt"}
@@ -59,7 +60,8 @@ def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]
         raise InputError(path, "", "a text table (CSV/TSV)") from None
     meta: dict[str, str] = {}
     body = []
-    for line in lines:
+    numbers = []  # each row's line in the file (1 = the first)
+    for number, line in enumerate(lines, start=1):
         stripped = line.strip()
         if not stripped:
             continue
@@ -69,6 +71,7 @@ def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]
                 meta[key.strip()] = value.strip()
             continue
         body.append(stripped)
+        numbers.append(number)
     if not body:
         raise InputError(path, "", "a header row and data rows (the file is empty)")
     delimiter = "\t" if "\t" in body[0] else ("," if "," in body[0] else None)
@@ -79,11 +82,25 @@ def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]
         raise InputError(path, "", "data rows below the header")
     try:
         data = np.loadtxt(body[1:], delimiter=delimiter, ndmin=2)
-    except ValueError as exc:
-        raise InputError(path, "", f"numbers in every data row ({exc})") from None
+    except ValueError:
+        raise _bad_row(path, body, numbers, delimiter) from None
     if data.shape[1] != len(names):
         raise InputError(path, "header", f"{data.shape[1]} column names", len(names))
     return {n: data[:, i] for i, n in enumerate(names)}, meta
+
+
+def _bad_row(path: Path, body: list[str], numbers: list[int], delimiter: str | None) -> InputError:
+    """The error for the first data row ``np.loadtxt`` refuses, named by its line in the file."""
+    width = len(re.split(delimiter or r"\s+", body[0]))
+    for row, number in zip(body[1:], numbers[1:], strict=True):
+        cells = [c.strip() for c in re.split(delimiter or r"\s+", row)]
+        try:
+            [float(c) for c in cells]
+        except ValueError:
+            return InputError(path, f"line {number}", "numbers in every data row", excerpt(row))
+        if len(cells) != width:
+            return InputError(path, f"line {number}", f"{width} cells, as the header", len(cells))
+    return InputError(path, "", "numbers in every data row")
 
 
 def _pick(columns: dict, options: dict[str, float], path: Path, what: str) -> np.ndarray | None:

@@ -61,6 +61,15 @@ def test_deflection_in_volts_needs_the_sensitivity(tmp_path):
         ("# spring_constant_N_per_m = -0.07\npiezo_um,force_nN\n1,0\n2,0\n", "positive spring"),
         ("piezo_um,force_nN\n1,0\n2,0\n", "spring_constant_N_per_m"),
         ("# spring_constant_N_per_m = 0.07\npiezo_um,force_nN\n1,abc\n2,0\n", "numbers"),
+        # the file's own line, comments and blank lines counted (was "row 1" of the data)
+        (
+            "# spring_constant_N_per_m = 0.07\n# a comment\n\npiezo_um,force_nN\n1,0\n2,x\n",
+            r"line 6: expected numbers in every data row, got .*2,x",
+        ),
+        (
+            "# spring_constant_N_per_m = 0.07\npiezo_um,force_nN\n1,0\n2,0,5\n",
+            "line 4: expected 2 cells, as the header, got 3",
+        ),
     ],
 )
 def test_bad_files_name_the_file_and_the_problem(tmp_path, text, match):

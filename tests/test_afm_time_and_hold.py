@@ -101,3 +101,21 @@ def test_a_ramp_whose_time_steps_back_names_the_row() -> None:
     time[30] = 0.2
     with pytest.raises(InputError, match=r"ramp.csv: time_s: .*\(data row 31 after data row 30\)"):
         RampCurve(time, np.linspace(0.0, 2.0, 50), np.zeros(50), "ramp.csv")
+
+
+def test_a_creep_record_pulling_on_the_cell_is_refused_as_such(tmp_path: Path) -> None:
+    # an all-negative clamp force was refused as "SD/mean = inf"
+    path = _creep_file(tmp_path, HOLD_T, creep_indentation(TRUTH, HOLD_T, 5.0))
+    text = path.read_text().splitlines()
+    header = next(i for i, line in enumerate(text) if not line.startswith("#"))
+    names = text[header].split(",")
+    col = names.index("force_nN")
+    rows = [line.split(",") for line in text[header + 1 :]]
+    for row in rows:
+        row[col] = repr(-float(row[col]))
+    path.write_text("\n".join(text[: header + 1] + [",".join(r) for r in rows]) + "\n")
+    with pytest.raises(InputError) as info:
+        read_creep(path)
+    message = str(info.value)
+    assert "hold.csv: force_nN: expected a positive clamped force" in message
+    assert "mean = -5 nN" in message
