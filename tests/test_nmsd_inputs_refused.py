@@ -217,13 +217,19 @@ CROSSCHECK = [  # (inputs refused, inputs kept, message); --quick presses 62.5 u
         "cell) = 57.8125",
     ),
     (
-        {"arrow_advances_um": [20.0, 62.6]},
+        {"arrow_advances_um": [20.0, 65.0]},  # a frame of the full press, past the quick one
         {"arrow_advances_um": [20.0, 62.5]},
         "inputs.arrow_advances_um: expected max(arrow_advances_um) <= travel_um = 62.5",
     ),
+    (  # an advance between two output frames was left out of the arrow plots without a word
+        {"arrow_advances_um": [20.0, 41.0]},
+        {"arrow_advances_um": [20.0, 42.5]},
+        "inputs.arrow_advances_um: expected advances on the FE's output frames (travel_um / 26 = "
+        "2.5 um apart, fe_step_um rounded to fit the travel), got [41.0]",
+    ),
     (
-        {"fe_step_um": 62.6},
-        {"fe_step_um": 62.5, "fe_max_step_um": 1.25},
+        {"fe_step_um": 62.6, "arrow_advances_um": [32.5]},
+        {"fe_step_um": 62.5, "fe_max_step_um": 1.25, "arrow_advances_um": []},
         "inputs.fe_step_um: expected fe_step_um <= travel_um = 62.5, got 62.6",
     ),
     (

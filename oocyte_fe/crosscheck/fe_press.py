@@ -140,7 +140,7 @@ def press_experiment(
     if not travel_um > 0:
         raise InputError(settings.source, "travel_um", "> 0", travel_um)
     v = scenario.speed_um_s
-    n_out = max(1, int(np.ceil(travel_um / settings.step_um - 1e-9)))
+    n_out = output_frames(travel_um, settings.step_um)
     duration = travel_um / v
     description = {
         "description": "NMSD press scenario, plane strain",
@@ -245,6 +245,12 @@ def run_fe_presses(
             log.info("FE press read from the cache (equal FE inputs solved before)")
         presses.append(_press(exp, arrays, travel_um, points_um))
     return presses
+
+
+def output_frames(travel_um: float, step_um: float) -> int:
+    """Output frames of a press of ``travel_um``: one every ``step_um`` (the last frame at the
+    travel's end, so the frames are ``travel_um / n`` apart), at least one."""
+    return max(1, int(np.ceil(travel_um / step_um - 1e-9)))
 
 
 def _press(

@@ -20,6 +20,7 @@ from oocyte_fe.kinds.nmsd_checks import (
     CELLS_ACROSS,
     FINEST,
     ZonaRatioReading,
+    arrows_on_frames,
     radius,
     ratio_or_reading,
     second_speed_given,
@@ -263,6 +264,7 @@ class CrosscheckInputs(CaseInputs):
 
     _ratio = field_validator("nmsd_zona_stiffness_ratio", mode="before")(ratio_or_reading)
     _second_speed = model_validator(mode="after")(second_speed_given)
+    _arrows = model_validator(mode="after")(arrows_on_frames)
 
 
 METRICS = {

@@ -138,3 +138,25 @@ def second_speed_given(m: Any) -> Any:
             m.check_speed_um_s,
         )
     return m
+
+
+def arrows_on_frames(m: Any) -> Any:
+    """``nmsd_vs_fe``'s arrow plots are drawn at FE output frames: an ``arrow_advances_um``
+    value between frames was left out of the figures without a word."""
+    import numpy as np
+
+    from oocyte_fe.crosscheck.fe_press import output_frames
+
+    if max(m.arrow_advances_um, default=0.0) > m.travel_um or m.fe_step_um > m.travel_um:
+        return m  # the simpler rules name these
+    n = output_frames(m.travel_um, m.fe_step_um)
+    frames = np.linspace(0.0, m.travel_um, n + 1)[1:]
+    off = [a for a in m.arrow_advances_um if not np.any(np.isclose(frames, a))]
+    if off:
+        raise RuleBroken(
+            "arrow_advances_um",
+            f"advances on the FE's output frames (travel_um / {n} = {m.travel_um / n:g} um "
+            "apart, fe_step_um rounded to fit the travel)",
+            off,
+        )
+    return m
