@@ -33,7 +33,14 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.runner.casefile import load_case
 from oocyte_fe.runner.registry import kinds
-from oocyte_fe.runner.schema import UNIT_BOUNDS, Distinct, Refining, Relation, unit_of
+from oocyte_fe.runner.schema import (
+    UNIT_BOUNDS,
+    Distinct,
+    Increasing,
+    Refining,
+    Relation,
+    unit_of,
+)
 from tests.case_copies import edited_case
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
@@ -51,6 +58,7 @@ SHIPPED = {
     "nmsd_vs_fe": "nmsd_vs_fe",
     "spindle_tracking": "spindle_tracking",
     "rtdc_elastic_cell": "rtdc_elastic_cell",
+    "microchannel_flow": "microchannel_flow",
     "microchannel_carreau_fit": "microchannel_carreau_fit",
 }
 RELATIONS = [
@@ -63,7 +71,7 @@ RELATIONS = [
         if isinstance(info.annotation, type) and hasattr(info.annotation, "rules")
     ]
     for rule in model.rules
-    if isinstance(rule, Relation | Refining | Distinct)
+    if isinstance(rule, Relation | Refining | Increasing | Distinct)
 ]
 
 
@@ -71,7 +79,10 @@ RELATIONS = [
     ("kind", "block", "rule"), RELATIONS, ids=[f"{k}:{r.field}" for k, _, r in RELATIONS]
 )
 def test_each_declared_rule_is_refused_against_its_field(
-    tmp_path: Path, kind: str, block: tuple[str, ...], rule: Relation | Refining | Distinct
+    tmp_path: Path,
+    kind: str,
+    block: tuple[str, ...],
+    rule: Relation | Refining | Increasing | Distinct,
 ) -> None:
     inputs = load_case(CASES / SHIPPED[kind]).inputs
     for name in block:
@@ -88,7 +99,7 @@ def test_each_declared_rule_is_refused_against_its_field(
             broken = [get_args(item)[0]] * 2  # an allowed name twice
         else:
             broken = ["a", "a"] if item is str else [300.0, 300.0]
-    elif isinstance(rule, Refining):
+    elif isinstance(rule, Refining | Increasing):
         broken = list(value)[::-1]
     else:
         bound = rule.bound(inputs)

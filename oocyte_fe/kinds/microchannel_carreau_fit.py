@@ -5,9 +5,10 @@ from __future__ import annotations
 from typing import Annotated
 
 import numpy as np
-from pydantic import Field, field_validator
+from pydantic import Field, field_validator, model_validator
 
 from oocyte_fe.kinds.data_templates import FLOW_CURVE
+from oocyte_fe.kinds.microchannel_input_rules import curve_fits
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.plotting import plot_viscosity_fits
 from oocyte_fe.microchannel.rheology_fit import ViscosityFit, fit_viscosity
@@ -53,6 +54,12 @@ class CarreauFitInputs(CaseInputs):
             if key not in known:
                 raise ValueError(f"viscosity models among {', '.join(sorted(known))}")
         return value
+
+    @model_validator(mode="after")
+    def _fits(self) -> CarreauFitInputs:
+        """The flow curve holds what each model's fit needs (as ``run`` checks it)."""
+        curve_fits(self.data, "data", self.models)
+        return self
 
 
 METRICS = {

@@ -9,6 +9,7 @@ from pydantic import Field, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
+from oocyte_fe.kinds.microchannel_input_rules import curve_fits, eta_inf_below_curve
 from oocyte_fe.kinds.microchannel_inputs import ChannelInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.junction_deformation import JunctionCell, fit_junction_model
@@ -16,7 +17,7 @@ from oocyte_fe.microchannel.plotting import plot_junction_ratio
 from oocyte_fe.microchannel.rheology_fit import fit_viscosity
 from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader
+from oocyte_fe.runner.schema import CaseInputs, DataFile, DataReader, Relation
 
 
 class DeformationInputs(CaseInputs):
@@ -49,6 +50,23 @@ class DeformationInputs(CaseInputs):
     fit_to: Literal["experiment", "simulation"] = Field(
         default="experiment", description="table column fitted: experiment or simulation"
     )
+
+    rules = (
+        Relation(
+            "cell_diameter_um",
+            "<",
+            lambda m: m.channel.diameter_um,
+            "channel.diameter_um (the cell fits in the channel)",
+        ),
+    )
+
+    @model_validator(mode="after")
+    def _carreau_fit_of_the_curve(self) -> DeformationInputs:
+        """eta_inf below the flow curve, and the curve fits Carreau with eta_inf fixed."""
+        curve = eta_inf_below_curve(self.viscosity_data, "eta_inf_Pa_s", self.eta_inf_Pa_s)
+        fixed = {"eta_inf": self.eta_inf_Pa_s * units.VISCOSITY["Pa_s"]}
+        curve_fits(self.viscosity_data, "viscosity_data", ["carreau"], fixed, curve)
+        return self
 
     @model_validator(mode="after")
     def _fit_pressures_in_table(self) -> DeformationInputs:

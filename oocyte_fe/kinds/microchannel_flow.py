@@ -20,7 +20,7 @@ from oocyte_fe.microchannel.poiseuille import (
 from oocyte_fe.microchannel.rabinowitsch import fully_developed_flow
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Increasing
 
 PA_PER_M = 1e-9  # 1 Pa/m = 1e-3 kPa / 1e6 um
 
@@ -73,6 +73,8 @@ class FlowInputs(CaseInputs):
         description="viscosity continuation steps of the non-Newtonian solve",
         json_schema_extra={"unit": "1"},
     )
+
+    rules = (Increasing("rectangle_cells"), Increasing("radial_cells"))
 
 
 METRICS = {

@@ -10,7 +10,7 @@ from pydantic import Field
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
-from oocyte_fe.runner.schema import CaseInputs
+from oocyte_fe.runner.schema import CaseInputs, Relation
 
 
 class ChannelInputs(CaseInputs):
@@ -60,6 +60,15 @@ class CarreauInputs(CaseInputs):
         gt=0, description="Carreau time constant", json_schema_extra={"unit": "s"}
     )
     n: float = Field(gt=0, le=1.5, description="power-law index", json_schema_extra={"unit": "1"})
+
+    rules = (
+        Relation(
+            "eta_inf_Pa_s",
+            "<=",
+            lambda m: m.eta0_Pa_s,
+            "eta0_Pa_s (the infinite-shear plateau lies at or below the zero-shear one)",
+        ),
+    )
 
     def to_internal(self, source: str) -> Rheology:
         pa_s = units.VISCOSITY["Pa_s"]

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-from pydantic import Field, PositiveFloat, PositiveInt, field_validator
+from pydantic import Field, PositiveFloat, PositiveInt, field_validator, model_validator
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import DEFORMATION, FLOW_CURVE
@@ -15,9 +15,18 @@ from oocyte_fe.kinds.microchannel_vof_parts import (
     IsoAdvectorInputs,
     _f,
 )
+from oocyte_fe.kinds.microchannel_vof_rules import (
+    CAP_RULES,
+    TRAVEL_RULES,
+    against_data,
+    cells_within,
+    openfoam_dir,
+    steps_within_runs,
+)
 from oocyte_fe.microchannel import units
+from oocyte_fe.microchannel.tables import read_deformation_table, read_flow_curve
 from oocyte_fe.runner.casefile import DataFile
-from oocyte_fe.runner.schema import CaseInputs, Distinct, Refining, Relation, Setup
+from oocyte_fe.runner.schema import CaseInputs, DataReader, Distinct, Refining, Relation, Setup
 
 if TYPE_CHECKING:
     from oocyte_fe.microchannel.vof.band_traction import Fluids
@@ -31,11 +40,11 @@ Model = Literal["liquid_cell_isoadvector", "three_phase_mules"]
 
 
 class VofInputs(CaseInputs):
-    deformation_data: DataFile = Field(
+    deformation_data: Annotated[DataFile, DataReader(read_deformation_table)] = Field(
         description="CSV: pressure_<unit>, ratio_experiment, ratio_simulation (Table 4)",
         json_schema_extra=DEFORMATION,
     )
-    viscosity_data: DataFile = Field(
+    viscosity_data: Annotated[DataFile, DataReader(read_flow_curve)] = Field(
         description="CSV flow curve (Table 2) for the Carreau lambda and n",
         json_schema_extra=FLOW_CURVE,
     )
@@ -173,7 +182,10 @@ class VofInputs(CaseInputs):
     openfoam: str | None = _f(None, "OpenFOAM directory (else env var / WM_PROJECT_DIR)", "path")
     modulus_kPa: float = _f(1.55, "Kelvin-Voigt estimate: cell modulus (AFM)", "kPa", gt=0)
     kelvin_voigt_fit_hPa: list[float] = _f(
-        [200.0, 500.0, 900.0], "Kelvin-Voigt estimate: pressures it is fitted on", "hPa"
+        [200.0, 500.0, 900.0],
+        "Kelvin-Voigt estimate: pressures it is fitted on (two or three of the table's)",
+        "hPa",
+        min_length=2,
     )
     max_volume_error: float = _f(1e-3, "check: |phase volume change| of the cell phases", "1", gt=0)
     max_mesh_change_pct: float = _f(2.0, "check: ratio change between the two meshes", "%", gt=0)
@@ -184,12 +196,26 @@ class VofInputs(CaseInputs):
     rules = (
         Distinct("pressures_hPa"),
         Distinct("beside_pressures_hPa"),
+        Distinct("kelvin_voigt_fit_hPa"),
         Relation("mesh_check_dx_um", "<", lambda m: m.dx_um, "dx_um", measure="max"),
         Refining("mesh_check_dx_um"),
         Setup(lambda m: m.mesh_checks),
         Setup(lambda m: m.all_pressures_need_three_meshes()),
         Setup(lambda m: m.lattices()),
+        *TRAVEL_RULES,
+        Setup(steps_within_runs),
+        *CAP_RULES,
     )
+
+    @field_validator("openfoam")
+    @classmethod
+    def _an_installation(cls, value: str | None) -> str | None:
+        return openfoam_dir(value)
+
+    @model_validator(mode="after")
+    def _against_data(self) -> VofInputs:
+        against_data(self)
+        return self
 
     @field_validator("mesh_check_dx_um", "mesh_check_correctors", mode="before")
     @classmethod
@@ -233,12 +259,20 @@ class VofInputs(CaseInputs):
     def lattices(self) -> None:
         """Every mesh's lattice must fit the geometry (its lengths multiples of dx)."""
         geometry = self.geometry.to_geometry()
-        for field, sizes in (("dx_um", [self.dx_um]), ("mesh_check_dx_um", self.mesh_check_dx_um)):
+        for field, sizes in (
+            ("dx_um", [self.dx_um]),
+            ("mesh_check_dx_um", self.mesh_check_dx_um),
+            (
+                "beside_dx_um",
+                [self.beside_dx_um] if self.beside_model and self.beside_dx_um else [],
+            ),
+        ):
             for dx in sizes:
                 try:
-                    geometry.layout(dx, 1.0, 1.0)
+                    layout = geometry.layout(dx, 1.0, 1.0)
                 except InputError as exc:
                     raise InputError("inputs", field, exc.expected, dx) from None
+                cells_within(field, dx, layout.n_cells)
 
     @property
     def fluids(self) -> Fluids:

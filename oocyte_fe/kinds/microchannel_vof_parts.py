@@ -3,7 +3,7 @@ isoAdvector's alpha controls (and the field helper the inputs share)."""
 
 from __future__ import annotations
 
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.isoadvector import IsoControls
@@ -25,6 +25,15 @@ class CellPhaseInputs(CaseInputs):
     )
     eta_inf_Pa_s: float = Field(
         gt=0, description="infinite-shear viscosity", json_schema_extra={"unit": "Pa s"}
+    )
+
+    rules = (
+        Relation(
+            "eta_inf_Pa_s",
+            "<=",
+            lambda m: m.eta0_Pa_s,
+            "eta0_Pa_s (the infinite-shear plateau lies at or below the zero-shear one)",
+        ),
     )
 
 
@@ -74,6 +83,16 @@ class IsoAdvectorInputs(CaseInputs):
     n_alpha_bounds: int = _f(3, "nAlphaBounds: passes of the local bounding", "1", ge=0)
     snap_tol: float = _f(1e-12, "snapTol: alpha within this of 0 or 1 is snapped", "1", ge=0)
     clip: bool = _f(True, "clip alpha to [0, 1] after the bounding", "1")
+
+    @field_validator("surf_cell_tol", "snap_tol")
+    @classmethod
+    def _below_half(cls, value: float) -> float:
+        if value >= 0.5:  # every alpha lies within 0.5 of 0 or 1
+            raise ValueError(
+                "a tolerance below 0.5 (alpha within it of 0 or 1 counts as 0 or 1: at 0.5 "
+                "every cell would, and the interface would vanish)"
+            )
+        return value
 
     def to_controls(self) -> IsoControls:
         return IsoControls(

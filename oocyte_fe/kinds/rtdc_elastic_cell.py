@@ -22,7 +22,7 @@ from oocyte_fe.microchannel.rtdc import (
     lut_moduli_kPa,
 )
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs, Distinct
+from oocyte_fe.runner.schema import CaseInputs, Distinct, Relation
 
 METRICS = {
     "lut_ratio_min": "smallest E_table / E at each radius's largest modulus inside the table",
@@ -31,6 +31,19 @@ METRICS = {
     "traction_force_error": "largest |F_traction - F_reaction| / |F_reaction| of the unit flows",
     "speed_faxen_ratio": "cell speed / Faxen's U_max (1 - 2/3 (a/R)^2), smallest radius",
 }
+
+
+MAX_FLOW_TRIANGLES = 1e6
+"""Largest flow mesh ``validate`` lets through: the shipped 1 um mesh has 6762 triangles (its
+P2 Stokes solve takes seconds), 0.25 um 94 000 (8 s to mesh alone); 1e6 is 150 times the shipped
+mesh, and 1e-4 um would need about 1e11."""
+
+
+def _smallest_flow_size_um(channel_width_um: float) -> float:
+    """The flow element size (um) of a mesh of :data:`MAX_FLOW_TRIANGLES` triangles: gmsh puts
+    about 3.1 triangles per size^2 in the R x 16 R meridian plane (6762 at 1 um, R = 10.94 um)."""
+    R = RtdcSetting(channel_width_um=channel_width_um).channel_radius_um
+    return float(np.sqrt(50.0 * R**2 / MAX_FLOW_TRIANGLES))
 
 
 class RtdcInputs(CaseInputs):
@@ -60,7 +73,17 @@ class RtdcInputs(CaseInputs):
         json_schema_extra={"unit": "1"},
     )
 
-    rules = (Distinct("radii_um"), Distinct("moduli_kPa"))
+    rules = (
+        Distinct("radii_um"),
+        Distinct("moduli_kPa"),
+        Relation(
+            "flow_size_um",
+            ">=",
+            lambda m: _smallest_flow_size_um(m.channel_width_um),
+            "the size of a flow mesh of 1 million triangles (about 50 R^2 / flow_size_um^2 "
+            "in the R x 16 R meridian plane, R the channel's equivalent radius)",
+        ),
+    )
 
     @model_validator(mode="after")
     def _fits(self) -> RtdcInputs:

@@ -78,19 +78,18 @@ def _initial_guess(model: ViscosityModel, gamma: np.ndarray, eta: np.ndarray) ->
     return {p.key: float(np.clip(guess[p.key], p.lower, p.upper)) for p in model.parameters}
 
 
-def fit_viscosity(
+def check_fit_data(
     model_key: str,
     shear_rate: np.ndarray,
     viscosity: np.ndarray,
     *,
     fixed: Mapping[str, float] | None = None,
     source: str = "flow curve",
-) -> ViscosityFit:
-    """Fit ``model_key`` to ``viscosity`` (kPa s) at ``shear_rate`` (1/s).
-
-    ``fixed`` holds parameters kept at given values (internal units). Raises
+) -> tuple[ViscosityModel, np.ndarray, np.ndarray, dict[str, float], list]:
+    """The checks :func:`fit_viscosity` makes before fitting (``validate`` makes them too):
+    (model, shear rates, viscosities, fixed parameters, free parameters), or
     :class:`InputError` naming ``source`` for non-positive or non-finite data, mismatched
-    lengths, or fewer points than free parameters.
+    lengths, fewer distinct shear rates than free parameters, or viscosities that do not vary.
     """
     model = get_model(model_key, source)
     gamma = np.asarray(shear_rate, dtype=float)
@@ -124,6 +123,26 @@ def fit_viscosity(
             "viscosities that vary (equal ones determine no shear thinning; R^2 is undefined)",
             got=float(eta[0]),
         )
+    return model, gamma, eta, fixed, free
+
+
+def fit_viscosity(
+    model_key: str,
+    shear_rate: np.ndarray,
+    viscosity: np.ndarray,
+    *,
+    fixed: Mapping[str, float] | None = None,
+    source: str = "flow curve",
+) -> ViscosityFit:
+    """Fit ``model_key`` to ``viscosity`` (kPa s) at ``shear_rate`` (1/s).
+
+    ``fixed`` holds parameters kept at given values (internal units). Raises
+    :class:`InputError` naming ``source`` for non-positive or non-finite data, mismatched
+    lengths, or fewer points than free parameters (:func:`check_fit_data`).
+    """
+    model, gamma, eta, fixed, free = check_fit_data(
+        model_key, shear_rate, viscosity, fixed=fixed, source=source
+    )
 
     def to_params(x: np.ndarray) -> dict[str, float]:
         values = {

@@ -88,6 +88,10 @@ def read_deformation_table(path: Path) -> DeformationTable:
     pressure = _physical(
         quantity(columns, "pressure", "pressure", path), path, "pressure", "pressure_kPa"
     )
+    name = next(c for c in columns if c.startswith("pressure_"))
+    values, counts = np.unique(columns[name], return_counts=True)
+    if np.any(counts > 1):  # two rows of one pressure: which one is compared (and fitted)?
+        raise InputError(path, name, "each pressure on one row", got=float(values[counts > 1][0]))
     ratios = []
     for name in ("ratio_experiment", "ratio_simulation"):
         if name not in columns:

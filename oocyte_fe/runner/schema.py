@@ -173,6 +173,21 @@ class Refining:
 
 
 @dataclass(frozen=True)
+class Increasing:
+    """Cross-field rule of a mesh study given by cell counts (the mirror of :class:`Refining`):
+    the counts in ``field`` strictly increase, so each mesh refines the one before and the
+    finest mesh is the last."""
+
+    field: str
+
+    def check(self, inputs: BaseModel) -> None:
+        counts = list(getattr(inputs, self.field))
+        if any(b <= a for a, b in zip(counts, counts[1:], strict=False)):
+            expected = "strictly increasing cell counts (each mesh finer, the last finest)"
+            raise RuleBroken(self.field, expected, counts)
+
+
+@dataclass(frozen=True)
 class Distinct:
     """Cross-field rule of a list of run settings (pressures, sizes): no value twice, since
     each names its own run, folder and table row."""
@@ -206,7 +221,7 @@ class Setup:
             raise RuleBroken(field, exc.expected, exc.got) from None
 
 
-Rule = Relation | Refining | Distinct | Setup
+Rule = Relation | Refining | Increasing | Distinct | Setup
 
 
 class CaseInputs(BaseModel):
