@@ -55,6 +55,7 @@ CHEAPER: dict[str, dict] = {
     },
     "nmsd_vs_fe": {
         "travel_um": 20.0,
+        "arrow_advances_um": [10.0, 20.0],  # FE frames of the shorter press
         "n_starts": 1,
         "max_evaluations": 8,
         "nmsd_n_steps": 10,
