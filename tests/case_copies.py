@@ -30,3 +30,18 @@ def set_inputs(folder: Path, **inputs: Any) -> Path:
         table[last] = value
     (folder / "case.toml").write_text(tomli_w.dumps(raw))
     return folder
+
+
+def refused_message(folder: Path) -> str:
+    """The one-line error ``load_case`` raises on ``folder`` (the test fails if it loads, or if
+    the message spans lines or is pydantic's own)."""
+    import pytest
+
+    from oocyte_fe.errors import InputError
+    from oocyte_fe.runner.casefile import load_case
+
+    with pytest.raises(InputError) as err:
+        load_case(folder)
+    message = str(err.value)
+    assert "\n" not in message and "validation error" not in message, message
+    return message

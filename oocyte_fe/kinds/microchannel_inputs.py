@@ -12,6 +12,14 @@ from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.runner.schema import CaseInputs, Relation
 
+ETA_INF_BELOW_ETA0 = Relation(
+    "eta_inf_Pa_s",
+    "<=",
+    lambda m: m.eta0_Pa_s,
+    "eta0_Pa_s (the infinite-shear plateau lies at or below the zero-shear one)",
+)
+"""A shear-thinning curve's plateaus: the rule of every Carreau-type viscosity block."""
+
 
 class ChannelInputs(CaseInputs):
     """The device of seed 001, Section 2.4: circular channel, medium, measured Re."""
@@ -61,14 +69,7 @@ class CarreauInputs(CaseInputs):
     )
     n: float = Field(gt=0, le=1.5, description="power-law index", json_schema_extra={"unit": "1"})
 
-    rules = (
-        Relation(
-            "eta_inf_Pa_s",
-            "<=",
-            lambda m: m.eta0_Pa_s,
-            "eta0_Pa_s (the infinite-shear plateau lies at or below the zero-shear one)",
-        ),
-    )
+    rules = (ETA_INF_BELOW_ETA0,)
 
     def to_internal(self, source: str) -> Rheology:
         pa_s = units.VISCOSITY["Pa_s"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pydantic import Field, field_validator
 
+from oocyte_fe.kinds.microchannel_inputs import ETA_INF_BELOW_ETA0
 from oocyte_fe.microchannel.vof.geometry import JunctionGeometry
 from oocyte_fe.microchannel.vof.isoadvector import IsoControls
 from oocyte_fe.runner.schema import CaseInputs, Relation
@@ -27,14 +28,7 @@ class CellPhaseInputs(CaseInputs):
         gt=0, description="infinite-shear viscosity", json_schema_extra={"unit": "Pa s"}
     )
 
-    rules = (
-        Relation(
-            "eta_inf_Pa_s",
-            "<=",
-            lambda m: m.eta0_Pa_s,
-            "eta0_Pa_s (the infinite-shear plateau lies at or below the zero-shear one)",
-        ),
-    )
+    rules = (ETA_INF_BELOW_ETA0,)
 
 
 class GeometryInputs(CaseInputs):
