@@ -333,3 +333,40 @@ def test_validate_exits_2_with_one_line(tmp_path: Path) -> None:
     assert result.exit_code == 2, result.output
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and "inputs.travel_um: expected travel_um > " in lines[0], result.output
+
+
+# --- 22: the beside model's settings and the model itself, each useless without the other ----
+
+
+def _table4_without(tmp_path: Path, *keys: str) -> Path:
+    """cases/microchannel_vof_table4 with ``keys`` removed from its inputs."""
+    folder = edited_case(tmp_path, "microchannel_vof_table4")
+    raw = tomllib.loads((folder / "case.toml").read_text())
+    for key in keys:
+        del raw["inputs"][key]
+    raw.get("quick", {}).pop("beside_pressures_hPa", None)
+    (folder / "case.toml").write_text(tomli_w.dumps(raw))
+    return folder
+
+
+def test_beside_settings_without_a_beside_model_are_refused(tmp_path: Path) -> None:
+    # the beside pressures, cell size, correctors and refinements were ignored without a word
+    message = _refused(_table4_without(tmp_path, "beside_model"))
+    assert (
+        "inputs.beside_pressures_hPa: expected no beside_* input without a beside_model (it "
+        "would be ignored): name the model or leave the input out, got [300.0, 200.0"
+    ) in message, message
+
+
+def test_a_beside_model_without_pressures_is_refused(tmp_path: Path) -> None:
+    message = _refused(_table4_without(tmp_path, "beside_pressures_hPa"))
+    assert (
+        "inputs.beside_pressures_hPa: expected at least one pressure for beside_model = "
+        "'three_phase_mules' (none: it never runs)"
+    ) in message, message
+
+
+def test_no_beside_model_and_no_beside_settings_is_accepted(tmp_path: Path) -> None:
+    keys = ("beside_model", "beside_pressures_hPa", "beside_dx_um", "beside_correctors")
+    inputs = load_case(_table4_without(tmp_path, *keys, "beside_dt_refinements")).inputs
+    assert inputs.beside_model is None and inputs.beside_pressures_hPa == []

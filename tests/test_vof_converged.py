@@ -29,8 +29,11 @@ THIRD = 12.5 / 3.0
 
 
 def _inputs(**change: object) -> VofInputs:
+    """The Table 4 case's inputs with ``change``; ``beside_model=None`` drops its settings too."""
     case = CASES / "microchannel_vof_table4"
     data = tomllib.loads((case / "case.toml").read_text())["inputs"]
+    if "beside_model" in change and change["beside_model"] is None:
+        data = {k: v for k, v in data.items() if not k.startswith("beside_")}
     return VofInputs.model_validate({**data, **change}, context={"case_dir": case})
 
 

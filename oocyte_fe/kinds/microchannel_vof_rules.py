@@ -65,10 +65,34 @@ def cells_within(field: str, dx: float, n_cells: int) -> None:
         )
 
 
+BESIDE = ("beside_pressures_hPa", "beside_dx_um", "beside_correctors", "beside_dt_refinements")
+"""The beside model's settings: each ignored without ``beside_model``."""
+
+
+def beside_named(m: Any) -> None:
+    """A beside model has its pressures, and its settings have a model (either alone was
+    ignored without a word)."""
+    given = [name for name in BESIDE if getattr(m, name)]
+    if not m.beside_model and given:
+        raise RuleBroken(
+            given[0],
+            "no beside_* input without a beside_model (it would be ignored): name the model "
+            "or leave the input out",
+            getattr(m, given[0]),
+        )
+    if m.beside_model and not m.beside_pressures_hPa:
+        raise RuleBroken(
+            "beside_pressures_hPa",
+            f"at least one pressure for beside_model = {m.beside_model!r} (none: it never runs)",
+            [],
+        )
+
+
 def against_data(m: Any) -> None:
     """The pressures run, compared and fitted are rows of ``deformation_data``; the cytoplasm's
     eta_inf (fixed in the Table 2 fit of lambda and n) lies below ``viscosity_data`` and the
     curve can be fitted."""
+    beside_named(m)
     pressures_in_table(m.deformation_data, "pressures_hPa", m.pressures_hPa)
     if m.beside_model:
         pressures_in_table(m.deformation_data, "beside_pressures_hPa", m.beside_pressures_hPa)
