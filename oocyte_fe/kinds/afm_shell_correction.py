@@ -88,6 +88,24 @@ class ShellCheckInputs(CaseInputs):
         return value
 
 
+def _in_range(
+    ctx: CaseContext, field: str, name: str, points: np.ndarray, bounds: list[float]
+) -> np.ndarray:
+    """Mask of the FE check's ``points`` within ``bounds`` (the input ``field``); a range that
+    holds none is an :class:`InputError` listing the points."""
+    lo, hi = bounds
+    use = (points >= lo) & (points <= hi)
+    if not use.any():
+        listed = ", ".join(f"{p:.3f}" for p in points)
+        raise InputError(
+            ctx.case_dir / "case.toml",
+            f"inputs.{field}",
+            f"a range holding an FE point ({name} = {listed})",
+            [lo, hi],
+        )
+    return use
+
+
 @case_kind("afm_shell_correction", inputs=ShellCheckInputs, metrics=METRICS)
 def run(ctx: CaseContext) -> CaseOutcome:
     """Fresh FE runs against the shipped table and against Dimitriadis."""
@@ -130,14 +148,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("Dimitriadis against the FE of a layer on a stiff support")
     check = bonded_layer_check()
     lo, hi = inp.dimitriadis_x
-    use = (check["x"] >= lo) & (check["x"] <= hi)
-    if not use.any():
-        raise InputError(
-            ctx.case_dir / "case.toml",
-            "inputs.dimitriadis_x",
-            f"a range holding an FE point (x = {', '.join(f'{x:.3f}' for x in check['x'])})",
-            [lo, hi],
-        )
+    use = _in_range(ctx, "dimitriadis_x", "x", check["x"], inp.dimitriadis_x)
     rel = check["layer"][use] / check["dimitriadis"][use]
     lines = ["| x | FE / Hertz | Dimitriadis | ratio |", "|---|---|---|---|"]
     lines += [
@@ -147,14 +158,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("Garcia's cone factor against the FE of a layer on a stiff support")
     cone = cone_layer_check()
     ylo, yhi = inp.garcia_y
-    in_y = (cone["y"] >= ylo) & (cone["y"] <= yhi)
-    if not in_y.any():
-        raise InputError(
-            ctx.case_dir / "case.toml",
-            "inputs.garcia_y",
-            f"a range holding an FE point (y = {', '.join(f'{y:.3f}' for y in cone['y'])})",
-            [ylo, yhi],
-        )
+    in_y = _in_range(ctx, "garcia_y", "y", cone["y"], inp.garcia_y)
     cone_rel = cone["layer_over_homogeneous"][in_y] / cone["garcia"][in_y]
     cone_lines = ["| y | FE layer / homogeneous | Garcia | ratio |", "|---|---|---|---|"]
     cone_lines += [
