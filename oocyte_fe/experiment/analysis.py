@@ -10,7 +10,7 @@ For the first tool of each type (the metrics of kind ``fe_experiment``):
   exactly for a sphere by Sneddon, ``afm``'s ``hertz_sphere``, with the effective radius
   ``Rp R / (Rp + R)``) at the deepest frame, with the modulus of the outer layer, and the
   modulus that the same ``afm`` model fits to the FE curve (linear least squares in E over
-  every frame in contact);
+  the loading frames);
 * plates (each pressing by its advance ``d``): the force over Hertz (sphere on a rigid flat,
   radius R) at the first frame, and the force at the last;
 * surface loads (a flow's traction, a pressure): the deformed section's aspect ratio ``b/a``
@@ -21,8 +21,22 @@ For the first tool of each type (the metrics of kind ``fe_experiment``):
   quadrature points (how far the FE's answer reaches into compression; the instantaneous AFM
   moduli are measured at small strain).
 
-Forces are the compressive (approach-direction) component on the tool [nN], depths its advance
-beyond the clearance [um], pressures kPa.
+Forces are the compressive (approach-direction) component on the tool [nN; plane strain: nN
+per um of thickness], depths its advance beyond the clearance [um], pressures kPa.
+
+What is compared (:func:`closed_form_notes` says it in the report):
+
+* the closed forms are evaluated at the deepest frame (the first frame of the largest advance)
+  and fitted over the loading segment only (frames up to it; for the pipette, up to the first
+  frame of the largest suction), so a retract or a hold after the ramp does not enter;
+* they are elastic: with a Prony series they are taken with the instantaneous modulus
+  ``E_kPa`` of the outer layer on the loading ramp (the relaxation during a slow ramp lowers
+  the apparent modulus; the hold is not used);
+* they are 3-D (axisymmetric) results: in plane strain (a force per um of thickness) the
+  Theret, Sneddon, Hertz metrics are withheld;
+* a cone's or sphere's advance is its indentation only where the cell is held: with more than
+  one tool pressing a cell that nothing holds (no holding pipette, no fixed seal) the cell
+  moves as a whole and the per-probe metrics are withheld.
 """
 
 from __future__ import annotations
@@ -31,13 +45,96 @@ import numpy as np
 
 from afm import get_model
 from oocyte_fe.experiment import tools as tl
-from oocyte_fe.experiment.description import Cone, Plate, Sphere, StraightPipette
+from oocyte_fe.experiment.description import (
+    Cone,
+    HoldingPipette,
+    Plate,
+    Sphere,
+    StraightPipette,
+    ToolBase,
+)
 from oocyte_fe.experiment.driver import ExperimentResult
 from oocyte_fe.experiment.outline import body_outline_um
 from oocyte_fe.verification import THERET_PHI, hertz_force_nN, theret_length_um
 
 SMALL_STRAIN = 0.25
 """Largest ``L / a`` used for the Theret slope."""
+
+
+PLANE_STRAIN_NOTE = (
+    "Plane strain: forces are per um of thickness (nN/um); the closed forms of Theret, "
+    "Sneddon and Hertz are 3-D (axisymmetric) results, so their metrics are withheld."
+)
+FREE_PROBES_NOTE = (
+    "Several tools press a cell that nothing holds (no holding pipette, no fixed seal): the cell "
+    "moves as a whole, so a tool's advance is not its indentation and the cone/sphere metrics "
+    "are withheld."
+)
+VISCOELASTIC_NOTE = (
+    "Viscoelastic layers (a Prony series): the closed forms are elastic ones taken with the "
+    "instantaneous modulus E_kPa of the outer layer, fitted on the loading ramp only (frames "
+    "up to the deepest advance or the largest suction); the hold is not used."
+)
+
+
+def plane_strain(result: ExperimentResult) -> bool:
+    """Whether the section is plane strain (forces per um of thickness)."""
+    return result.experiment.cell.symmetry == "plane_strain"
+
+
+def force_unit(result: ExperimentResult) -> str:
+    """The unit of a force on a tool or of a load's resultant: ``nN``, plane strain ``nN/um``."""
+    return "nN/um" if plane_strain(result) else "nN"
+
+
+def free_probes(result: ExperimentResult) -> bool:
+    """More than one tool presses the cell and nothing holds it (no holding pipette, no
+    pipette with a fixed seal): the cell moves as a whole, advance is not indentation."""
+    tools = result.experiment.tools.values()
+    held = any(
+        isinstance(t, HoldingPipette) or (isinstance(t, StraightPipette) and t.seal == "fixed")
+        for t in tools
+    )
+    pressing = [t for t in tools if isinstance(t, ToolBase) and t.displacement_um is not None]
+    return len(pressing) > 1 and not held
+
+
+def viscoelastic(result: ExperimentResult) -> bool:
+    """Whether any layer has a Prony series."""
+    return any(r.material.prony.g for r in result.problem.body.regions)
+
+
+def closed_form_notes(result: ExperimentResult) -> list[str]:
+    """The sentences the report gives on which closed-form metrics are withheld and why."""
+    notes = []
+    if plane_strain(result):
+        notes.append(PLANE_STRAIN_NOTE)
+    elif free_probes(result) and (_first(result, Cone) or _first(result, Sphere)):
+        notes.append(FREE_PROBES_NOTE)
+    compared_tools = [n for n, t in result.experiment.tools.items() if _closed_form_tool(t)]
+    if viscoelastic(result) and any(compared(result, n) for n in compared_tools):
+        notes.append(VISCOELASTIC_NOTE)
+    return notes
+
+
+def _closed_form_tool(tool) -> bool:
+    """Whether a closed-form metric exists for ``tool``'s type."""
+    return isinstance(tool, Cone | Sphere | Plate | StraightPipette)
+
+
+def compared(result: ExperimentResult, name: str) -> bool:
+    """Whether tool ``name``'s force is compared with its 3-D closed form (not in plane
+    strain, nor a cone or sphere on a free cell pressed by several tools)."""
+    if plane_strain(result):
+        return False
+    probe = isinstance(result.experiment.tools[name], Cone | Sphere)
+    return not (probe and free_probes(result))
+
+
+def loading_end(values: np.ndarray) -> int:
+    """The end of the loading segment: the first frame where ``values`` (an advance or a
+    suction) reach their largest value."""
+    return int(np.argmax(values))
 
 
 def push_force_nN(result: ExperimentResult, name: str) -> np.ndarray:
@@ -86,9 +183,11 @@ def closed_form_force_nN(result: ExperimentResult, name: str, depth: np.ndarray)
 
 
 def theret_slope(result: ExperimentResult, name: str) -> float:
-    """Least-squares slope of the aspiration change [um] against suction [kPa], L <= 0.25 a."""
+    """Least-squares slope of the aspiration change [um] against suction [kPa], L <= 0.25 a,
+    over the loading segment (frames up to the first of the largest suction)."""
     a = result.experiment.tools[name].inner_radius_um
-    p, L = result.suction_kPa[name], result.aspiration_change_um[name]
+    k = loading_end(result.suction_kPa[name]) + 1
+    p, L = result.suction_kPa[name][:k], result.aspiration_change_um[name][:k]
     use = (p > 0) & (L <= SMALL_STRAIN * a)
     if not use.any():
         use = p > 0
@@ -169,12 +268,14 @@ def contour_deformation(result: ExperimentResult, frame: int = -1) -> tuple[floa
 
 
 def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
-    """The metrics of the module docstring for the tools present."""
+    """The metrics of the module docstring for the tools present (the 3-D closed forms
+    withheld in plane strain, the cone/sphere ones on a free cell pressed by several tools)."""
     out: dict[str, float] = {}
     E, nu = outer_layer_modulus(result)
     homogeneous = result.experiment.cell.zona_thickness_um == 0
+    three_d = not plane_strain(result)
     pipette = _first(result, StraightPipette)
-    if pipette is not None and pipette in result.suction_kPa:
+    if three_d and pipette is not None and pipette in result.suction_kPa:
         a = result.experiment.tools[pipette].inner_radius_um
         s = theret_slope(result, pipette)
         out["theret_modulus_kPa"] = 3 * THERET_PHI * a / (2 * np.pi * s)
@@ -182,18 +283,22 @@ def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
             out["theret_phi"] = s / theret_length_um(1.0, a, E, 1.0)
     for kind, label in ((Cone, "cone"), (Sphere, "sphere")):
         name = _first(result, kind)
-        if name is None:
+        if name is None or not three_d or free_probes(result):
             continue
         d, F = depth_um(result, name), push_force_nN(result, name)
-        out[f"{label}_force_ratio"] = float(F[-1] / closed_form_force_nN(result, name, d[-1:])[0])
+        k = loading_end(d)
+        out[f"{label}_force_ratio"] = float(
+            F[k] / closed_form_force_nN(result, name, d[k : k + 1])[0]
+        )
         model, geometry = _model_of(result, name)
-        shape = get_model(model).shape(d, geometry, nu)
-        out[f"{label}_fit_modulus_kPa"] = float(np.sum(F * shape) / np.sum(shape**2))
+        shape = get_model(model).shape(d[: k + 1], geometry, nu)
+        out[f"{label}_fit_modulus_kPa"] = float(np.sum(F[: k + 1] * shape) / np.sum(shape**2))
     plate = _first(result, Plate)
     if plate is not None:
         d, F = depth_um(result, plate), push_force_nN(result, plate)
-        k = int(np.argmax(d > 0))
-        out["plate_hertz_ratio"] = float(F[k] / closed_form_force_nN(result, plate, d[k]))
+        if three_d:
+            k = int(np.argmax(d > 0))
+            out["plate_hertz_ratio"] = float(F[k] / closed_form_force_nN(result, plate, d[k]))
         out["plate_force_nN"] = float(F[-1])
     if result.experiment.loads:
         a, b = outline_extents_um(result)

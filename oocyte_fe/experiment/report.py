@@ -30,12 +30,14 @@ Output = Callable[[str], Path]
 
 
 def write_history(result: ExperimentResult, output: Output) -> str:
-    """``history.csv``: one row per frame, every recorded series with its unit."""
+    """``history.csv``: one row per frame, every recorded series with its unit (a force on a
+    tool in plane strain per um of thickness: ``<tool>_force_nN_per_um``)."""
     cols: dict[str, np.ndarray] = {"time": result.times_s, "volume_change": result.volume_change}
     units = {"time": "s", "volume_change": "1"}
+    force_unit = "nN_per_um" if an.plane_strain(result) else "nN"
     for name in result.force_nN:
         cols[f"{name}_advance"], units[f"{name}_advance"] = result.advance_um[name], "um"
-        cols[f"{name}_force"], units[f"{name}_force"] = an.push_force_nN(result, name), "nN"
+        cols[f"{name}_force"], units[f"{name}_force"] = an.push_force_nN(result, name), force_unit
         cols[f"{name}_contact_radius"] = result.contact_radius_um[name]
         units[f"{name}_contact_radius"] = "um"
     for name in result.suction_kPa:
@@ -58,16 +60,17 @@ def _save(fig: plt.Figure, output: Output, name: str) -> str:
 
 
 def force_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
-    """Force against advance per tool, with Sneddon/Hertz of the outer layer's modulus."""
+    """Force against advance per tool, with Sneddon/Hertz of the outer layer's modulus (not
+    in plane strain, nor for probes on a free cell: see :func:`analysis.closed_form_notes`)."""
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     for name in result.force_nN:
         d = an.depth_um(result, name)
         ax.plot(d, an.push_force_nN(result, name), "o-", ms=3, label=f"{name} (FE)")
         exact = an.closed_form_force_nN(result, name, d)
-        if np.isfinite(exact).any():
+        if np.isfinite(exact).any() and an.compared(result, name):
             ax.plot(d, exact, "--", label=f"{name}: closed form, E of the outer layer")
     ax.set_xlabel("advance beyond contact (um)")
-    ax.set_ylabel("force on the tool (nN)")
+    ax.set_ylabel(f"force on the tool ({an.force_unit(result)})")
     ax.legend(fontsize=7)
     ax.set_title(result.experiment.description[:60] or "force against advance", fontsize=9)
     return _save(
@@ -120,6 +123,7 @@ def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
 def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
     """The report's run summary: what was solved, how, and how it ended."""
     exp = result.experiment
+    unit = an.force_unit(result)
     lines = [
         f"{exp.cell.symmetry}, outer diameter {exp.cell.outer_diameter_um:g} um, ZP "
         f"{exp.cell.zona_thickness_um:g} um; {result.n_dofs} unknowns; "
@@ -129,7 +133,7 @@ def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
     if exp.tools:
         lines += [
             "",
-            "| tool | type | final advance (um) | final force (nN) | contact radius (um) |",
+            f"| tool | type | final advance (um) | final force ({unit}) | contact radius (um) |",
             "|---|---|---|---|---|",
         ]
     for name in result.force_nN:
@@ -139,7 +143,7 @@ def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
             f"{result.contact_radius_um[name][-1]:.4g} |"
         )
     if exp.loads:
-        lines += ["", "| load | type | final resultant on the cell (nN) |", "|---|---|---|"]
+        lines += ["", f"| load | type | final resultant on the cell ({unit}) |", "|---|---|---|"]
         lines += [
             f"| {name} | {exp.loads[name].type} | ({f[-1, 0]:.4g}, {f[-1, 1]:.4g}) |"
             for name, f in result.load_force_nN.items()
@@ -150,10 +154,12 @@ def summary_text(result: ExperimentResult, metrics: dict[str, float]) -> str:
                 "A free cell: the loads' resultant and moment are balanced by the body force of "
                 "its rigid-body acceleration (inertia relief); the pins' reaction, "
                 f"({result.hold_reaction_nN[-1, 0]:.3g}, {result.hold_reaction_nN[-1, 1]:.3g}) "
-                "nN, is what that balance leaves.",
+                f"{unit}, is what that balance leaves.",
             ]
     if not result.success:
         lines += ["", f"**Ended early** at t = {result.times_s[-1]:.4g} s: {result.reason}"]
+    for note in an.closed_form_notes(result):
+        lines += ["", note]
     lines += ["", "| metric | value |", "|---|---|"]
     lines += [f"| {k} | {v:.5g} |" for k, v in metrics.items()]
     return "\n".join(lines)

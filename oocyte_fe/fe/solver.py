@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -539,6 +539,21 @@ class Problem:
             x, r, K, res, ru, rp = self._line_search(x, dx, res, pending, evaluate, settings)
         raise _StepFailed(f"no convergence in {settings.max_iterations} iterations", history[-1])
 
+    def _step(self, t: float, dt: float, settings: NewtonSettings) -> tuple[NDArray, list[float]]:
+        """Newton from the predictor; if that fails, once more from the last state at the same
+        ``dt``. The predictor assumes the loading goes on at the last step's rate: at a hold or
+        a reversal of a tool it starts the cell where the tool no longer goes, and halving the
+        step does not bring it back (an AFM ramp-and-hold stopped at the hold's first step)."""
+        try:
+            return self._newton(t, dt, settings)
+        except _StepFailed as fail:
+            if not (settings.predictor and self._increment is not None):
+                raise
+            self.log.info(
+                "step to t=%.6g failed from the predictor (%s): from the last state", t, fail.cause
+            )
+            return self._newton(t, dt, replace(settings, predictor=False))
+
     def _control_increment(self, x, dx, r, K, lu, free) -> float:
         """Pressure increment of the bordered system (see :class:`ReactionControl`); ``dx``
         is updated in place with the response to it."""
@@ -654,7 +669,7 @@ class Problem:
                     step = min(dt, t_out - self.t)
                     t_new = self.t + step
                     try:
-                        x, hist = self._newton(t_new, step, settings)
+                        x, hist = self._step(t_new, step, settings)
                         break
                     except _StepFailed as fail:
                         cutbacks += 1

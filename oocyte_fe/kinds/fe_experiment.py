@@ -13,7 +13,7 @@ from oocyte_fe.experiment.analysis import closed_form_metrics
 from oocyte_fe.experiment.templates import TEMPLATES
 from oocyte_fe.fe.fields import contact_pressure_at_vertices, stress_fields
 from oocyte_fe.io import FieldSeriesWriter
-from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
+from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, Figure, case_kind
 
 METRICS = {
     "theret_phi": "effective wall factor of the first suction pipette (homogeneous cell)",
@@ -23,12 +23,30 @@ METRICS = {
     "sphere_force_ratio": "FE force / Sneddon's exact sphere (effective radius), deepest frame",
     "sphere_fit_modulus_kPa": "modulus of afm's hertz_sphere (effective radius) fitted",
     "plate_hertz_ratio": "plate force / Hertz (sphere on a flat) at the first frame",
-    "plate_force_nN": "force on the first plate at the last frame",
+    "plate_force_nN": "force on the first plate at the last frame (plane strain: nN/um)",
     "aspect_ratio": "b/a of the deformed section under surface loads (principal extents)",
     "deformation": "1 - b/a of the deformed section under surface loads",
     "completed_fraction": "time reached / duration (1: the whole path solved)",
     "volume_change": "largest relative volume change",
 }
+
+
+def whole_path_check(result) -> Check:
+    """``completed_fraction == 1``: a run that ended early fails, the check's name (the
+    summary's reason) giving the time reached and the solver's message."""
+    reached, duration = float(result.times_s[-1]), result.experiment.time.duration_s
+    fraction = reached / duration
+    name = "the whole path was solved"
+    if not result.success:
+        name += f" (ended early at t = {reached:.4g} s of {duration:g} s: {result.reason})"
+    return Check(
+        name,
+        fraction,
+        bool(result.success and fraction >= 1.0 - 1e-9),
+        "completed_fraction = 1",
+        reference=1.0,
+        unit="1",
+    )
 
 
 def _fields(ctx: CaseContext, result) -> None:
@@ -73,4 +91,5 @@ def run_fe_experiment(ctx: CaseContext) -> CaseOutcome:
         metrics=metrics,
         figures=figures,
         sections=[("Experiment", rp.summary_text(result, metrics))],
+        checks=[whole_path_check(result)],
     )

@@ -168,6 +168,8 @@ def _table(
             lines.append(f"# {doc.name} =    # REQUIRED: set a value")
         elif default is None:
             lines.append(f"# {doc.name} =    # optional, no default")
+        elif isinstance(default, dict) and not default:  # tables by name, none by default:
+            lines.append(f"# none by default; add them as [{title}.{doc.name}.NAME] tables")
         else:
             lines.append(f"{doc.name} = {_toml_value(default)}")
     for doc, default in nested:
@@ -257,6 +259,9 @@ def _new_from_template(kind: CaseKind, folder: Path, template: str | None) -> li
     ]
     body = {"kind": kind.name, "description": description, "timeout_s": DEFAULT_TIMEOUT_S}
     text = "\n".join(head) + tomli_w.dumps(body) + "\n" + tomli_w.dumps({"inputs": inputs})
+    quick = {"mesh_scale": 2.0} if "mesh_scale" in kind.inputs.model_fields else {}
+    text += "\n" + tomli_w.dumps({"quick": quick}) if quick else "\n[quick]\n"
+    text += "# overrides of [inputs] for --quick (above) and --full (below)\n\n[full]\n"
     path = folder / CASE_FILE
     _write(folder, path, text)
     return [path]
