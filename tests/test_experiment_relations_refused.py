@@ -307,11 +307,11 @@ def test_material_file_and_inline_constants_have_the_same_bounds(
             tmp_path / "inline", PLATES, **{"cell.materials.cytoplasm": _material(**changes)}
         )
     )
-    assert f"inputs.cell.materials.cytoplasm.inline.{inline_field}: expected {says}" in inline
+    assert f"inputs.cell.materials.cytoplasm.{inline_field}: expected {says}" in inline
 
     folder = _file_material_case(tmp_path, changes)
     message = _refused(folder)
-    head = f"{PLATES}/case.toml: inputs.cell.materials.cytoplasm.file: expected a material file ("
+    head = f"{PLATES}/case.toml: inputs.cell.materials.cytoplasm: expected a material file ("
     assert head in message, message
     assert f"{folder / 'mat.toml'}: {file_field}: expected {says}" in message, message
 

@@ -37,6 +37,40 @@ Length = Annotated[float, Field(gt=0, le=1e4)]
 Friction = Annotated[float, Field(ge=0, le=2)]
 MAX_FRAMES = 10_000
 """Most output frames of an experiment (one solver step each)."""
+MAX_TRIANGLES = 2_000_000
+"""Most triangles of a cell's estimated mesh (P2: about 8 million unknowns, beyond what the
+solver meets on a workstation; the shipped cases and templates estimate below 3000). The
+estimate (:meth:`Experiment.estimated_triangles`) read 0.5-1.0 times gmsh's count on the
+shipped cases and 0.7-1.0 on fine meshes (uniform: 17 780 against 17 888)."""
+TRIANGLES_PER_SQUARE = 2.31
+"""Triangles of side ``h`` per ``h^2`` of area (equilateral: ``4 / sqrt(3)``)."""
+GRADING = 0.3
+"""The size field's growth per um of distance (:data:`oocyte_fe.mesh.gmsh_session.GRADING`)."""
+RESOLVE = 10
+"""A tool's length: at least the cell's finest element (``refine_size_um``, else
+``mesh_size_um``) / RESOLVE; a smaller tool falls within one element, between two surface
+nodes (a radius typed in metres, 3e-6, ran to a force of 0)."""
+ADVANCE_RESOLVE = 100
+"""A path's largest advance into the cell: at least the finest element / ADVANCE_RESOLVE (a
+depth typed in metres, 3e-7, ran to a force of 0); looser than a tool's length, since a
+small uniform press of a plate is well resolved by elements much larger than it."""
+TOOL_LENGTHS = (
+    "radius_um",
+    "tip_radius_um",
+    "length_um",
+    "inner_radius_um",
+    "wall_um",
+    "mouth_fillet_um",
+    "width_um",
+    "bore_diameter_um",
+    "neck_diameter_um",
+    "taper_length_um",
+    "bore_length_um",
+    "neck_length_um",
+    "half_width_um",
+)
+"""A tool's lengths that the mesh must resolve (those left at 0 or unset are not checked:
+a sharp cone, a pipette without fillet)."""
 
 
 def _readable_material(path: Path) -> Path:
@@ -501,6 +535,18 @@ class Experiment(CaseInputs):
         axisym = self.cell.symmetry == "axisymmetric"
         if not self.tools and not self.loads:
             raise ValueError("tools or loads: at least one tool or load")
+        if not self.loads and not any(
+            getattr(t, key, None) is not None
+            for t in self.tools.values()
+            for key in ("displacement_um", "suction_Pa", "suction_control")
+        ):
+            raise RuleBroken(
+                "tools",
+                "at least one tool with a path (displacement_um) or a suction (suction_Pa, "
+                "suction_control), or a surface load (loads): nothing here loads the cell",
+                sorted(self.tools),
+            )
+        self._mesh_size()
         if set(self.tools) & set(self.loads):
             raise ValueError("tools and loads: distinct names")
         for name, load in self.loads.items():
@@ -521,6 +567,11 @@ class Experiment(CaseInputs):
             self._small_strain()
         for name, tool in self.tools.items():
             where = f"tools.{name}"
+            floor, why = self._floor(RESOLVE, "a smaller tool falls within one element")
+            for key in TOOL_LENGTHS:
+                value = getattr(tool, key, None)
+                if value:
+                    rel.resolvable(f"{where}.{key}", value, floor, why)
             if axisym and tool.side not in ("top", "bottom"):
                 raise ValueError(f"{where}.side 'top' or 'bottom' (on the axis) in axisymmetry")
             if isinstance(tool, StraightPipette):
@@ -546,7 +597,13 @@ class Experiment(CaseInputs):
                     max(path.value) - tool.gap_um,
                 )
             if path is not None and not isinstance(tool, NeckedPipette):
-                rel.presses(self._travel(name))
+                floor = self._floor(ADVANCE_RESOLVE, "a smaller advance gives no force")
+                rel.presses(self._travel(name), *floor)
+            if path is not None and isinstance(tool, NeckedPipette):
+                travel = rel.Travel(f"{where}.displacement_um", tool.side, path, tool.clearance_um)
+                rel.clear_at_start(travel, "clearance_um")
+            elif path is not None and not isinstance(tool, HoldingPipette):
+                rel.clear_at_start(self._travel(name))
             if isinstance(tool, Cone) and path is not None:
                 _cone_reaches(where, tool, max(path.value) - tool.gap_um)
         pressing = [n for n, t in self.tools.items() if not isinstance(t, NeckedPipette)]
@@ -558,6 +615,71 @@ class Experiment(CaseInputs):
         if not held:
             self._supported(axisym)
         return self._sections()
+
+    def _floor(self, factor: int, what: str) -> tuple[float, str]:
+        """The shortest tool length or advance the mesh resolves (the finest element /
+        ``factor``), and why (for messages)."""
+        cell = self.cell
+        if cell.refine_size_um:
+            h, size = cell.refine_size_um, f"refine_size_um = {cell.refine_size_um:g} um"
+        else:
+            h = cell.mesh_size_um
+            size = f"refine_size_um unset: mesh_size_um = {h:g} um"
+        return h / factor, f"the cell's finest element, {size}, / {factor}: {what}"
+
+    def estimated_triangles(self) -> float:
+        """Triangles of the cell's mesh, estimated: ``2.31`` per ``h^2`` over the section at
+        ``mesh_size_um``, over a band ``refine_depth_um`` deep under the refined arcs at
+        ``refine_size_um``, and over the graded band where the size rises from one to the
+        other (``(1/f - 1/H) / GRADING`` per um of arc); sizes times ``mesh_scale``."""
+        return TRIANGLES_PER_SQUARE * sum(self._squares())
+
+    def _squares(self) -> tuple[float, float]:
+        """``h^2`` squares of :meth:`estimated_triangles`: the section at ``mesh_size_um``,
+        and the refined and graded bands (0 without refinement)."""
+        cell, s = self.cell, self.mesh_scale
+        r, axisym = cell.radius_um, cell.symmetry == "axisymmetric"
+        big = cell.mesh_size_um * s
+        fine = (cell.refine_size_um or cell.mesh_size_um) * s
+        area = np.pi * r**2 / (2.0 if axisym else 1.0)
+        count, refined = area / big**2, 0.0
+        if fine < big:
+            if cell.refine_windows_deg is not None:
+                windows = [tuple(w) for w in cell.refine_windows_deg]
+            else:
+                half = cell.refine_half_angle_deg
+                poles = {"top": 0.0, "bottom": 180.0, "left": 90.0, "right": 90.0}
+                windows = [
+                    (max(0.0, poles[t.side] - half), min(180.0, poles[t.side] + half))
+                    for t in self.tools.values()
+                    if not isinstance(t, HoldingPipette | NeckedPipette)
+                ]
+            span, end = 0.0, -1.0
+            for lo, hi in sorted(windows):  # the union of the polar windows, deg
+                lo = max(lo, end)
+                span += max(0.0, hi - lo)
+                end = max(end, hi)
+            arc = r * np.deg2rad(span) * (1.0 if axisym else 2.0)
+            depth = min(r, cell.refine_depth_um or max(cell.zona_thickness_um, 4 * fine))
+            band = min(area, arc * depth)
+            refined = band / fine**2 + arc * (1.0 / fine - 1.0 / big) / GRADING
+        return count, refined
+
+    def _mesh_size(self) -> None:
+        """RuleBroken if the cell's mesh would exceed :data:`MAX_TRIANGLES` (meshing hangs)."""
+        coarse, refined = self._squares()
+        count = TRIANGLES_PER_SQUARE * (coarse + refined)
+        if count > MAX_TRIANGLES:
+            cell = self.cell
+            key = "refine_size_um" if refined > coarse else "mesh_size_um"
+            raise RuleBroken(
+                f"cell.{key}",
+                f"a mesh of at most {MAX_TRIANGLES:,} triangles (estimated from the section's "
+                "area / mesh_size_um^2 and the refined band's area / refine_size_um^2, sizes "
+                f"times mesh_scale = {self.mesh_scale:g}): these sizes give about {count:.3g}, "
+                "meshing would not end",
+                getattr(cell, key),
+            )
 
     def _travel(self, name: str) -> rel.Travel:
         """The tool's advance into the cell (a holding pipette carries its surface: gap 0)."""

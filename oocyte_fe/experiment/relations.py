@@ -5,7 +5,12 @@ Each check raises :class:`~oocyte_fe.runner.schema.RuleBroken` naming the input 
 the field in one line:
 
 * :func:`presses`: a tool driven by a displacement path must press the cell at some time (its
-  largest advance beyond its ``gap_um``); the message says how far short it stops;
+  largest advance beyond its ``gap_um``), by at least a floor the mesh resolves (an advance in
+  metres, 3e-7, is refused); the message says how far short it stops;
+* :func:`clear_at_start`: a tool starts clear of the cell or touching it (its advance at t = 0
+  at most its gap), never inside it;
+* :func:`resolvable`: a tool's length (a sphere's radius, a pipette's radii) at least a floor the
+  mesh resolves (a radius typed in metres, 3e-6, is refused);
 * :func:`opposed`: two tools on opposite sides (top / bottom, left / right) advance together:
   their travels into the cell (advance less gap; a holding pipette carries the surface it holds,
   gap 0) must sum below the cell's diameter at every time, or the gap between them would close;
@@ -69,8 +74,19 @@ def _short(travel: Travel, deepest: float) -> str:
     return "it only reaches the cell's surface, never presses it"
 
 
-def presses(travel: Travel) -> None:
-    """RuleBroken unless the tool's largest advance exceeds its gap (it presses the cell)."""
+METRES_BELOW_UM = 1e-3
+"""A length below this many um is named as a likely value in metres (3e-6 for 3 um)."""
+
+
+def _metres(value_um: float) -> str:
+    if 0 < value_um < METRES_BELOW_UM:
+        return f"; {value_um:g} um looks like metres ({value_um * 1e6:g} um?)"
+    return ""
+
+
+def presses(travel: Travel, floor_um: float = 0.0, floor_why: str = "") -> None:
+    """RuleBroken unless the tool's largest advance exceeds its gap (it presses the cell), by
+    at least ``floor_um`` (``floor_why`` says where it comes from: the mesh's finest element)."""
     deepest = float(np.max(travel.at(travel.times)))
     if deepest <= 0:
         raise RuleBroken(
@@ -79,6 +95,34 @@ def presses(travel: Travel) -> None:
             f"{travel.gap_um:g} um): its largest advance is {deepest + travel.gap_um:g} um, so "
             + _short(travel, deepest),
             travel.path.value if travel.path else None,
+        )
+    if deepest < floor_um:
+        raise RuleBroken(
+            travel.field,
+            f"a largest advance into the cell (beyond gap_um = {travel.gap_um:g} um) of at "
+            f"least {floor_um:g} um ({floor_why}): it presses only {deepest:g} um"
+            + _metres(deepest),
+            travel.path.value if travel.path else None,
+        )
+
+
+def clear_at_start(travel: Travel, gap_name: str = "gap_um") -> None:
+    """RuleBroken if the tool starts inside the cell: its advance at t = 0 beyond its gap."""
+    start = float(travel.at(np.zeros(1))[0])
+    if start > 0:
+        raise RuleBroken(
+            travel.field,
+            f"an advance at t = 0 of at most {gap_name} = {travel.gap_um:g} um (the tool "
+            f"starts clear of the cell or touching it): it starts {start:g} um inside the cell",
+            travel.path.value if travel.path else None,
+        )
+
+
+def resolvable(field: str, value_um: float, floor_um: float, floor_why: str) -> None:
+    """RuleBroken if a tool's length is below ``floor_um`` (a length the mesh resolves)."""
+    if value_um < floor_um:
+        raise RuleBroken(
+            field, f"at least {floor_um:g} um ({floor_why})" + _metres(value_um), value_um
         )
 
 

@@ -26,7 +26,8 @@ import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn
+from types import UnionType
+from typing import Annotated, Any, Literal, NoReturn, Union, get_args, get_origin
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
@@ -226,23 +227,65 @@ def _loc(loc: tuple[Any, ...]) -> str:
     return ".".join(str(p) for p in loc) if loc else "(top level)"
 
 
-def _keys_at(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> list[str]:
-    """The field names of the (sub-)model that ``loc`` points into (for "did you mean")."""
-    for part in loc:
-        if model is None or not isinstance(part, str) or part not in model.model_fields:
-            return []
-        annotation = model.model_fields[part].annotation
-        model = (
-            annotation
-            if isinstance(annotation, type) and issubclass(annotation, BaseModel)
-            else None
-        )
-    return list(model.model_fields) if model is not None else []
+def _walk(model: type[BaseModel] | None, loc: tuple[Any, ...]) -> tuple[list[str], tuple]:
+    """Follow pydantic's error location ``loc`` through ``model``: (the field names of the
+    (sub-)model it ends in, for "did you mean"; ``loc`` without the tags pydantic adds for
+    the member of a union, such as ``sphere`` in ``tools.probe.sphere.radius_um``, which the
+    file does not have). Where the walk cannot follow, no names and ``loc`` as it is."""
+    current: Any = model
+    shown: list[Any] = []
+    for i, part in enumerate(loc):
+        rest = (*shown, *loc[i:])  # where the walk stops: the location from here as it is
+        while get_origin(current) is Annotated:
+            current = get_args(current)[0]
+        origin = get_origin(current)
+        if isinstance(current, type) and issubclass(current, BaseModel):
+            if not isinstance(part, str) or part not in current.model_fields:
+                return [], rest
+            current = current.model_fields[part].annotation
+        elif origin is dict:
+            current = get_args(current)[1]
+        elif origin in (list, tuple):
+            current = get_args(current)[0]
+        elif origin in (Union, UnionType):
+            tagged = [m for m, tags in map(_member, get_args(current)) if part in tags]
+            if len(tagged) == 1:
+                current = tagged[0]
+                continue  # the union's tag (sphere, inline, file): not a key of the file
+            return [], rest
+        else:
+            return [], rest
+        shown.append(part)
+    while get_origin(current) is Annotated:
+        current = get_args(current)[0]
+    if isinstance(current, type) and issubclass(current, BaseModel):
+        return list(current.model_fields), tuple(shown)
+    return [], tuple(shown)
+
+
+def _member(annotation: Any) -> tuple[type, set[str]]:
+    """A union member without its ``Annotated`` wrapper, and the tags it answers to (its
+    ``Tag``, the literal values of its fields, its class name)."""
+    tags: set[str] = set()
+    while get_origin(annotation) is Annotated:
+        annotation, *meta = get_args(annotation)
+        tags |= {str(m.tag) for m in meta if hasattr(m, "tag")}
+    if not isinstance(annotation, type):
+        return type(None), tags
+    if issubclass(annotation, BaseModel):
+        tags |= {
+            str(value)
+            for info in annotation.model_fields.values()
+            if get_origin(info.annotation) is Literal
+            for value in get_args(info.annotation)
+        }
+    return annotation, tags | {annotation.__name__}
 
 
 def did_you_mean(word: str, known: list[str]) -> str:
     """`` (did you mean 'x'?)`` for the closest of ``known``, or ``""``."""
     close = difflib.get_close_matches(str(word), known, n=1, cutoff=0.6)
+    close = close or [k for k in known if k.startswith(f"{word}_")][:1]  # E -> E_kPa
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
@@ -255,7 +298,8 @@ def raise_validation_error(
     """
     errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")  # typos first
     first = errors[0]
-    loc = tuple(first["loc"])
+    raw_loc = tuple(first["loc"])
+    _, loc = _walk(model, raw_loc)
     field = prefix + _loc(loc) if loc or not prefix else prefix.rstrip(".")
     kind = first["type"]
     broken = first.get("ctx", {}).get("error")
@@ -265,7 +309,7 @@ def raise_validation_error(
     if kind == "missing":
         raise InputError(file, field, "this key (it is required)") from None
     if kind == "extra_forbidden":
-        hint = did_you_mean(str(loc[-1]), _keys_at(model, loc[:-1])) if loc else ""
+        hint = did_you_mean(str(loc[-1]), _walk(model, raw_loc[:-1])[0]) if loc else ""
         raise InputError(file, field, f"no such key (unknown key){hint}") from None
     msg = first["msg"].removeprefix("Value error, ").removeprefix("Input should be ")
     if msg.startswith(("greater", "less")):
