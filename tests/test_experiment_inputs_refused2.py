@@ -217,3 +217,12 @@ def test_the_estimate_grades_as_the_mesher_does() -> None:
     from oocyte_fe.mesh import gmsh_session
 
     assert description.GRADING == gmsh_session.GRADING
+
+
+def test_a_plate_that_never_moves_points_to_the_holding_pipette(tmp_path: Path) -> None:
+    """A user's dish as a plate standing still (the tester's `dish_plate`): refused, and the
+    message names the tool that models a dish."""
+    still = _case(tmp_path / "still", PLATES, **{"tools.bottom.displacement_um": _path(0.0, 0.0)})
+    assert "a dish the cell rests on: a holding_pipette" in refused_message(still)
+    unset = _case(tmp_path / "unset", PLATES, **{"tools.bottom.displacement_um": UNSET})
+    assert "holding_pipette" in refused_message(unset)

@@ -37,6 +37,11 @@ Length = Annotated[float, Field(gt=0, le=1e4)]
 Friction = Annotated[float, Field(ge=0, le=2)]
 MAX_FRAMES = 10_000
 """Most output frames of an experiment (one solver step each)."""
+DISH_HINT = (
+    " (a dish or stage the cell rests on, a tool that does not move: a holding_pipette, the "
+    "bonded patch of the cell on it, with half_width_um or cap_deg)"
+)
+"""Said where a plate, sphere or cone has no path or never presses (a user's dish)."""
 MAX_TRIANGLES = 2_000_000
 """Most triangles of a cell's estimated mesh (P2: about 8 million unknowns, beyond what the
 solver meets on a workstation; the shipped cases and templates estimate below 3000). The
@@ -588,7 +593,7 @@ class Experiment(CaseInputs):
             if isinstance(tool, NeckedPipette):
                 self._necked(name, tool)
             if isinstance(tool, Sphere | Cone | Plate) and tool.displacement_um is None:
-                raise ValueError(f"{where}.displacement_um (a path)")
+                raise ValueError(f"{where}.displacement_um (a path){DISH_HINT}")
             path = tool.displacement_um if isinstance(tool, ToolBase) else None
             if path is not None and max(path.value) - tool.gap_um >= 2 * r:
                 raise RuleBroken(

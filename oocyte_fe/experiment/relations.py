@@ -93,7 +93,12 @@ def presses(travel: Travel, floor_um: float = 0.0, floor_why: str = "") -> None:
             travel.field,
             "a path that presses the tool into the cell (an advance beyond gap_um = "
             f"{travel.gap_um:g} um): its largest advance is {deepest + travel.gap_um:g} um, so "
-            + _short(travel, deepest),
+            + _short(travel, deepest)
+            + (
+                " (a dish the cell rests on: a holding_pipette)"
+                if deepest == -travel.gap_um
+                else ""
+            ),
             travel.path.value if travel.path else None,
         )
     if deepest < floor_um:
