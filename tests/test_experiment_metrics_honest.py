@@ -157,3 +157,5 @@ def test_an_aspiration_creep_is_read_on_the_suction_ramp(tmp_path: Path):
     assert 1.9 < metrics["theret_phi"] < 2.3, metrics
     assert abs(metrics["theret_modulus_kPa"] - 1.0) < 0.1, metrics
     assert "instantaneous modulus" in report
+    assert "Suction against time (prescribed)" in report  # not "controlled" (the tester)
+    assert "force_advance.png" not in report  # a pipette standing still: no empty plot

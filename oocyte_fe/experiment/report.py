@@ -104,9 +104,17 @@ def suction_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
     ax.set_xlabel("time (s)")
     ax.set_ylabel("suction (Pa)")
     ax.legend(fontsize=7)
-    return _save(
-        fig, output, "suction.png"
-    ), "Suction against time (a controlled suction: the one the path needs)"
+    controlled = [
+        n
+        for n in result.suction_kPa
+        if getattr(result.experiment.tools[n], "suction_control", None)
+    ]
+    how = (
+        f" ({', '.join(controlled)}: controlled, the suction the path needs)"
+        if controlled
+        else " (prescribed)"
+    )
+    return _save(fig, output, "suction.png"), f"Suction against time{how}"
 
 
 def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:

@@ -7,6 +7,8 @@ NAME`` writes a ready case (docs/fe.md, "Experiments").
 
 from __future__ import annotations
 
+import numpy as np
+
 from oocyte_fe.experiment import Experiment, run_experiment
 from oocyte_fe.experiment import report as rp
 from oocyte_fe.experiment.analysis import closed_form_metrics
@@ -77,7 +79,8 @@ def run_fe_experiment(ctx: CaseContext) -> CaseOutcome:
     metrics = closed_form_metrics(result)
     ctx.step("writing the report")
     rp.write_history(result, ctx.output)
-    figures = [Figure(*rp.force_figure(result, ctx.output))] if result.force_nN else []
+    moved = any(np.ptp(a) > 0 for a in result.advance_um.values())  # a still tool: no curve
+    figures = [Figure(*rp.force_figure(result, ctx.output))] if moved else []
     if result.suction_kPa:
         figures.append(Figure(*rp.suction_figure(result, ctx.output)))
     if result.aspiration_change_um:
