@@ -210,7 +210,7 @@ def test_cli_kinds_and_new_case_round_trip(tmp_path: Path) -> None:
     cli = CliRunner()
     shown = cli.invoke(app, ["kinds", "test_echo"])
     assert shown.exit_code == 0 and "PydanticUndefined" not in shown.output
-    assert "x_um: a positive length, um (required)" in shown.output
+    assert "x_um [um]: a positive length, um (required)" in shown.output  # unit from its name
     assert "nu: Poisson ratio (compressible) (default 0.3)" in shown.output
     folder = tmp_path / "mine"
     made = cli.invoke(app, ["new", "test_echo", str(folder)])

@@ -47,3 +47,15 @@ def test_a_case_without_template_takes_tool_tables(tmp_path: Path) -> None:
     (folder / "case.toml").write_text(text)
     case = load_case(folder)
     assert list(case.inputs.tools) == ["top", "dish"] and case.inputs.tools["top"].side == "top"
+
+
+def test_kinds_lists_the_fields_of_each_tool_and_load_type() -> None:
+    """`oocyte-fe kinds fe_experiment` shows every tool's and load's fields with units (the
+    tester found `tools: the rigid tools, by name` and nothing of radius_um, suction_Pa)."""
+    from oocyte_fe.runner.scaffold import describe_kind
+
+    text = "\n".join(describe_kind(get_kind("fe_experiment")))
+    for kind_of in ("plate", "sphere", "cone", "straight_pipette", "holding_pipette"):
+        assert f"tools.NAME with type = {kind_of!r}:" in text
+    assert "loads.NAME with type = 'pressure':" in text
+    assert "tools.NAME.radius_um [um]" in text and "tools.NAME.suction_Pa [Pa]" in text

@@ -106,17 +106,46 @@ def _value_text(doc: InputDoc) -> str:
     return f"default {json.dumps(doc.default, default=str)}"
 
 
+UNIT_SUFFIXES = {"um": "um", "s": "s", "deg": "deg", "Pa": "Pa", "kPa": "kPa", "nN": "nN"}
+"""The unit of an input named ``..._<suffix>`` (the project's naming) where it gives none."""
+
+
+def _named_tables(annotation: Any) -> list[tuple[type[BaseModel], str]]:
+    """For tables by name whose members are chosen by ``type`` (``tools``, ``loads``): each
+    member model and its ``type``; else nothing."""
+    if typing.get_origin(annotation) is not dict:
+        return []
+    members = [
+        t
+        for t in _types(typing.get_args(annotation)[1])
+        if isinstance(t, type) and issubclass(t, BaseModel)
+    ]
+    out = []
+    for member in members:
+        field = member.model_fields.get("type")
+        tags = typing.get_args(field.annotation) if field is not None else ()
+        if typing.get_origin(field.annotation if field else None) is typing.Literal and tags:
+            out.append((member, str(tags[0])))
+    return out if len(out) == len(members) else []
+
+
 def describe_kind(kind: CaseKind) -> list[str]:
     """Lines for ``oocyte-fe kinds KIND``: every input and metric."""
     lines = [f"{kind.name}: {kind.description}", "", "inputs:"]
 
-    def add(model: type[BaseModel], prefix: str) -> None:
+    def add(model: type[BaseModel], prefix: str, tag: str = "") -> None:
         for doc in input_docs(model):
-            unit = f" [{doc.unit}]" if doc.unit else ""
+            if tag and doc.name == "type":
+                continue  # said in the member's heading
+            named = doc.unit or UNIT_SUFFIXES.get(doc.name.rsplit("_", 1)[-1], "")
+            unit = f" [{named}]" if named else ""
             text = f"  {prefix}{doc.name}{unit}: {doc.description or '(no description)'}"
             lines.append(f"{text} ({_value_text(doc)})")
             if doc.model is not None:
                 add(doc.model, f"{prefix}{doc.name}.")
+            for member, kind_of in _named_tables(model.model_fields[doc.name].annotation):
+                lines.append(f"  {prefix}{doc.name}.NAME with type = {kind_of!r}:")
+                add(member, f"{prefix}{doc.name}.NAME.", kind_of)
 
     add(kind.inputs, "")
     lines += ["", "metrics:"]
