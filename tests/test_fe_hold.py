@@ -34,7 +34,8 @@ def _ramp_and_hold() -> Experiment:
                 },
                 "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 100.0},
             },
-            "time": {"duration_s": 0.6, "frames": 6},
+            "time": {"duration_s": 0.6, "frames": 4},
+            "record": {"sections_at_s": [0.05]},
         }
     )
 
@@ -46,8 +47,23 @@ def test_an_elastic_cell_holds_its_force_through_the_hold():
     the ramp's end through the hold (to 1e-6 relative: the Newton tolerance)."""
     result = run_experiment(_ramp_and_hold())
     assert result.success, result.reason
-    force = np.hypot(*result.force_nN["probe"].T)
-    ramp_end = force[1]  # frame 1 is t = 0.1 s, the end of the ramp
+    # 4 even frames (0.15 s apart) and the path's knot 0.1 s and the section's 0.05 s
+    np.testing.assert_allclose(result.times_s, [0.0, 0.05, 0.1, 0.15, 0.3, 0.45, 0.6])
+    force = np.hypot(*result.force_nN["probe"].T)[1:]  # from t = 0.05 s
+    ramp_end = force[1]  # t = 0.1 s, the end of the ramp: the peak is a frame
     hertz = 4.0 / 3.0 * 1.0 / (1.0 - 0.25) * np.sqrt(3.0) * 0.2**1.5
     assert ramp_end == pytest.approx(hertz, rel=0.05)
     np.testing.assert_allclose(force[2:], ramp_end, rtol=1e-6)
+
+
+def test_output_times_are_even_frames_with_the_knots_unless_switched_off():
+    """time.at_path_knots (default true) adds each knot of a tool's path and each section
+    time to the even frames; false keeps the even frames alone (t as a curve's parameter)."""
+    spec = _ramp_and_hold().model_dump()
+    assert Experiment.model_validate(spec).output_times() == pytest.approx(
+        [0.05, 0.1, 0.15, 0.3, 0.45, 0.6], rel=1e-12
+    )
+    spec["time"]["at_path_knots"] = False
+    assert Experiment.model_validate(spec).output_times() == pytest.approx(
+        [0.15, 0.3, 0.45, 0.6], rel=1e-12
+    )

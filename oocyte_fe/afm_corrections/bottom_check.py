@@ -90,7 +90,11 @@ def cone_layer_check(
                     },
                     "dish": {"type": "holding_pipette", "side": "bottom", "half_width_um": 500.0},
                 },
-                "time": {"duration_s": 1.0, "frames": frames},
+                "time": {
+                    "duration_s": 1.0,
+                    "frames": frames,
+                    "at_path_knots": False,
+                },  # t: a parameter
             }
         )
         result = run_experiment(exp)

@@ -128,7 +128,7 @@ def experiment(
                     "half_width_um": min(60.0, 0.9 * cell_um),
                 },
             },
-            "time": {"duration_s": 1.0, "frames": frames},
+            "time": {"duration_s": 1.0, "frames": frames, "at_path_knots": False},  # t: a parameter
         }
     )
 

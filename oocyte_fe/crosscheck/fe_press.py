@@ -177,6 +177,7 @@ def press_experiment(
         "time": {
             "duration_s": duration,
             "frames": n_out,
+            "at_path_knots": False,  # the press's frames are output_frames' (its arrows)
             "max_step_s": settings.max_step_um / v,
             "rtol": settings.rtol,
         },

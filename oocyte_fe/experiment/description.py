@@ -479,6 +479,11 @@ class TimePath(CaseInputs):
         "element (0: the full step)",
         json_schema_extra={"unit": "1"},
     )
+    at_path_knots: bool = Field(
+        True,
+        description="also output a frame at each knot of a tool's path (the end of a ramp, "
+        "the start of a hold or a retract) and at each time of record.sections_at_s",
+    )
 
 
 class Record(CaseInputs):
@@ -771,6 +776,26 @@ class Experiment(CaseInputs):
                 )
             if getattr(tool, "friction", 0.0):
                 raise ValueError(f"tools.{name}.friction: 0 with kinematics 'small_strain'")
+
+    def output_times(self) -> list[float]:
+        """The output frames' times [s] after t = 0: ``time.frames`` even steps to the
+        duration and, with ``time.at_path_knots``, every knot of a tool's path (displacement,
+        suction) and every time of ``record.sections_at_s`` (a ramp's end is then a frame, its
+        peak force recorded, and a section drawn at the time asked); a knot within 1e-9 of
+        the duration of a frame is that frame."""
+        duration = self.time.duration_s
+        times = list(np.linspace(duration / self.time.frames, duration, self.time.frames))
+        if self.time.at_path_knots:
+            for tool in self.tools.values():
+                for key in ("displacement_um", "suction_Pa"):
+                    path = getattr(tool, key, None)
+                    times += list(path.time_s) if path is not None else []
+            times += list(self.record.sections_at_s)
+        out: list[float] = []
+        for t in sorted(t for t in times if 0.0 < t <= duration):
+            if not out or t - out[-1] > 1e-9 * duration:
+                out.append(float(t))
+        return out
 
     def _sections(self) -> Experiment:
         """Section times and the last time of every path within ``time.duration_s``: the

@@ -354,7 +354,7 @@ def run_experiment(
             on_frame(problem, frame)
 
     record(problem.frame(), notify=False)  # the rest state
-    times = np.linspace(exp.time.duration_s / exp.time.frames, exp.time.duration_s, exp.time.frames)
+    times = exp.output_times()
     success, reason, steps, folded = True, "", [], False
     frames = [problem.frame()]
     try:
