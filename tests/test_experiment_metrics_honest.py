@@ -159,3 +159,23 @@ def test_an_aspiration_creep_is_read_on_the_suction_ramp(tmp_path: Path):
     assert "instantaneous modulus" in report
     assert "Suction against time (prescribed)" in report  # not "controlled" (the tester)
     assert "force_advance.png" not in report  # a pipette standing still: no empty plot
+
+
+def test_theret_read_outside_its_setting_is_said(tmp_path: Path):
+    """A pipette of a/R = 0.4 on a compressible cell (nu = 0.3): Theret's metrics are still
+    reported, with the sentence naming both departures (the tester's `asp_big`, `asp_nu03`)."""
+    cell = dict(CELL, outer_diameter_um=50.0, mesh_size_um=5.0, refine_size_um=1.0)
+    cell |= {"refine_half_angle_deg": 40.0, "refine_depth_um": 8.0}
+    cell["materials"] = {"cytoplasm": {"E_kPa": 1.0, "nu": 0.3}}
+    pipette = {
+        "type": "straight_pipette",
+        "inner_radius_um": 10.0,
+        "wall_um": 5.0,
+        "suction_Pa": {"time_s": [0.0, 1.0], "value": [0.0, 20.0]},
+    }
+    inputs = {"cell": cell, "tools": {"pipette": pipette}, "time": {"duration_s": 1.0, "frames": 2}}
+    result, metrics, report, _ = _run(tmp_path, inputs)
+    assert result.status == "PASS", result.reason
+    assert "theret_phi" in metrics
+    assert "read outside the setting" in report
+    assert "a/R = 0.4 above 0.2" in report and "nu = 0.3 (Theret: incompressible)" in report

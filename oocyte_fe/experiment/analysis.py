@@ -111,10 +111,43 @@ def closed_form_notes(result: ExperimentResult) -> list[str]:
         notes.append(PLANE_STRAIN_NOTE)
     elif free_probes(result) and (_first(result, Cone) or _first(result, Sphere)):
         notes.append(FREE_PROBES_NOTE)
+    notes += theret_range_notes(result)
     compared_tools = [n for n, t in result.experiment.tools.items() if _closed_form_tool(t)]
     if viscoelastic(result) and any(compared(result, n) for n in compared_tools):
         notes.append(VISCOELASTIC_NOTE)
     return notes
+
+
+THERET_A_OVER_R = 0.2
+"""Largest pipette radius / cell radius where the FE gives Theret's factor within 3 %
+(docs/fe.md, "Micropipette aspiration"; 1.86 at a/R = 0.5)."""
+
+
+def theret_range_notes(result: ExperimentResult) -> list[str]:
+    """Sentences for the first suction pipette where Theret's half-space formula is read
+    outside its setting: a/R above :data:`THERET_A_OVER_R`, a compressible outer layer
+    (nu < 0.5), the seal ``contact`` (not Theret's punch)."""
+    name = _first(result, StraightPipette)
+    if name is None or name not in result.suction_kPa or plane_strain(result):
+        return []
+    tool, cell = result.experiment.tools[name], result.experiment.cell
+    outside = []
+    a_over_r = tool.inner_radius_um / cell.radius_um
+    if a_over_r > THERET_A_OVER_R:
+        outside.append(
+            f"a/R = {a_over_r:.3g} above {THERET_A_OVER_R:g} (the FE's Phi falls with a/R: "
+            "1.94 at 0.4, 1.86 at 0.5)"
+        )
+    if outer_layer_modulus(result)[1] < 0.5:
+        outside.append(f"nu = {outer_layer_modulus(result)[1]:g} (Theret: incompressible)")
+    if getattr(tool, "seal", "fixed") == "contact":
+        outside.append("seal 'contact' (Theret's punch is the seal 'fixed'; not a result yet)")
+    if not outside:
+        return []
+    return [
+        f"Theret's formula (theret_phi, theret_modulus_kPa) is read outside the setting where "
+        f"the FE reproduces it within 3 % (docs/fe.md): {'; '.join(outside)}."
+    ]
 
 
 def _closed_form_tool(tool) -> bool:

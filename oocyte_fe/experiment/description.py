@@ -479,6 +479,11 @@ class TimePath(CaseInputs):
         "element (0: the full step)",
         json_schema_extra={"unit": "1"},
     )
+    retry_from_last_state: bool = Field(
+        True,
+        description="take a step that fails from the predictor once more from the last state "
+        "before halving it (false: halve at once, as before 2026-12-07)",
+    )
     at_path_knots: bool = Field(
         True,
         description="also output a frame at each knot of a tool's path (the end of a ramp, "

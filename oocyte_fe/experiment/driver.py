@@ -365,6 +365,7 @@ def run_experiment(
                 rtol=exp.time.rtol,
                 max_cutbacks=exp.time.max_cutbacks,
                 line_search=exp.time.line_search,
+                retry_from_last_state=exp.time.retry_from_last_state,
             ),
             on_frame=lambda f: (frames.append(f), record(f)),
             max_dt=exp.time.max_step_s,

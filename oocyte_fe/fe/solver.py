@@ -71,6 +71,9 @@ class NewtonSettings:
     # start each step from the last step's increment scaled to dt (a linear extrapolation in
     # time) instead of the last state; prescribed values are then already (nearly) in place
     predictor: bool = True
+    # a step that fails from the predictor is taken once more from the last state before it is
+    # halved (at a hold the predictor carries the cell on where the tool no longer goes)
+    retry_from_last_state: bool = True
 
 
 @dataclass(frozen=True)
@@ -547,7 +550,11 @@ class Problem:
         try:
             return self._newton(t, dt, settings)
         except _StepFailed as fail:
-            if not (settings.predictor and self._increment is not None):
+            if not (
+                settings.retry_from_last_state
+                and settings.predictor
+                and self._increment is not None
+            ):
                 raise
             self.log.info(
                 "step to t=%.6g failed from the predictor (%s): from the last state", t, fail.cause
