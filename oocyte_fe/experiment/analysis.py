@@ -138,8 +138,9 @@ def theret_range_notes(result: ExperimentResult) -> list[str]:
             f"a/R = {a_over_r:.3g} above {THERET_A_OVER_R:g} (the FE's Phi falls with a/R: "
             "1.94 at 0.4, 1.86 at 0.5)"
         )
-    if outer_layer_modulus(result)[1] < 0.5:
-        outside.append(f"nu = {outer_layer_modulus(result)[1]:g} (Theret: incompressible)")
+    nu = outer_layer_modulus(result)[1]
+    if nu < 0.5:
+        outside.append(f"nu = {nu:g} (Theret: incompressible)")
     if getattr(tool, "seal", "fixed") == "contact":
         outside.append("seal 'contact' (Theret's punch is the seal 'fixed'; not a result yet)")
     if not outside:
@@ -316,7 +317,7 @@ def closed_form_metrics(result: ExperimentResult) -> dict[str, float]:
             out["theret_phi"] = s / theret_length_um(1.0, a, E, 1.0)
     for kind, label in ((Cone, "cone"), (Sphere, "sphere")):
         name = _first(result, kind)
-        if name is None or not three_d or free_probes(result):
+        if name is None or not compared(result, name):
             continue
         d, F = depth_um(result, name), push_force_nN(result, name)
         k = loading_end(d)
