@@ -140,7 +140,8 @@ REFUSED = [
         SPHERE,
         {"tools": {"dish": DISH}},
         "inputs.tools: expected at least one tool with a path (displacement_um) or a suction "
-        "(suction_Pa, suction_control), or a surface load (loads): nothing here loads the cell",
+        "(suction_Pa, suction_control) that is not 0 throughout, or a surface load (loads): "
+        "nothing here loads the cell",
     ),
 ]
 

@@ -252,7 +252,7 @@ def test_a_result_another_process_is_solving_is_taken_after_the_free_ones(
     ("change", "says"),
     [
         ({"type": "sphere", "radius_um": -5.0}, "tools.pipette.radius_um: expected a value"),
-        ({"type": "spere"}, "tools.pipette: expected a table with type = one of plate"),
+        ({"type": "spere"}, "tools.pipette.type: expected a table with type = one of plate"),
     ],
 )
 def test_a_tool_error_names_the_field_of_its_own_type(tmp_path: Path, change: dict, says: str):

@@ -40,12 +40,17 @@ def _ramp_and_hold() -> Experiment:
     )
 
 
-def test_an_elastic_cell_holds_its_force_through_the_hold():
+@pytest.fixture(scope="module")
+def held():
+    return run_experiment(_ramp_and_hold())
+
+
+def test_an_elastic_cell_holds_its_force_through_the_hold(held):
     """Default settings (plain Newton, the predictor on): the whole path is solved, the ramp's
     end meets Hertz, 4/3 E / (1 - nu^2) sqrt(R) d^1.5 = 0.2754 nN, within 5 % (measured 0.2690,
     0.977: the cell's curvature and finite strain), and the elastic cell's force stays that of
     the ramp's end through the hold (to 1e-6 relative: the Newton tolerance)."""
-    result = run_experiment(_ramp_and_hold())
+    result = held
     assert result.success, result.reason
     # 4 even frames (0.15 s apart) and the path's knot 0.1 s and the section's 0.05 s
     np.testing.assert_allclose(result.times_s, [0.0, 0.05, 0.1, 0.15, 0.3, 0.45, 0.6])
@@ -67,3 +72,20 @@ def test_output_times_are_even_frames_with_the_knots_unless_switched_off():
     assert Experiment.model_validate(spec).output_times() == pytest.approx(
         [0.15, 0.3, 0.45, 0.6], rel=1e-12
     )
+
+
+def test_a_hold_gets_a_plot_against_time_and_a_ramp_does_not(held, tmp_path):
+    """The force against advance draws a hold as one point; the report then adds force
+    against time (history.png), where the relaxation is read. A ramp alone gets none."""
+    import dataclasses
+
+    from oocyte_fe.experiment import report
+
+    assert report.held_or_reversed(held)
+    name, caption = report.history_figure(held, lambda f: tmp_path / f)
+    assert (tmp_path / name).stat().st_size > 1000
+    assert caption.startswith("Force against time (a hold or a retract")
+    ramp = {k: np.linspace(0.0, 0.2, len(held.times_s)) for k in held.advance_um}
+    assert not report.held_or_reversed(dataclasses.replace(held, advance_um=ramp))
+    back = {k: np.r_[ramp[k][:-1], 0.1] for k in ramp}  # a retract at the end
+    assert report.held_or_reversed(dataclasses.replace(held, advance_um=back))

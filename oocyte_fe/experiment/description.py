@@ -280,6 +280,13 @@ class Cell(CaseInputs):
         r = self.radius_um
         if self.zona_thickness_um > 0 and self.materials.zona is None:
             raise ValueError("materials.zona when zona_thickness_um > 0")
+        if self.zona_thickness_um == 0 and self.materials.zona is not None:
+            raise RuleBroken(
+                "zona_thickness_um",
+                "a ZP thickness > 0 with materials.zona (at 0 the cell is all cytoplasm and "
+                "the zona material would be ignored; remove it for a homogeneous cell)",
+                0.0,
+            )
         for lo, hi in self.refine_windows_deg or []:
             if not 0 <= lo < hi <= 180:
                 raise ValueError("refine_windows_deg: [lo, hi] with 0 <= lo < hi <= 180")
@@ -551,14 +558,18 @@ class Experiment(CaseInputs):
         if not self.tools and not self.loads:
             raise ValueError("tools or loads: at least one tool or load")
         if not self.loads and not any(
-            getattr(t, key, None) is not None
+            getattr(t, "suction_control", None) is not None
+            or any(
+                path is not None and any(path.value)
+                for path in (getattr(t, "displacement_um", None), getattr(t, "suction_Pa", None))
+            )
             for t in self.tools.values()
-            for key in ("displacement_um", "suction_Pa", "suction_control")
         ):
             raise RuleBroken(
                 "tools",
                 "at least one tool with a path (displacement_um) or a suction (suction_Pa, "
-                "suction_control), or a surface load (loads): nothing here loads the cell",
+                "suction_control) that is not 0 throughout, or a surface load (loads): "
+                "nothing here loads the cell",
                 sorted(self.tools),
             )
         self._mesh_size()
@@ -593,13 +604,28 @@ class Experiment(CaseInputs):
                 if not axisym:
                     raise ValueError(f"{where}: a straight pipette needs symmetry 'axisymmetric'")
                 if tool.inner_radius_um + tool.mouth_fillet_um >= r:
-                    raise ValueError(f"{where}.inner_radius_um + mouth_fillet_um < {r:g} um")
+                    raise RuleBroken(
+                        f"{where}.inner_radius_um",
+                        f"inner_radius_um + mouth_fillet_um below the cell's radius {r:g} um",
+                        tool.inner_radius_um + tool.mouth_fillet_um,
+                    )
                 if (tool.suction_Pa is None) == (tool.displacement_um is None):
                     raise ValueError(f"{where}: suction_Pa or displacement_um (one of them)")
             if isinstance(tool, WedgePipette) and axisym:
                 raise ValueError(f"{where}: a wedge pipette needs symmetry 'plane_strain'")
             if isinstance(tool, HoldingPipette) and (tool.half_width_um or 0) >= r:
                 raise ValueError(f"{where}.half_width_um < the cell radius {r:g} um")
+            if (
+                isinstance(tool, HoldingPipette)
+                and tool.displacement_um
+                and tool.displacement_um.value[0]
+            ):
+                raise RuleBroken(
+                    f"{where}.displacement_um",
+                    "a path that is 0 at t = 0 (a holding pipette holds the cell where it is at "
+                    "t = 0; its path is the displacement from there)",
+                    tool.displacement_um.value,
+                )
             if isinstance(tool, NeckedPipette):
                 self._necked(name, tool)
             if isinstance(tool, Sphere | Cone | Plate) and tool.displacement_um is None:
@@ -746,8 +772,17 @@ class Experiment(CaseInputs):
         control = tool.suction_control
         driver = self.tools.get(control.tool) if control else None
         if control and not (isinstance(driver, HoldingPipette) and driver.displacement_um):
-            raise ValueError(
-                f"{where}.suction_control.tool: a holding pipette with displacement_um"
+            holders = [
+                n
+                for n, t in self.tools.items()
+                if isinstance(t, HoldingPipette) and t.displacement_um
+            ]
+            raise RuleBroken(
+                f"{where}.suction_control.tool",
+                "the name of a holding pipette with displacement_um in tools"
+                + (f" ({', '.join(map(repr, holders))})" if holders else " (there is none)")
+                + ("" if driver is None else f"; {control.tool!r} is a {driver.type}"),
+                control.tool,
             )
         caps = [
             n

@@ -117,6 +117,43 @@ def suction_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
     return _save(fig, output, "suction.png"), f"Suction against time{how}"
 
 
+def held_or_reversed(result: ExperimentResult) -> bool:
+    """Whether a tool's advance or a pipette's suction stands still or goes back between two
+    frames (a hold or a retract): then the curves against advance or suction hide the time."""
+
+    def in_time(series: np.ndarray) -> bool:
+        span = float(np.ptp(series))
+        return span > 0 and bool((np.diff(series) <= 1e-9 * span).any())
+
+    driven = [*result.advance_um.values(), *result.suction_kPa.values()]
+    return any(in_time(np.asarray(s, dtype=float)) for s in driven)
+
+
+def history_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
+    """Force on each moving tool and each pipette's aspirated length against time: where a
+    hold relaxes (force at a held depth) or creeps (length at a held suction)."""
+    moving = [n for n, a in result.advance_um.items() if np.ptp(a) > 0]
+    panels = [p for p, has in (("force", moving), ("length", result.aspiration_change_um)) if has]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(5.5, 2.4 + 1.6 * len(panels)), sharex=True)
+    axes = np.atleast_1d(axes)
+    for ax, panel in zip(axes, panels, strict=True):
+        if panel == "force":
+            for name in moving:
+                ax.plot(result.times_s, an.push_force_nN(result, name), "o-", ms=3, label=name)
+            ax.set_ylabel(f"force on the tool ({an.force_unit(result)})")
+        else:
+            for name, length in result.aspiration_change_um.items():
+                ax.plot(result.times_s, length, "o-", ms=3, label=name)
+            ax.set_ylabel("aspiration length change (um)")
+        ax.legend(fontsize=7)
+    axes[-1].set_xlabel("time (s)")
+    what = " and ".join({"force": "force", "length": "aspirated length"}[p] for p in panels)
+    return _save(fig, output, "history.png"), (
+        f"{what[0].upper()}{what[1:]} against time (a hold or a retract: the relaxation or "
+        "creep is read here)"
+    )
+
+
 def tracks_figure(result: ExperimentResult, output: Output) -> tuple[str, str]:
     """Displacement magnitude of each material point against time."""
     fig, ax = plt.subplots(figsize=(5.5, 3.5))

@@ -80,6 +80,8 @@ def run_fe_experiment(ctx: CaseContext) -> CaseOutcome:
     rp.write_history(result, ctx.output)
     moved = any(np.ptp(a) > 0 for a in result.advance_um.values())  # a still tool: no curve
     figures = [Figure(*rp.force_figure(result, ctx.output))] if moved else []
+    if rp.held_or_reversed(result) and (moved or result.aspiration_change_um):
+        figures.append(Figure(*rp.history_figure(result, ctx.output)))
     if result.suction_kPa:
         figures.append(Figure(*rp.suction_figure(result, ctx.output)))
     if result.aspiration_change_um:

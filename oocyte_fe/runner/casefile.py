@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -282,6 +283,26 @@ def _member(annotation: Any) -> tuple[type, set[str]]:
     return annotation, tags | {annotation.__name__}
 
 
+def _misplaced_input(file: Path, raw: dict, err: ValidationError, kind_module: str | None) -> None:
+    """An unknown top-level key that is an input of the case's kind (written above the first
+    ``[inputs...]`` table header, or after a table's end): one line saying where it goes."""
+    unknown = [e["loc"][0] for e in err.errors() if e["type"] == "extra_forbidden"]
+    if not unknown or len(err.errors()[0]["loc"]) != 1 or not isinstance(raw.get("kind"), str):
+        return
+    try:
+        inputs = get_kind(raw["kind"], file, module=kind_module).inputs.model_fields
+    except InputError:
+        return  # the kind's own error is named by the schema
+    key = str(unknown[0])
+    if key in inputs:
+        raise InputError(
+            file,
+            key,
+            f"no such key at the top level: {key!r} is an input, write it in the [inputs] "
+            f"table (inputs.{key}: a bare key belongs to the table whose header is above it)",
+        )
+
+
 def did_you_mean(word: str, known: list[str]) -> str:
     """`` (did you mean 'x'?)`` for the closest of ``known``, or ``""``."""
     close = difflib.get_close_matches(str(word), known, n=1, cutoff=0.6)
@@ -319,6 +340,10 @@ def raise_validation_error(
     if more:
         expected += f" (and {more} more error{'s' if more > 1 else ''})"
     got = first.get("input")
+    if isinstance(got, dict) and "type =" in expected and "type" in got:  # a type's typo
+        field, got = f"{field}.type", got["type"]
+        named = re.findall(r"[a-z][a-z_]+", expected.split("type =", 1)[1])
+        expected += did_you_mean(str(got), [w for w in named if w not in ("one", "of", "or")])
     if isinstance(got, dict | list | tuple) and len(repr(got)) > 80:
         got = None  # a whole table is no help in a one-line message
     raise InputError(file, field, expected, got=got) from None
@@ -448,6 +473,7 @@ def load_case(
     try:
         spec = CaseSpec.model_validate(raw)
     except ValidationError as exc:
+        _misplaced_input(file, raw, exc, kind_module)
         raise_validation_error(file, exc, model=CaseSpec)
     _check_tables(file, spec)
     kind = get_kind(spec.kind, file, module=kind_module)

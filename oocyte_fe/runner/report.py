@@ -166,6 +166,7 @@ def write_case_report(
 
 def _inputs_toml(case: Case) -> str:
     data = case.inputs.model_dump(mode="json", exclude_none=True)
+    data = {key: value for key, value in data.items() if value != ""}  # an unset text
     return tomli_w.dumps(data).strip()
 
 

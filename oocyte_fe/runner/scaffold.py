@@ -192,7 +192,11 @@ def _table(
             files[doc.name] = doc
             if doc.source:
                 lines.append(f"# template written beside this file; its rows: {doc.source}")
-            lines.append(f'{doc.name} = "{doc.name}{doc.suffix}"   # replace with your data')
+            entry = f'{doc.name} = "{doc.name}{doc.suffix}"'
+            if not doc.required and default is None and not given:  # optional: off until set
+                lines.append(f"# {entry}   # optional: uncomment to use (template beside)")
+            else:
+                lines.append(f"{entry}   # replace with your data")
         elif doc.required and not given:
             lines.append(f"# {doc.name} =    # REQUIRED: set a value")
         elif default is None:
