@@ -59,3 +59,19 @@ def test_kinds_lists_the_fields_of_each_tool_and_load_type() -> None:
         assert f"tools.NAME with type = {kind_of!r}:" in text
     assert "loads.NAME with type = 'pressure':" in text
     assert "tools.NAME.radius_um [um]" in text and "tools.NAME.suction_Pa [Pa]" in text
+
+
+def test_named_values_are_written_inline_where_the_comment_stands(tmp_path: Path) -> None:
+    """An input mapping names to numbers or strings (afm_fit_files' `geometry`) says to write
+    them inline on its line; the tester followed "add them as [inputs.geometry.NAME] tables"
+    and got "expected a valid number". Names mapped to tables keep the table form."""
+    import tomllib
+
+    folder = tmp_path / "fits"
+    new_case(get_kind("afm_fit_files"), folder)
+    text = (folder / "case.toml").read_text()
+    comment = "# none by default; write them here: geometry = { NAME = value, ... }"
+    assert comment in text
+    assert "# none by default; add them as [inputs.calibration.NAME] tables" in text
+    edited = text.replace(comment, "geometry = { half_angle_deg = 10.0 }", 1)
+    assert tomllib.loads(edited)["inputs"]["geometry"] == {"half_angle_deg": 10.0}

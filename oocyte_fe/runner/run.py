@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import os
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -68,6 +69,16 @@ class RunPlan:
     cases: list[Case]
     invalid: list[tuple[str, str]]  # (case name, one-line error)
     skipped: list[str] = field(default_factory=list)  # heavy cases left out (no --full)
+    declared: dict[str, str] = field(default_factory=dict)  # an invalid case's kind, if named
+
+
+def declared_kind(folder: Path) -> str:
+    """The ``kind`` a case file names, as written (``?`` where the file does not say)."""
+    try:
+        kind = tomllib.loads((folder / CASE_FILE).read_text()).get("kind")
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return "?"
+    return kind if isinstance(kind, str) and kind else "?"
 
 
 def plan(
@@ -91,17 +102,19 @@ def plan(
         folders = [f for f in folders if f.name in only]
     named = {p.resolve() for p in paths if (p / CASE_FILE).is_file()}
     cases, invalid, skipped = [], [], []
+    declared: dict[str, str] = {}
     for folder in folders:
         try:
             case = load_case(folder, quick=quick, full=full)
         except InputError as exc:
             invalid.append((folder.name, str(exc)))
+            declared[folder.name] = declared_kind(folder)
             continue
         if case.spec.heavy and not (full or only or folder.resolve() in named):
             skipped.append(case.name)
         else:
             cases.append(case)
-    return RunPlan(cases, invalid, skipped)
+    return RunPlan(cases, invalid, skipped, declared)
 
 
 def default_jobs() -> int:
@@ -146,7 +159,10 @@ def run_cases(
     """
     check_writable(out_root)
     clean_stale(out_root)
-    results = [failure_folder(out_root, n, "?", f"invalid case: {e}") for n, e in run_plan.invalid]
+    results = [
+        failure_folder(out_root, n, run_plan.declared.get(n, "?"), f"invalid case: {e}")
+        for n, e in run_plan.invalid
+    ]
 
     show = Guarded(events)
 

@@ -59,6 +59,16 @@ def _types(annotation: Any) -> list[Any]:
     return [annotation]
 
 
+def _tables_by_name(model: type[BaseModel], name: str) -> bool:
+    """Whether the input ``name`` of ``model`` maps names to tables (``dict[str, Model]``,
+    a union of models too), not to values."""
+    for kind in _types(model.model_fields[name].annotation):
+        if typing.get_origin(kind) is dict:
+            values = _types(typing.get_args(kind)[1])
+            return any(isinstance(t, type) and issubclass(t, BaseModel) for t in values)
+    return False
+
+
 def _template_text(extra: dict[str, Any]) -> str:
     """A data-file template: ``example_text``, or the header and ``example_rows`` as CSV."""
     if "example_text" in extra:
@@ -201,8 +211,12 @@ def _table(
             lines.append(f"# {doc.name} =    # REQUIRED: set a value")
         elif default is None:
             lines.append(f"# {doc.name} =    # optional, no default")
-        elif isinstance(default, dict) and not default:  # tables by name, none by default:
+        elif isinstance(default, dict) and not default and _tables_by_name(model, doc.name):
             lines.append(f"# none by default; add them as [{title}.{doc.name}.NAME] tables")
+        elif isinstance(default, dict) and not default:  # values by name: NAME = value
+            lines.append(
+                f"# none by default; write them here: {doc.name} = {{ NAME = value, ... }}"
+            )
         else:
             lines.append(f"{doc.name} = {_toml_value(default)}")
     for doc, default in nested:
