@@ -6,6 +6,10 @@ tip-sample separation follows from the cantilever deflection ``force / k``::
 
     tip position  x = piezo - F/k                          [um]
     indentation   delta = x - contact_point = piezo - contact_point - F/k
+
+A recorded column of either sign (a JPK-style height decreases towards the sample) is turned
+into this convention where it is read (:func:`approach_segment`, afmformats' files in
+:mod:`afm.instrument_io`).
 """
 
 from __future__ import annotations
@@ -152,3 +156,54 @@ def force_from_deflection(
     if not np.all(np.isfinite(force)):
         raise InputError(where, "deflection_V", "forces V * s * k within floating point range")
     return force
+
+
+def approach_end(towards_um: np.ndarray) -> int:
+    """End (exclusive) of the approach in a travel towards the sample: all points, or, when
+    the travel turns back by more than :data:`MAX_JITTER_FRACTION` of its span, the points
+    before the turn (the farthest travel, where the retract starts)."""
+    span = float(np.ptp(towards_um))
+    step_back = np.maximum.accumulate(towards_um) - towards_um
+    if span > 0 and float(step_back.max()) > MAX_JITTER_FRACTION * span:
+        return int(np.argmax(towards_um))
+    return towards_um.size
+
+
+def approach_segment(
+    travel: np.ndarray, force_nN: np.ndarray, source: str, column: str
+) -> tuple[np.ndarray, int]:
+    """The travel towards the sample and the end (exclusive) of the approach of a recorded
+    column whose sign convention is not known (a text table's piezo or height column).
+
+    Rows are in time order. The approach runs from the first row to the farthest travel
+    from it, ``turn = argmax |travel - travel[0]|``; its direction gives the sign::
+
+        s = sign(travel[turn] - travel[0]),   towards = s * travel            [um]
+
+    so a piezo extension (increasing towards the sample) and a JPK-style height (decreasing
+    towards it) both become a travel increasing towards the sample, and the tip travel from
+    the curve's first point (``contact_from_start_um``) keeps its meaning. Rows after the
+    turn (a retract) are left out (:func:`approach_end`). The approach must end where the
+    force rises: when the median force of its last ``m = max(3, n/50)`` rows lies below that of
+    its first ``m`` rows by more than a quarter of its force range, the rows hold a retract
+    only (travel away from the sample, force falling) and are refused with
+    :class:`InputError`.
+    """
+    offset = travel - travel[0]
+    turn = int(np.argmax(np.abs(offset)))
+    towards = travel if offset[turn] >= 0 else -travel
+    end = approach_end(towards)
+    force = force_nN[:end]
+    m = max(3, end // 50)
+    if end > m:
+        first, last = float(np.median(force[:m])), float(np.median(force[-m:]))
+        if first - last > 0.25 * float(np.ptp(force)):
+            raise InputError(
+                source,
+                column,
+                "an approach (rows in time order, the force rising as the tip nears the "
+                "sample); these rows are a retract only (travel away from the sample, the "
+                "force falling): give the approach, or approach then retract",
+                f"force {first:.3g} nN at the first rows falling to {last:.3g} nN at row {end}",
+            )
+    return towards, end

@@ -1,15 +1,25 @@
 """Reading and writing force curves and creep records; units converted here, at the boundary.
 
 Plain text (``.csv``, ``.tsv``, ``.txt``): one header row of column names that carry their unit,
-then numbers; comma, tab or whitespace separated. Lines starting with ``#`` before the header
-hold metadata as ``# key = value``.
+then numbers; comma, tab, semicolon or whitespace separated (with semicolons a decimal comma
+is read as a decimal point: ``0,25;1,5`` is 0.25 and 1.5). Lines starting with ``#`` before
+the header hold metadata as ``# key = value``. A header naming none of the columns below (no
+header, or other names) is refused with the first row shown.
 
-* piezo travel towards the sample: ``piezo_um``, ``piezo_nm``, ``height_um`` or ``height_nm``
-* force: ``force_nN``, ``force_pN`` or ``force_uN``; or deflection ``deflection_nm`` /
-  ``deflection_um`` (times k), or ``deflection_V`` (times sensitivity and k)
+* piezo travel: ``piezo_um``, ``piezo_nm``, ``piezo_m``, ``height_um``, ``height_nm`` or
+  ``height_m``, either sign: increasing towards the sample (a piezo extension) or decreasing
+  (a JPK-style height); :func:`afm.curve.approach_segment` orients it and keeps the rows up
+  to the turn when the file goes on into the retract
+* force: ``force_nN``, ``force_pN``, ``force_uN`` or ``force_N``; or deflection
+  ``deflection_nm`` / ``deflection_um`` (times k), or ``deflection_V`` (times sensitivity
+  and k)
 * optional ``time_s``
 * metadata: ``spring_constant_N_per_m`` (required), ``sensitivity_nm_per_V`` (for volts),
   ``group`` (batch grouping; default: the folder name)
+
+A force curve whose approach travel or force range cannot be an AFM's in the declared unit
+(:data:`TRAVEL_RANGE_UM`, :data:`FORCE_RANGE_NN`) is refused, naming the unit it looks like:
+metres written under ``piezo_um`` give a travel of a few pm.
 
 Creep records (:func:`read_creep`): ``time_s``, a force column, and ``indentation_um`` (or
 ``indentation_nm``), or a piezo/height column with metadata ``contact_point_um``; the
@@ -31,7 +41,12 @@ from pathlib import Path
 import numpy as np
 
 from afm.creep_data import CreepData
-from afm.curve import ForceCurve, force_from_deflection, spring_constant_nN_per_um
+from afm.curve import (
+    ForceCurve,
+    approach_segment,
+    force_from_deflection,
+    spring_constant_nN_per_um,
+)
 from afm.instrument_io import (
     hdf5_map_keys,
     iter_instrument_curves,
@@ -43,10 +58,33 @@ from oocyte_fe.checks import excerpt
 from oocyte_fe.errors import InputError
 
 TEXT_SUFFIXES = {".csv", ".tsv", ".txt"}
-PIEZO_COLUMNS = {"piezo_um": 1.0, "piezo_nm": 1e-3, "height_um": 1.0, "height_nm": 1e-3}
-FORCE_COLUMNS = {"force_nN": 1.0, "force_pN": 1e-3, "force_uN": 1e3}
+PIEZO_COLUMNS = {
+    "piezo_um": 1.0,
+    "piezo_nm": 1e-3,
+    "piezo_m": 1e6,
+    "height_um": 1.0,
+    "height_nm": 1e-3,
+    "height_m": 1e6,
+}
+FORCE_COLUMNS = {"force_nN": 1.0, "force_pN": 1e-3, "force_uN": 1e3, "force_N": 1e9}
 DEFLECTION_COLUMNS = {"deflection_um": 1.0, "deflection_nm": 1e-3}
 INDENTATION_COLUMNS = {"indentation_um": 1.0, "indentation_nm": 1e-3}
+
+TRAVEL_RANGE_UM = (1e-3, 1e3)
+"""Approach travel (largest less smallest piezo position) an AFM force curve can have, um:
+1 nm (below it no contact can be resolved) to 1 mm (piezo scanners reach 15-100 um)."""
+FORCE_RANGE_NN = (1e-3, 1e6)
+"""Force range (largest less smallest) an AFM force curve can have, nN: 1 pN (the thermal
+noise of the softest cantilevers is several pN) to 1 mN (a 100 N/m lever bent 10 um)."""
+_UNIT_NAMES = {
+    "m": "metres",
+    "um": "micrometres",
+    "nm": "nanometres",
+    "N": "newtons",
+    "uN": "micronewtons",
+    "nN": "nanonewtons",
+    "pN": "piconewtons",
+}
 
 
 def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]:
@@ -74,10 +112,14 @@ def read_table(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, str]]
         numbers.append(number)
     if not body:
         raise InputError(path, "", "a header row and data rows (the file is empty)")
-    delimiter = "\t" if "\t" in body[0] else ("," if "," in body[0] else None)
+    delimiter = next((d for d in ("\t", ";", ",") if d in body[0]), None)
     names = [n.strip() for n in re.split(delimiter or r"\s+", body[0])]
     if len(names) < 2:
         raise InputError(path, "header", "at least two columns (piezo and force)", body[0])
+    if not OWN_COLUMNS & set(names):
+        raise InputError(path, "header", HEADER_EXPECTED, excerpt(body[0]))
+    if delimiter == ";":  # a European export: decimal commas
+        body = [body[0], *(row.replace(",", ".") for row in body[1:])]
     if len(body) < 2:
         raise InputError(path, "", "data rows below the header")
     try:
@@ -103,11 +145,14 @@ def _bad_row(path: Path, body: list[str], numbers: list[int], delimiter: str | N
     return InputError(path, "", "numbers in every data row")
 
 
-def _pick(columns: dict, options: dict[str, float], path: Path, what: str) -> np.ndarray | None:
-    for name, scale in options.items():
-        if name in columns:
-            return columns[name] * scale
-    return None
+def _pick(columns: dict, options: dict[str, float]) -> np.ndarray | None:
+    name = _name(columns, options)
+    return None if name is None else columns[name] * options[name]
+
+
+def _name(columns: dict, options: dict[str, float]) -> str | None:
+    """The first of ``options``' column names the table has."""
+    return next((name for name in options if name in columns), None)
 
 
 def _meta_float(meta: dict[str, str], key: str, given: float | None, path: Path) -> float | None:
@@ -124,10 +169,10 @@ def _meta_float(meta: dict[str, str], key: str, given: float | None, path: Path)
 def _force(
     columns: dict, meta: dict, k_N_per_m: float, sensitivity: float | None, path: Path
 ) -> np.ndarray:
-    force = _pick(columns, FORCE_COLUMNS, path, "force")
+    force = _pick(columns, FORCE_COLUMNS)
     if force is not None:
         return force
-    deflection = _pick(columns, DEFLECTION_COLUMNS, path, "deflection")
+    deflection = _pick(columns, DEFLECTION_COLUMNS)
     if deflection is not None:
         return deflection * spring_constant_nN_per_um(k_N_per_m, str(path))
     if "deflection_V" in columns:
@@ -147,19 +192,37 @@ OWN_COLUMNS = {
     "deflection_V",
     "time_s",
 }
+HEADER_EXPECTED = (
+    f"a header row of unit-named columns: travel {'|'.join(PIEZO_COLUMNS)}, force "
+    f"{'|'.join(FORCE_COLUMNS)} (or {'|'.join(DEFLECTION_COLUMNS)}|deflection_V), optional "
+    "time_s; comma, tab or semicolon separated"
+)
+
+
+def _first_row(path: Path) -> str | None:
+    """The first line of ``path`` that is neither blank nor a ``#`` comment (None: none)."""
+    with path.open(errors="replace") as fh:
+        for line in fh:
+            stripped = line.strip()
+            if stripped and not stripped.startswith("#"):
+                return stripped
+    return None
 
 
 def _is_own_table(path: Path) -> bool:
-    """True when the first row that is not a ``#`` comment names one of this module's columns."""
+    """True when the first row that is not a ``#`` comment names one of this module's columns,
+    or, in a ``.csv``/``.tsv``, is a row of comma-, tab- or semicolon-separated cells (a table
+    without a valid header, which :func:`read_table` refuses naming the row; afmformats'
+    AFM-Workshop ``.csv`` starts with the line ``Force-Distance Curve``)."""
     try:
-        with path.open(errors="replace") as fh:
-            for line in fh:
-                stripped = line.strip()
-                if stripped and not stripped.startswith("#"):
-                    return bool(OWN_COLUMNS & {n.strip() for n in re.split(r"[,\t\s]+", stripped)})
+        row = _first_row(path)
     except OSError:
         return True
-    return True
+    if row is None:
+        return True
+    if OWN_COLUMNS & {n.strip() for n in re.split(r"[,;\t\s]+", row)}:
+        return True
+    return path.suffix.lower() in {".csv", ".tsv"} and any(d in row for d in ",;\t")
 
 
 def is_instrument_file(path: str | Path) -> bool:
@@ -242,12 +305,49 @@ def _read_table_curve(
     if k is None:
         raise InputError(path, "spring_constant_N_per_m", "the spring constant (metadata)")
     k_internal = spring_constant_nN_per_um(k, str(path))
-    piezo = _pick(columns, PIEZO_COLUMNS, path, "piezo")
-    if piezo is None:
+    piezo_name = _name(columns, PIEZO_COLUMNS)
+    if piezo_name is None:
         raise InputError(path, "header", f"a piezo column: one of {', '.join(PIEZO_COLUMNS)}")
     force = _force(columns, meta, k, sensitivity_nm_per_V, path)
-    group = meta.get("group", path.parent.name)
-    return ForceCurve(piezo, force, k_internal, str(path), group, columns.get("time_s"))
+    piezo = columns[piezo_name] * PIEZO_COLUMNS[piezo_name]
+    towards, end = approach_segment(piezo, force, str(path), piezo_name)
+    time = columns.get("time_s")
+    curve = ForceCurve(
+        towards[:end],
+        force[:end],
+        k_internal,
+        str(path),
+        meta.get("group", path.parent.name),
+        None if time is None else time[:end],
+    )
+    force_name = _name(columns, {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}) or "deflection_V"
+    _check_range(path, piezo_name, np.ptp(curve.piezo_um), TRAVEL_RANGE_UM, "an approach travel")
+    _check_range(path, force_name, np.ptp(curve.force_nN), FORCE_RANGE_NN, "a force range")
+    return curve
+
+
+def _check_range(
+    path: Path, column: str, span: float, bounds: tuple[float, float], what: str
+) -> None:
+    """Refuse a travel [um] or force range [nN] (``span``, largest less smallest, in internal
+    units) outside ``bounds`` that was read from ``column``. The message names the column of
+    the same quantity whose unit would put it inside: metres under ``piezo_um`` give a travel
+    of 8e-06 um, which as ``piezo_m`` is ``8e-06 * 1e6`` = 8 um ("looks like metres")."""
+    low, high = bounds
+    if span == 0 or low <= span <= high:  # a flat column is no unit mistake: the fit says why
+        return
+    unit = "um" if column in PIEZO_COLUMNS else "nN"
+    options = PIEZO_COLUMNS if unit == "um" else {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}
+    stem = column.rpartition("_")[0] + "_"
+    got = f"{what} of {span:.3g} {unit}"
+    for other, scale in options.items():
+        rescaled = span * scale / options.get(column, np.nan)  # NaN: deflection_V, no guess
+        if other.startswith(stem) and other != column and low <= rescaled <= high:
+            name = _UNIT_NAMES[other.removeprefix(stem)]
+            got += f": looks like {name} ({other} would give {rescaled:.3g} {unit})"
+            break
+    expected = f"{what} that an AFM force curve can have ({low:g} to {high:g} {unit})"
+    raise InputError(path, column, expected, got)
 
 
 def write_curve(curve: ForceCurve, path: str | Path) -> Path:
@@ -284,9 +384,9 @@ def read_creep(
         raise InputError(path, "header", "a time_s column")
     k = _meta_float(meta, "spring_constant_N_per_m", None, path)
     force = _force(columns, meta, k if k is not None else float("nan"), None, path)
-    indentation = _pick(columns, INDENTATION_COLUMNS, path, "indentation")
+    indentation = _pick(columns, INDENTATION_COLUMNS)
     if indentation is None:
-        height = _pick(columns, PIEZO_COLUMNS, path, "height")
+        height = _pick(columns, PIEZO_COLUMNS)
         contact = _meta_float(meta, "contact_point_um", None, path)
         if height is None or contact is None or k is None:
             raise InputError(

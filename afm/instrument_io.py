@@ -47,7 +47,7 @@ import numpy as np
 from afm.baseline import fit_baseline, remove_baseline
 from afm.contact_point import deviation_index
 from afm.creep_data import CreepData
-from afm.curve import MAX_JITTER_FRACTION, ForceCurve, spring_constant_nN_per_um
+from afm.curve import ForceCurve, approach_end, spring_constant_nN_per_um
 from oocyte_fe.errors import InputError, MissingExtraError
 
 HEIGHT_CHANNELS = ("tip position", "height (measured)", "height (piezo)")
@@ -186,16 +186,6 @@ def _travel_um(segment, channel: str, force_nN: np.ndarray, k_nN_per_um: float) 
     return travel
 
 
-def _approach_end(travel: np.ndarray) -> int:
-    """End (exclusive) of the approach: all points, or, if the travel reverses, the points
-    before the turning point (the farthest travel, which starts the retract)."""
-    span = float(np.ptp(travel))
-    step_back = np.maximum.accumulate(travel) - travel
-    if span > 0 and float(step_back.max()) > MAX_JITTER_FRACTION * span:
-        return int(np.argmax(travel))
-    return travel.size
-
-
 def curve_from_record(
     record, source: str, height_channel: str = "auto", group: str = "", index: int | None = None
 ) -> ForceCurve:
@@ -205,7 +195,7 @@ def curve_from_record(
     approach = record.appr
     force = np.asarray(approach["force"], dtype=float) * 1e9
     travel = _travel_um(approach, channel, force, k)
-    end = _approach_end(travel)
+    end = approach_end(travel)
     time = np.asarray(approach["time"], dtype=float)[:end] if "time" in record.columns else None
     position = None
     if index is not None:
