@@ -301,6 +301,14 @@ COLUMNS = {
 """Columns of :func:`write_batch_table` and what each holds (``plot`` only with plot links)."""
 
 
+def _rating_text(fit: IndentationFit | None, cytoplasm: IndentationFit | None) -> str:
+    """The fit's rating; for a pierce-through curve each layer's, named (``ZP good (...);
+    cytoplasm poor: ...``)."""
+    if cytoplasm is None:
+        return "" if fit is None else fit.rating
+    return f"ZP {'' if fit is None else fit.rating}; cytoplasm {cytoplasm.rating}"
+
+
 def _from_start(fit: IndentationFit, start: IndentationFit) -> str:
     """``fit``'s contact point less the first tip position of ``start`` (same curve), um."""
     return f"{fit.contact_point_um - float(start.tip_position_um[0]):.6g}"
@@ -335,7 +343,7 @@ def write_batch_table(
                 "file": str(name),
                 "group": r.group,
                 "quality": quality,
-                "rating": r.error or "; ".join(x.rating for x in (f, c) if x is not None),
+                "rating": r.error or _rating_text(f, c),
                 "analysis": analysis,
                 "fit_range": fit_range,
                 "height_channel": r.height_channel,

@@ -44,7 +44,7 @@ from scipy.signal import find_peaks
 from afm.baseline import remove_baseline
 from afm.curve import ForceCurve
 from afm.fit import FitRange, IndentationFit, fit_indentation
-from afm.models import POISSON_RATIO, get_model
+from afm.models import MODELS, POISSON_RATIO, IndentationModel, get_model
 from oocyte_fe.checks import fraction
 from oocyte_fe.errors import InputError
 
@@ -70,16 +70,39 @@ class PierceFit:
     cytoplasm: IndentationFit
 
 
+def pierce_model(model: str, where: str = "<input>") -> IndentationModel:
+    """The tip ``model`` if a pierce-through fit is defined for it, else :class:`InputError`.
+
+    The cytoplasm segment is fitted as ``F = F1 + E_cyt shape(x - x1)``; for a tip whose
+    force is linear in depth (``exponent`` 1: ``flat_punch``) this is ``(F1 - E_cyt s x1) +
+    E_cyt s x``, so F1 and x1 are one parameter and the fit is not defined.
+    """
+    tip = get_model(model, where)
+    if tip.exponent <= 1.0:
+        usable = ", ".join(k for k, m in sorted(MODELS.items()) if m.exponent > 1.0)
+        raise InputError(
+            where,
+            "model",
+            f"a tip for pierce-through curves, one of {usable} (under a force linear in depth "
+            "the cytoplasm's contact reference and force level are one parameter)",
+            model,
+        )
+    return tip
+
+
 def detect_pierce(curve: ForceCurve, min_drop_fraction: float = 0.1) -> PierceEvent:
     """The first force drop larger than ``min_drop_fraction`` of the force range."""
     force = curve.force_nN
     span = float(np.ptp(force))
     peaks, props = find_peaks(force, prominence=min_drop_fraction * span)
     if peaks.size == 0:
+        drop = f": largest drop {_largest_drop(force) / span:.2g} of it" if span > 0 else ""
         raise InputError(
             curve.source,
             "force_nN",
-            f"a pierce event (force drop > {min_drop_fraction:g} of the force range)",
+            f"a pierce event: a force drop of more than {min_drop_fraction:g} of the force range "
+            "(the ZP giving way)",
+            f"no pierce detected{drop}",
         )
     peak = int(peaks[0])
     after = force[peak:]
@@ -87,6 +110,11 @@ def detect_pierce(curve: ForceCurve, min_drop_fraction: float = 0.1) -> PierceEv
     end = peak + (int(regained[0]) if regained.size else after.size)
     trough = peak + int(np.argmin(force[peak:end]))
     return PierceEvent(peak, trough, float(force[peak]), float(force[peak] - force[trough]))
+
+
+def _largest_drop(force: np.ndarray) -> float:
+    """Largest fall of the force below an earlier maximum, nN."""
+    return float(np.max(np.maximum.accumulate(force) - force))
 
 
 def fit_offset_segment(
@@ -158,11 +186,17 @@ def fit_pierce(
     min_drop_fraction: float = 0.1,
     contact_method: str = "fit",
 ) -> PierceFit:
-    """Detect the pierce, fit the ZP on the first rising segment and the cytoplasm on the second."""
+    """Detect the pierce, fit the ZP on the first rising segment and the cytoplasm on the second.
+
+    Refused (:class:`InputError` naming ``curve.source``): a tip for which the cytoplasm fit
+    is not defined (:func:`pierce_model`), a curve without a force drop of more than
+    ``min_drop_fraction`` of its force range ("no pierce detected"), too few points before
+    the drop or after it.
+    """
     if not isinstance(curve, ForceCurve):
         raise InputError("<input>", "curve", "a ForceCurve", type(curve).__name__)
     src = curve.source
-    tip = get_model(model, src)
+    tip = pierce_model(model, src)
     geometry = tip.check_geometry(geometry or {}, src)
     nu = POISSON_RATIO.check(nu, src)
     min_drop_fraction = fraction(src, "min_drop_fraction", min_drop_fraction)

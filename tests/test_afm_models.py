@@ -11,6 +11,7 @@ from oocyte_fe.errors import InputError
 
 GEOMETRIES = {
     "sneddon_cone": {},
+    "flat_punch": {"radius_um": 2.0},
     "hertz_paraboloid": {"radius_um": 5.0},
     "hertz_sphere": {"radius_um": 5.0},
     "pyramid": {"face_angle_deg": 35.0},
@@ -18,8 +19,9 @@ GEOMETRIES = {
 }
 
 
-def test_registry_lists_the_five_tip_models():
+def test_registry_lists_the_six_tip_models():
     assert set(MODELS) == {
+        "flat_punch",
         "sneddon_cone",
         "hertz_paraboloid",
         "hertz_sphere",
@@ -101,5 +103,5 @@ def test_geometry_is_validated_with_names():
     with pytest.raises(InputError, match="radius"):
         MODELS["sneddon_cone"].check_geometry({"radius": 1.0})
     with pytest.raises(InputError, match="one of"):
-        get_model("flat_punch")
+        get_model("berkovich")
     assert MODELS["sneddon_cone"].check_geometry({}) == {"half_angle_deg": 10.0}

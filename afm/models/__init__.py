@@ -3,7 +3,14 @@
 Importing this package imports every model module so that the registry is complete.
 """
 
-from afm.models import hertz_paraboloid, hertz_sphere, pyramid, pyramid_3s, sneddon_cone
+from afm.models import (
+    flat_punch,
+    hertz_paraboloid,
+    hertz_sphere,
+    pyramid,
+    pyramid_3s,
+    sneddon_cone,
+)
 from afm.models.registry import (
     CONTACT_POINT,
     FIT_PARAMETERS,
@@ -24,6 +31,7 @@ __all__ = [
     "YOUNGS_MODULUS",
     "IndentationModel",
     "Parameter",
+    "flat_punch",
     "get_model",
     "hertz_paraboloid",
     "hertz_sphere",

@@ -33,6 +33,7 @@ from oocyte_fe.kinds.afm_fit_files_args import (
 )
 from oocyte_fe.kinds.afm_fit_files_correction import add_correction_columns, correction
 from oocyte_fe.kinds.afm_fit_files_inputs import METRICS, FitFilesInputs
+from oocyte_fe.kinds.afm_fit_files_pierce import no_pierce
 from oocyte_fe.kinds.afm_fit_files_ramps import ramp_metrics
 from oocyte_fe.kinds.afm_fit_files_report import sections, write_fits, write_materials
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Check, case_kind
@@ -75,7 +76,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     figures, plots = write_fits(result, inp, ctx.output, case_dir, WORKERS)
     add_correction_columns(ctx.output("fits.csv"), result)
     ctx.step("material files")
-    material_rows = write_materials(result, ctx.output)
+    material_rows = write_materials(result, inp, ctx.output)
 
     n_fitted = len(result.fitted)
     metrics: dict[str, float | list[float]] = {
@@ -84,6 +85,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "n_failed": float(result.n_refused),
         "n_poor": float(result.n_poor),
         **ramp_metrics(result),
+        **({"n_no_pierce": float(no_pierce(result))} if inp.pierce else {}),
     }
     checks = [
         Check(

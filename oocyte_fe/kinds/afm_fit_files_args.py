@@ -15,6 +15,7 @@ from afm.fit_files import CreepRecord, pattern_group
 from afm.instrument_io import INSTRUMENT_SUFFIXES
 from afm.models import get_model
 from afm.nanite_pipeline import fit_nanite_default
+from afm.pierce import pierce_model
 from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError, MissingExtraError
 
@@ -187,7 +188,10 @@ def creep_records(inp: FitFilesInputs, case_dir: Path) -> dict[str, CreepRecord]
 
 def fit_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
     """Keywords of :func:`afm.batch.fit_batch` for ``analysis``: nanite's fit function (no fit
-    range, contact point free), or the fit range and contact method of the default fit."""
+    range, contact point free), or the fit range and contact method of the default fit; with
+    ``pierce``, those of :func:`pierce_options`."""
+    if inp.pierce:
+        return pierce_options(inp, where)
     if inp.analysis == "nanite":
         fit_range = (inp.max_indentation_um, inp.max_force_fraction)
         if fit_range != (None, None) or inp.contact_method != "fit":
@@ -211,3 +215,42 @@ def known_moduli_file(inp: FitFilesInputs, case_dir: Path) -> Path | None:
         return None
     field = "inputs.known_moduli"
     return regular_file(inside(inp.known_moduli, case_dir, case_dir / "case.toml", field), field)
+
+
+PIERCE_REFUSES = {
+    "viscoelastic": "a ramp fit in time takes the whole curve as one layer",
+    "correction": "a correction takes one layer's modulus, the other's given",
+}
+"""Input tables refused with ``pierce = true``, and why."""
+
+
+def pierce_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
+    """Keywords of :func:`afm.batch.fit_batch` for pierce-through curves
+    (:func:`afm.pierce.fit_pierce`): the ZP's fit range (``max_indentation_um`` past the ZP
+    contact, ``max_force_fraction`` of the force at the drop) and the contact method.
+
+    Refused (naming ``case.toml`` and the input): a tip for which the cytoplasm fit is not
+    defined (:func:`afm.pierce.pierce_model`: ``flat_punch``), nanite's analysis, a
+    ``viscoelastic`` or ``correction`` table.
+    """
+    try:
+        pierce_model(inp.model, str(where))
+    except InputError as exc:
+        raise InputError(
+            where, "inputs.model", f"{exc.expected}, with pierce = true", exc.got
+        ) from None
+    if inp.analysis != "default":
+        raise InputError(
+            where,
+            "inputs.analysis",
+            'analysis = "default" with pierce = true (both layers are fitted by afm.fit)',
+            inp.analysis,
+        )
+    for name, why in PIERCE_REFUSES.items():
+        if getattr(inp, name) is not None:
+            raise InputError(where, f"inputs.{name}", f"no {name} table with pierce = true ({why})")
+    return {
+        "pierce": True,
+        "zp_range": FitRange(inp.max_indentation_um, inp.max_force_fraction),
+        "contact_method": inp.contact_method,
+    }

@@ -27,7 +27,8 @@ from oocyte_fe.kinds.afm_fit_files_args import (
 from oocyte_fe.kinds.afm_fit_files_correction import correction
 
 if TYPE_CHECKING:
-    from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs, Viscoelastic
+    from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
+    from oocyte_fe.kinds.afm_fit_files_tables import Viscoelastic
 
 
 def unused_options(ve: Viscoelastic) -> None:

@@ -10,115 +10,17 @@ import math
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import Discriminator, Field, Tag, ValidationInfo, field_validator, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from afm.fit_files import read_known_moduli
 from afm.models import MODELS
-from afm.ramp_files import RampOptions
 from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError
-from oocyte_fe.kinds.afm_fit_files_check import check_case, read_creep_records, unused_options
+from oocyte_fe.kinds.afm_fit_files_check import check_case, read_creep_records
+from oocyte_fe.kinds.afm_fit_files_tables import Calibration, CorrectionInputs, Viscoelastic
 from oocyte_fe.kinds.data_templates import KNOWN_MODULI
 from oocyte_fe.runner.casefile import DataFile
-from oocyte_fe.runner.schema import CaseInputs, DataReader, RuleBroken, Setup
-
-
-class Calibration(CaseInputs):
-    """Cantilever calibration for the files of one pattern (overrides the files' own)."""
-
-    spring_constant_N_per_m: float | None = Field(
-        None, gt=0, description="spring constant", json_schema_extra={"unit": "N/m"}
-    )
-    sensitivity_nm_per_V: float | None = Field(
-        None,
-        gt=0,
-        description="deflection sensitivity (for deflection recorded in volts)",
-        json_schema_extra={"unit": "nm/V"},
-    )
-
-
-class Viscoelastic(CaseInputs):
-    """The viscoelastic fit of every ramp in time (Ting's method, afm.viscoelastic)."""
-
-    rules = (Setup(unused_options),)
-
-    relaxation: Literal["prony", "power_law", "sls"] = Field(
-        "prony",
-        description="relaxation modulus: Prony series, power law E0 (t/t0)^-beta, or the "
-        "standard linear solid (sls)",
-    )
-    terms: int = Field(
-        2,
-        ge=1,
-        le=4,
-        description="exponential terms of the Prony series",
-        json_schema_extra={"unit": "1"},
-    )
-    t0_s: float = Field(
-        1.0, gt=0, description="reference time t0 of the power law", json_schema_extra={"unit": "s"}
-    )
-    use_retract: bool = Field(True, description="fit the retract too, where the file has one")
-    joint_speeds: bool = Field(
-        True,
-        description="fit a group's curves together (one modulus; speeds a decade apart resolve "
-        "both short and long times); the group's material comes from that fit",
-    )
-
-    def options(self) -> RampOptions:
-        """The options of :func:`afm.ramp_files.fit_ramp_files`."""
-        return RampOptions(
-            self.relaxation, self.terms, self.t0_s, self.use_retract, self.joint_speeds
-        )
-
-
-class ShelledOocyteCorrection(CaseInputs):
-    """E_ZP from each sphere fit through the FE table of afm.corrections (docs/afm.md)."""
-
-    type: Literal["shelled_oocyte"]
-    zona_thickness_um: float = Field(
-        gt=0, le=1e3, description="ZP thickness h", json_schema_extra={"unit": "um"}
-    )
-    cytoplasm_modulus_kPa: float = Field(
-        gt=0,
-        le=1e6,
-        description="the cytoplasm's Young's modulus",
-        json_schema_extra={"unit": "kPa"},
-    )
-    cell_radius_um: float = Field(
-        gt=0, le=1e4, description="the cell's outer radius R", json_schema_extra={"unit": "um"}
-    )
-
-
-class BondedLayerCorrection(CaseInputs):
-    """A layer bonded to a rigid support: Dimitriadis et al. 2002 (sphere), Garcia and Garcia
-    2018 (cone), nu = 0.5 (afm.bottom_effect)."""
-
-    type: Literal["dimitriadis_bonded", "garcia_bonded"]
-    layer_thickness_um: float = Field(
-        gt=0, le=1e4, description="layer thickness h", json_schema_extra={"unit": "um"}
-    )
-
-
-def _correction_type(value: object) -> str | None:
-    kind = value.get("type") if isinstance(value, dict) else getattr(value, "type", None)
-    return {
-        "shelled_oocyte": "shell",
-        "dimitriadis_bonded": "bonded",
-        "garcia_bonded": "bonded",
-    }.get(kind)
-
-
-CorrectionInputs = Annotated[
-    Annotated[ShelledOocyteCorrection, Tag("shell")]
-    | Annotated[BondedLayerCorrection, Tag("bonded")],
-    Discriminator(
-        _correction_type,
-        custom_error_type="correction_type",
-        custom_error_message="a table with type = shelled_oocyte, dimitriadis_bonded or "
-        "garcia_bonded",
-    ),
-]
-"""A correction table, told apart by its ``type``."""
+from oocyte_fe.runner.schema import CaseInputs, DataReader, RuleBroken
 
 
 class FitFilesInputs(CaseInputs):
@@ -196,6 +98,12 @@ class FitFilesInputs(CaseInputs):
         description="cone half angle of the creep probe when it differs from the curves' tip "
         "(default: the creep fit uses the curves' model and geometry)",
         json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
+    )
+    pierce: bool = Field(
+        False,
+        description="pierce-through curves (the force drops when the probe pierces the ZP): the "
+        "ZP fitted up to the drop, the cytoplasm after it (afm.pierce.fit_pierce); a curve "
+        "without a drop is refused (no pierce detected); materials per layer",
     )
     include_poor: bool = Field(
         False,
@@ -281,6 +189,7 @@ METRICS = {
     "n_fitted": "curves fitted",
     "n_failed": "curves that could not be read or fitted (reported and skipped)",
     "n_poor": "fitted curves rated poor",
+    "n_no_pierce": "curves without a detectable pierce (pierce = true)",
     "max_known_error_pct": "largest |E / E_known - 1| over curves with a known modulus, %",
     "n_ramps_fitted": "ramps fitted in time (viscoelastic option)",
     "ve_E0_kPa": "E0 of the first group's joint ramp fit (groups by name), kPa",

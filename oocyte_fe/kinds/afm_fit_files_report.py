@@ -21,6 +21,14 @@ from afm.material_file import write_material
 from afm.ramp_files import RAMP_COLUMNS
 from oocyte_fe.kinds.afm_fit_files_correction import CORRECTION_COLUMNS, correction_text
 from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
+from oocyte_fe.kinds.afm_fit_files_pierce import (
+    layer_materials,
+    moduli_rows,
+    no_pierce,
+    plot_line,
+    strip_groups,
+    write_pierce_plots,
+)
 from oocyte_fe.kinds.afm_fit_files_ramps import (
     add_ramp_columns,
     file_stem,
@@ -48,6 +56,14 @@ WHY_NOT_NANITE = (
     "on a contact point up the rise, where its model misses the start of contact (up to 9x "
     "higher E on some instrument files; docs/afm.md, 'The default analysis against nanite'). "
     'Set analysis = "nanite" to reproduce a nanite/PyJibe analysis.'
+)
+
+
+PIERCE_TEXT = (
+    " Pierce-through curves (pierce = true): the ZP fitted up to the force drop (its fit range "
+    "the one given), the cytoplasm after it (afm.pierce.fit_pierce: F = F1 + E_cyt shape(x - "
+    "x1)); each layer rated on its own, a curve rated good when both are; a curve without a "
+    "drop is refused (no pierce detected)."
 )
 
 
@@ -79,6 +95,7 @@ def write_fits(
     batch = result.batch
     plot_dir = output("curve_plots/.keep").parent
     plots = {p.name for p in plot_curves(batch, plot_dir, workers=workers, which=inp.curve_plots)}
+    plots |= write_pierce_plots(result, plot_dir, inp.curve_plots)
     links = {
         i: f"curve_plots/{plot_name(r)}" for i, r in enumerate(batch.rows) if plot_name(r) in plots
     }
@@ -89,7 +106,11 @@ def write_fits(
         add_ramp_columns(output("fits.csv"), result.ramps, links)
         figures.extend(group_figures(result.ramps, output))
     if result.fitted:
-        by_group = {g: [r.fit for r in result.fitted if r.group == g] for g in result.stats}
+        by_group = (
+            strip_groups(result)
+            if inp.pierce
+            else {g: [r.fit for r in result.fitted if r.group == g] for g in result.stats}
+        )
         plotting.plot_strip(by_group, output("moduli.png"), inp.include_poor)
         figures.append(Figure("moduli.png", "Fitted Young's moduli per group (log axis)"))
     for file in sorted({r.file for r in batch.rows if r.map_position_um is not None}):
@@ -130,11 +151,13 @@ def _material_row(made: GroupMaterial, output: Output) -> str:
     )
 
 
-def write_materials(result: FitFilesResult, output: Output) -> list[str]:
+def write_materials(result: FitFilesResult, inp: FitFilesInputs, output: Output) -> list[str]:
     """``material_<group>.toml``, ``_ansys.inp`` and ``_febio.xml`` of every group with a
-    material (and the creep figure of a group with a creep record); the rows of the report's
-    material table."""
-    return [_material_row(made, output) for made in result.materials]
+    material (and the creep figure of a group with a creep record); with ``pierce`` one
+    per layer, ``<group>_zp`` and ``<group>_cytoplasm`` (:func:`layer_materials`); the rows
+    of the report's material table."""
+    made = layer_materials(result, inp.nu, inp.model) if inp.pierce else result.materials
+    return [_material_row(m, output) for m in made]
 
 
 def sections(
@@ -152,9 +175,14 @@ def sections(
     if result.correction is not None:
         used += f", moduli corrected ({result.correction.name})"
     poor_left_out = "are left out (include_poor = true keeps them)"
-    table = "\n".join(
-        f"| {s.group} | {s.n} | {s.n_poor} | " + (f"{s.mean_sd_text} |" if s.n else "- |")
-        for s in result.stats.values()
+    table = (
+        "| group | layer | n | n_poor | E [kPa] |\n|---|---|---|---|---|\n" + moduli_rows(result)
+        if inp.pierce
+        else "| group | n | n_poor | E [kPa] |\n|---|---|---|---|\n"
+        + "\n".join(
+            f"| {s.group} | {s.n} | {s.n_poor} | " + (f"{s.mean_sd_text} |" if s.n else "- |")
+            for s in result.stats.values()
+        )
     )
     failed = "\n".join(
         f"* `{Path(r.file).relative_to(case_dir).as_posix()}`"
@@ -164,25 +192,30 @@ def sections(
         for r in result.batch.failures
     )
     plot_links = "\n".join(
-        f"* [{Path(r.file).name}"
+        plot_line(r, plots)
+        if r.cytoplasm is not None
+        else f"* [{Path(r.file).name}"
         + ("" if r.curve_index is None else f" curve {r.curve_index}")
         + f"](curve_plots/{plot_name(r)}): E = {r.fit.E_kPa:.4g} kPa, {r.fit.rating}"
         for r in result.fitted
         if plot_name(r) in plots
     )
+    pierced = f" {no_pierce(result)} without a detectable pierce." if inp.pierce else ""
     contact = f", contact by {inp.contact_method}" if inp.analysis == "default" else ""
     analysis = f"**{inp.analysis}**: {ANALYSES[inp.analysis]}."
     if inp.analysis == "default":
         analysis += " " + WHY_NOT_NANITE
     return [
-        ("Result", f"{result.summary} ({len(rows)} curves in {n_files} files)."),
+        ("Result", f"{result.summary} ({len(rows)} curves in {n_files} files)." + pierced),
         (
             "Moduli per group (mean +- SD, kPa)",
             f"Over the {used} ({inp.model}, nu = {inp.nu:g}, {inp.analysis} analysis"
             f"{contact}; fit range: {fit_range_text(inp)}); n_poor fits rated poor "
             f"{'are included' if inp.include_poor else poor_left_out}"
-            "; SD n/a for n = 1. Every row is in `fits.csv`.\n\n"
-            "| group | n | n_poor | E [kPa] |\n|---|---|---|---|\n" + table,
+            "; SD n/a for n = 1. Every row is in `fits.csv`."
+            + (PIERCE_TEXT if inp.pierce else "")
+            + "\n\n"
+            + table,
         ),
         ("Correction for the sample's shape", correction_text(result)),
         ("Analysis", analysis),
