@@ -286,9 +286,14 @@ def plot_creep(
     return _save(fig, path)
 
 
+HOLD_SHOWN = 0.05
+"""A hold at the farthest travel is shaded in a ramp plot when it lasts this fraction of it."""
+
+
 def plot_ramp_fit(fit: RampFit, path: str | Path, title: str = "") -> Path:
     """Each ramp's force F(t) against the fitted model (Ting's method), residual below; one
-    column per ramp (speed), the turn from approach to retract marked."""
+    column per ramp (speed); a hold at the farthest travel shaded, the turn from approach to
+    retract marked where the travel reverses."""
     n = len(fit.ramps)
     fig, axes = plt.subplots(
         2, n, figsize=(5 * n, 5), squeeze=False, sharex="col", height_ratios=(3, 1)
@@ -298,8 +303,12 @@ def plot_ramp_fit(fit: RampFit, path: str | Path, title: str = "") -> Path:
         t = ramp.time_s
         ax_f.plot(t, ramp.force_nN, ".", ms=3, c="C0", label="data (baseline removed)")
         ax_f.plot(t, model, "-", c="C1", lw=1.5, label=f"{fit.relaxation} (Ting)")
-        ax_f.axvline(t[ramp.turn], ls=":", c="0.5", lw=1, label="turn: approach | retract")
-        ax_r.axvline(t[ramp.turn], ls=":", c="0.5", lw=1)
+        hold, turn = ramp.hold_start, ramp.turn
+        if t[turn] - t[hold] > HOLD_SHOWN * (t[-1] - t[0]):
+            ax_f.axvspan(t[hold], t[turn], color="0.92", label="hold (dwell) at farthest travel")
+        if turn < t.size - 1:
+            ax_f.axvline(t[turn], ls=":", c="0.5", lw=1, label="turn: approach | retract")
+            ax_r.axvline(t[turn], ls=":", c="0.5", lw=1)
         ax_f.set(ylabel="force [nN]")
         ax_f.set_title(_wrap_title(Path(ramp.source).name), fontsize=9)
         ax_f.legend(fontsize=7)

@@ -9,6 +9,7 @@ interpolated linearly onto one (step: the median step).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +19,12 @@ from afm.curve import MIN_POINTS, ForceCurve
 from oocyte_fe.checks import float_array, increasing, positive
 from oocyte_fe.errors import InputError
 
+TURN_SIGMAS = 4.0
+"""Tip positions within this many noise SDs of the farthest one still belong to the approach."""
+HOLD_TIME_FRACTION = 0.05
+"""A run near the farthest tip position longer than this fraction of the record is a hold."""
+HOLD_FRACTION = 0.01
+"""Tip positions within this fraction of the travel of the farthest one are the hold (dwell)."""
 UNIFORM_TOLERANCE = 1e-3
 """Largest deviation of a time step from the median step (relative) taken as uniform."""
 
@@ -26,8 +33,9 @@ UNIFORM_TOLERANCE = 1e-3
 class RampCurve:
     """Time [s], tip position [um] and force [nN] (baseline removed) of one ramp.
 
-    ``turn`` is the index of the farthest tip position (the end of the approach); points after
-    it are the retract. ``resampled`` tells whether the times were made uniform.
+    ``turn`` is the end of the approach (the last point within noise of the farthest tip
+    position, after any hold there); points after it are the retract. ``resampled`` tells
+    whether the times were made uniform.
     """
 
     time_s: np.ndarray
@@ -67,8 +75,30 @@ class RampCurve:
 
     @property
     def turn(self) -> int:
-        """Index of the farthest tip position (last approach point)."""
-        return int(np.argmax(self.tip_position_um))
+        """Index of the last approach point: the last within noise of the farthest tip position.
+
+        Noise: sigma = 1.4826 MAD(second differences) / sqrt(6). When the points within
+        :data:`TURN_SIGMAS` sigma of the farthest tip position span more than
+        :data:`HOLD_TIME_FRACTION` of the record (a hold at the farthest travel:
+        stress relaxation, the contact not shrinking), the last of them ends the approach: the
+        turn is where the travel reverses, or the last point when it never does. Otherwise
+        (a ramp turning at once) the turn is the farthest point.
+        """
+        x, t = self.tip_position_um, self.time_s
+        d2 = np.diff(x, 2)
+        sigma = 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / math.sqrt(6.0)
+        farthest = int(np.argmax(x))
+        near = np.flatnonzero(x >= x[farthest] - TURN_SIGMAS * sigma)
+        last = int(near[-1])
+        held = t[last] - t[near[0]] > HOLD_TIME_FRACTION * (t[-1] - t[0])
+        return last if held else farthest
+
+    @property
+    def hold_start(self) -> int:
+        """First index within :data:`HOLD_FRACTION` of the tip's travel of its farthest
+        position: with :attr:`turn`, the hold (dwell) at the farthest travel, if any."""
+        x = self.tip_position_um
+        return int(np.argmax(x >= x.max() - HOLD_FRACTION * float(np.ptp(x))))
 
     def approach(self) -> RampCurve:
         """The approach alone (points up to the turn)."""
