@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -297,9 +298,28 @@ def read_curve(
     return _read_table_curve(Path(path), spring_constant_N_per_m, sensitivity_nm_per_V)
 
 
-def _read_table_curve(
-    path: Path, spring_constant_N_per_m: float | None, sensitivity_nm_per_V: float | None
-) -> ForceCurve:
+@dataclass(frozen=True)
+class TableTravel:
+    """A curve table's rows as read: the travel towards the sample [um] (a height decreasing
+    towards it turned round: :func:`afm.curve.approach_segment`), the force [nN], the end
+    (exclusive) of the approach, the spring constant [nN/um], the columns and metadata."""
+
+    towards_um: np.ndarray
+    force_nN: np.ndarray
+    approach_end: int
+    spring_constant_nN_per_um: float
+    columns: dict[str, np.ndarray]
+    meta: dict[str, str]
+
+
+def read_table_travel(
+    path: str | Path, spring_constant_N_per_m: float | None, sensitivity_nm_per_V: float | None
+) -> TableTravel:
+    """Read a curve table (:func:`read_table`) into internal units, the approach's direction
+    found from the rows (either sign of the piezo/height column), the approach's travel and
+    force range checked against what an AFM force curve can have (:data:`TRAVEL_RANGE_UM`,
+    :data:`FORCE_RANGE_NN`: a unit mistake is refused, naming the unit it looks like)."""
+    path = Path(path)
     columns, meta = read_table(path)
     k = _meta_float(meta, "spring_constant_N_per_m", spring_constant_N_per_m, path)
     if k is None:
@@ -311,19 +331,25 @@ def _read_table_curve(
     force = _force(columns, meta, k, sensitivity_nm_per_V, path)
     piezo = columns[piezo_name] * PIEZO_COLUMNS[piezo_name]
     towards, end = approach_segment(piezo, force, str(path), piezo_name)
-    time = columns.get("time_s")
-    curve = ForceCurve(
-        towards[:end],
-        force[:end],
-        k_internal,
+    force_name = _name(columns, {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}) or "deflection_V"
+    _check_range(path, piezo_name, np.ptp(towards[:end]), TRAVEL_RANGE_UM, "an approach travel")
+    _check_range(path, force_name, np.ptp(force[:end]), FORCE_RANGE_NN, "a force range")
+    return TableTravel(towards, force, end, k_internal, columns, meta)
+
+
+def _read_table_curve(
+    path: Path, spring_constant_N_per_m: float | None, sensitivity_nm_per_V: float | None
+) -> ForceCurve:
+    table = read_table_travel(path, spring_constant_N_per_m, sensitivity_nm_per_V)
+    end, time = table.approach_end, table.columns.get("time_s")
+    return ForceCurve(
+        table.towards_um[:end],
+        table.force_nN[:end],
+        table.spring_constant_nN_per_um,
         str(path),
-        meta.get("group", path.parent.name),
+        table.meta.get("group", path.parent.name),
         None if time is None else time[:end],
     )
-    force_name = _name(columns, {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}) or "deflection_V"
-    _check_range(path, piezo_name, np.ptp(curve.piezo_um), TRAVEL_RANGE_UM, "an approach travel")
-    _check_range(path, force_name, np.ptp(curve.force_nN), FORCE_RANGE_NN, "a force range")
-    return curve
 
 
 def _check_range(
@@ -334,8 +360,8 @@ def _check_range(
     the same quantity whose unit would put it inside: metres under ``piezo_um`` give a travel
     of 8e-06 um, which as ``piezo_m`` is ``8e-06 * 1e6`` = 8 um ("looks like metres")."""
     low, high = bounds
-    if span == 0 or low <= span <= high:  # a flat column is no unit mistake: the fit says why
-        return
+    if span == 0 or not np.isfinite(span) or low <= span <= high:  # a flat column is no unit
+        return  # mistake (the fit says why); NaN or inf is refused, by row, where the curve is made
     unit = "um" if column in PIEZO_COLUMNS else "nN"
     options = PIEZO_COLUMNS if unit == "um" else {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}
     stem = column.rpartition("_")[0] + "_"

@@ -3,7 +3,8 @@
 Instrument files (afmformats' segments and ``time`` column): :func:`afm.instrument_io.
 ramp_from_record`. Text tables (:func:`afm.curve_io.read_table`): the columns of
 :mod:`afm.curve_io` plus ``time_s``; the rows run through the approach and on into the
-retract (the turn is the farthest piezo travel). A file without times is refused: Ting's
+retract (the turn is the farthest travel; a height column decreasing towards the sample is
+turned round). A file without times is refused: Ting's
 method (:mod:`afm.viscoelastic`) needs them.
 """
 
@@ -13,52 +14,32 @@ from pathlib import Path
 
 import numpy as np
 
-from afm.curve import force_from_deflection, spring_constant_nN_per_um
-from afm.curve_io import (
-    DEFLECTION_COLUMNS,
-    FORCE_COLUMNS,
-    PIEZO_COLUMNS,
-    is_instrument_file,
-    read_table,
-)
+from afm.curve_io import is_instrument_file, read_table_travel
 from afm.instrument_io import RecordedRamp, load_records, ramp_from_record
 from afm.viscoelastic import RampCurve, ramp_from_piezo
 from oocyte_fe.errors import InputError
 
 
-def _column(columns: dict[str, np.ndarray], options: dict[str, float]) -> np.ndarray | None:
-    return next((columns[n] * s for n, s in options.items() if n in columns), None)
-
-
 def _table_ramp(
     path: Path, spring_constant_N_per_m: float | None, sensitivity_nm_per_V: float | None
 ) -> RecordedRamp:
-    columns, meta = read_table(path)
-    if "time_s" not in columns:
+    """A text table's ramp: its rows in time through the approach and on into the retract,
+    the travel towards the sample of either sign (:func:`afm.curve_io.read_table_travel`);
+    the turn is the farthest travel."""
+    table = read_table_travel(path, spring_constant_N_per_m, sensitivity_nm_per_V)
+    if "time_s" not in table.columns:
         raise InputError(path, "time_s", "a time_s column (the viscoelastic fit needs times)")
-    try:
-        k = float(spring_constant_N_per_m or meta["spring_constant_N_per_m"])
-    except (KeyError, ValueError):
-        field = "spring_constant_N_per_m"
-        raise InputError(path, field, "the spring constant (metadata)") from None
-    k_internal = spring_constant_nN_per_um(k, str(path))
-    piezo = _column(columns, PIEZO_COLUMNS)
-    if piezo is None:
-        raise InputError(path, "header", f"a piezo column: one of {', '.join(PIEZO_COLUMNS)}")
-    force = _column(columns, FORCE_COLUMNS)
-    deflection = _column(columns, DEFLECTION_COLUMNS)
-    if force is None and deflection is not None:
-        force = deflection * k_internal
-    if force is None and "deflection_V" in columns:
-        s = sensitivity_nm_per_V or meta.get("sensitivity_nm_per_V")
-        if s is None:
-            raise InputError(path, "sensitivity_nm_per_V", "the sensitivity for deflection_V")
-        force = force_from_deflection(columns["deflection_V"], float(s), k, str(path))
-    if force is None:
-        raise InputError(path, "header", "a force or deflection column")
-    group = meta.get("group", path.parent.name)
-    turn = int(np.argmax(piezo)) + 1
-    return RecordedRamp(columns["time_s"], piezo, force, k_internal, turn, str(path), group)
+    group = table.meta.get("group", path.parent.name)
+    turn = int(np.argmax(table.towards_um)) + 1
+    return RecordedRamp(
+        table.columns["time_s"],
+        table.towards_um,
+        table.force_nN,
+        table.spring_constant_nN_per_um,
+        turn,
+        str(path),
+        group,
+    )
 
 
 def read_ramps(

@@ -180,3 +180,32 @@ def test_a_table_without_a_unit_named_header_is_refused_showing_its_first_line(
     assert message.startswith(f"{path}: header: expected a header row of unit-named columns")
     assert "piezo_um|" in message and "force_nN|" in message and repr(first_line) in message
     assert "afmformats" not in message
+
+
+# --- 5. the viscoelastic route reads tables the same way (one reader for both) ---
+
+
+def test_a_ramp_table_with_a_decreasing_height_is_the_same_ramp(tmp_path: Path) -> None:
+    """A ramp in time (approach, then retract along the same path) written with a height
+    that decreases towards the sample reads as the ramp with the piezo increasing: the same
+    travel towards the sample to 1e-12 um, the turn at the farthest travel; metres under
+    ``height_um`` are refused there too."""
+    from afm.ramp_io import read_ramps
+
+    piezo, force = _cone_curve(400)
+    time = np.linspace(0.0, 2.0, 2 * piezo.size - 1)
+    travel, load = np.r_[piezo, piezo[-2::-1]], np.r_[force, force[-2::-1]]
+
+    def write(name: str, header: str, column: np.ndarray) -> Path:
+        cells = zip(time.tolist(), column.tolist(), load.tolist(), strict=True)
+        rows = [f"{t!r},{u!r},{v!r}" for t, u, v in cells]
+        return _table(tmp_path / name, header, rows)
+
+    [up] = read_ramps(write("up.csv", "time_s,piezo_um,force_nN", travel))
+    [down] = read_ramps(write("down.csv", "time_s,height_um,force_nN", 10.0 - travel))
+    assert down.n_approach == up.n_approach == piezo.size
+    np.testing.assert_allclose(down.piezo_um - down.piezo_um[0], travel - travel[0], atol=1e-12)
+    np.testing.assert_array_equal(down.force_nN, up.force_nN)
+    metres = write("m.csv", "time_s,height_um,force_nN", (10.0 - travel) * 1e-6)
+    with pytest.raises(InputError, match="height_um: expected an approach travel .* looks like"):
+        read_ramps(metres)

@@ -129,10 +129,13 @@ def test_quick_case_fits_the_fe_force_and_reports_the_missed_spindle_goal(quick_
     assert checks["spindle_goal_ratio_max"]["status"] == "MISS"
     assert result.status == "MISS" and result.ok
     # the fits eq 7 cannot tell apart (within 10 % of the best RMSE) predict nearly the same
-    # spindle path: 2 of 6 starts, 2.79-2.81 x measured (round-off of the inputs no longer
-    # moves the fit: tests/test_nmsd_reproducible.py)
+    # spindle path (round-off of the inputs no longer moves the fit:
+    # tests/test_nmsd_reproducible.py). Since the creep fit takes the measured force history
+    # (the ZP's Prony series moved by about 0.1 %, the FE force by 0.03 %) the best fit is
+    # closer (RMSE 0.74 against 0.93 uN) and alone within 10 %: 1 of 6 starts, 2.74 x; before,
+    # 2 of 6 at 2.76-2.81 x. The spread is checked where there are several.
     lo, hi = m["near_best_spindle_goal_ratio_min"], m["near_best_spindle_goal_ratio_max"]
-    assert m["near_best_fits"] >= 2 and lo <= m["spindle_goal_ratio_max"] <= hi
+    assert m["near_best_fits"] >= 1 and lo <= m["spindle_goal_ratio_max"] <= hi
     assert hi - lo < 0.3
     assert [n for n, c in checks.items() if not c["passed"]] == ["spindle_goal_ratio_max"]
     assert {p.name for p in folder.glob("*.png")} >= {
