@@ -22,8 +22,9 @@ A force curve whose approach travel or force range cannot be an AFM's in the dec
 metres written under ``piezo_um`` give a travel of a few pm.
 
 Creep records (:func:`read_creep`): ``time_s``, a force column, and ``indentation_um`` (or
-``indentation_nm``), or a piezo/height column with metadata ``contact_point_um``; the
-indentation is then ``height - contact_point - F/k``.
+``indentation_nm``, ``indentation_m``), or a piezo/height column with metadata
+``contact_point_um``; the indentation is then ``height - contact_point - F/k``. A mean clamp
+force or a given indentation outside the same ranges is refused the same way.
 
 Instrument files (JPK ``.jpk-force``, Asylum ``.ibw``, AFM-Workshop ``.csv``, NT-MDT ``.txt``
 and the other formats afmformats reads) go to :mod:`afm.instrument_io`: every file whose
@@ -69,7 +70,7 @@ PIEZO_COLUMNS = {
 }
 FORCE_COLUMNS = {"force_nN": 1.0, "force_pN": 1e-3, "force_uN": 1e3, "force_N": 1e9}
 DEFLECTION_COLUMNS = {"deflection_um": 1.0, "deflection_nm": 1e-3}
-INDENTATION_COLUMNS = {"indentation_um": 1.0, "indentation_nm": 1e-3}
+INDENTATION_COLUMNS = {"indentation_um": 1.0, "indentation_nm": 1e-3, "indentation_m": 1e6}
 
 TRAVEL_RANGE_UM = (1e-3, 1e3)
 """Approach travel (largest less smallest piezo position) an AFM force curve can have, um:
@@ -362,8 +363,11 @@ def _check_range(
     low, high = bounds
     if span == 0 or not np.isfinite(span) or low <= span <= high:  # a flat column is no unit
         return  # mistake (the fit says why); NaN or inf is refused, by row, where the curve is made
-    unit = "um" if column in PIEZO_COLUMNS else "nN"
-    options = PIEZO_COLUMNS if unit == "um" else {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}
+    options = next(
+        (group for group in (PIEZO_COLUMNS, INDENTATION_COLUMNS) if column in group),
+        {**FORCE_COLUMNS, **DEFLECTION_COLUMNS},
+    )
+    unit = "nN" if column not in {**PIEZO_COLUMNS, **INDENTATION_COLUMNS} else "um"
     stem = column.rpartition("_")[0] + "_"
     got = f"{what} of {span:.3g} {unit}"
     for other, scale in options.items():
@@ -422,6 +426,14 @@ def read_creep(
                 "spring_constant_N_per_m",
             )
         indentation = height - contact - force / spring_constant_nN_per_um(k, str(path))
+    else:  # a unit mistake in the file's own indentation column ("looks like metres")
+        name = _name(columns, INDENTATION_COLUMNS) or ""
+        _check_range(
+            path, name, float(np.max(np.abs(indentation))), TRAVEL_RANGE_UM, "an indentation"
+        )
+    force_name = _name(columns, {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}) or "deflection_V"
+    level = abs(float(np.mean(force)))
+    _check_range(path, force_name, level, FORCE_RANGE_NN, "a mean clamp force")
     return CreepData(columns["time_s"], force, indentation, str(path))
 
 

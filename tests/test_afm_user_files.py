@@ -209,3 +209,31 @@ def test_a_ramp_table_with_a_decreasing_height_is_the_same_ramp(tmp_path: Path) 
     metres = write("m.csv", "time_s,height_um,force_nN", (10.0 - travel) * 1e-6)
     with pytest.raises(InputError, match="height_um: expected an approach travel .* looks like"):
         read_ramps(metres)
+
+
+# --- 6. a creep table's unit mistakes are refused the same way ---
+
+
+def _creep_table(path: Path, force_nN: float, indentation_um: np.ndarray) -> Path:
+    time = np.linspace(0.0, 5.0, 200)
+    rows = [
+        f"{t!r},{force_nN!r},{d!r}"
+        for t, d in zip(time.tolist(), indentation_um.tolist(), strict=True)
+    ]
+    return _table(path, "time_s,force_nN,indentation_um", rows)
+
+
+def test_a_creep_table_in_metres_or_newtons_is_refused(tmp_path: Path) -> None:
+    """A clamp of 5 nN holding a cone at 2-3 um reads; the same hold written in metres under
+    ``indentation_um`` (2e-6 um) or in newtons under ``force_nN`` (5e-9 nN) is refused, naming
+    the column and the unit the values look like."""
+    from afm.curve_io import read_creep
+
+    depth = 2.0 + 1.0 * (1.0 - np.exp(-np.linspace(0.0, 5.0, 200)))
+    assert read_creep(_creep_table(tmp_path / "ok.csv", 5.0, depth)).clamp_force_nN == 5.0
+    with pytest.raises(
+        InputError, match=r"indentation_um: expected an indentation .* looks like metres"
+    ):
+        read_creep(_creep_table(tmp_path / "m.csv", 5.0, depth * 1e-6))
+    with pytest.raises(InputError, match=r"force_nN: expected a mean clamp force .* looks like"):
+        read_creep(_creep_table(tmp_path / "n.csv", 5e-9, depth))
