@@ -1,13 +1,20 @@
-"""Reading the microchannel tables (CSV with units in the column names) into internal units.
+"""Reading the microchannel tables (CSV/TSV with units in the column names) into internal units.
 
 A column is ``<stem>_<unit>``, e.g. ``viscosity_Pa_s`` or ``pressure_hPa``; the unit suffix
-is looked up in :mod:`oocyte_fe.microchannel.units`. Every error names the file, the column and
-what was expected.
+is looked up in :mod:`oocyte_fe.microchannel.units`. A rheometer export's header with the unit
+in brackets is read as the same column: ``Shear Rate [1/s]`` as ``shear_rate_1_s``,
+``Viscosity [Pa.s]``, ``[Pa s]`` or ``[Pa·s]`` as ``viscosity_Pa_s``, ``Viscosity [mPa s]`` as
+``viscosity_mPa_s``. Cells are separated by commas, tabs or semicolons (the header row tells
+which; with semicolons a decimal comma is read as a point). Every error names the file, the
+column as written in the file and what was expected.
 """
 
 from __future__ import annotations
 
+import csv
 import difflib
+import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,8 +22,66 @@ import numpy as np
 
 from oocyte_fe import checks
 from oocyte_fe.errors import InputError
-from oocyte_fe.io.columns import read_columns
 from oocyte_fe.microchannel import units
+
+BRACKETED = re.compile(r"^(?P<name>[^\[\]()]+?)\s*[\[(]\s*(?P<unit>[^\[\]()]+?)\s*[\])]$")
+"""A header ``Name [unit]`` or ``Name (unit)`` of a rheometer export."""
+RATE_UNITS = {"1/s": "1_s", "s^-1": "1_s", "s-1": "1_s", "1/sec": "1_s"}
+"""Spellings of the shear rate's unit in exports, as the suffix of :mod:`units`."""
+
+
+def column_name(header: str) -> str:
+    """The ``<stem>_<unit>`` name of a header cell: ``Shear Rate [1/s]`` -> ``shear_rate_1_s``,
+    ``Viscosity [Pa.s]`` -> ``viscosity_Pa_s``; a header without a bracketed unit as written."""
+    match = BRACKETED.match(header)
+    if match is None:
+        return header
+    stem = re.sub(r"[^0-9a-z]+", "_", match["name"].lower()).strip("_")
+    unit = match["unit"]
+    unit = RATE_UNITS.get(unit.replace(" ", ""), re.sub(r"[\s.·*]+", "_", unit))
+    return f"{stem}_{unit}"
+
+
+def read_table(path: Path) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """The columns of a table with a header row (``#`` lines are comments) as float arrays,
+    named by :func:`column_name`, and each name's header as written in the file.
+
+    Cells are separated by tabs or semicolons if the header row holds one, else by commas;
+    with semicolons a decimal comma in a cell is read as a point. The file is opened through
+    :mod:`oocyte_fe.checks` (a regular UTF-8 file); every cell must be a finite number.
+    """
+    text = checks.read_text(path)
+    lines = [
+        (n, line)
+        for n, line in enumerate(text.splitlines(), start=1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if len(lines) < 2:
+        raise InputError(path, "", "a header row and at least one data row")
+    delimiter = next((d for d in ("\t", ";") if d in lines[0][1]), ",")
+    what = {"\t": "tab", ";": "semicolon", ",": "comma"}[delimiter]
+    rows = []
+    for n, line in lines:
+        try:
+            rows.append((n, next(csv.reader([line], delimiter=delimiter))))
+        except csv.Error as exc:
+            raise InputError(path, f"line {n}", f"{what}-separated values ({exc})") from None
+    header = [h.strip() for h in rows[0][1]]
+    names = [column_name(h) for h in header]
+    if len(set(names)) != len(names):
+        raise InputError(path, "header", "distinct column names", got=", ".join(header)[:80])
+    columns: dict[str, list[float]] = {name: [] for name in names}
+    for n, row in rows[1:]:
+        if len(row) != len(header):
+            raise InputError(path, f"line {n}", f"{len(header)} {what}-separated values")
+        for head, name, cell in zip(header, names, row, strict=True):
+            if delimiter == ";":
+                cell = cell.replace(",", ".")
+            value = checks.number_cell(path, f"{head} (line {n})", cell)
+            if not math.isfinite(value):
+                raise InputError(path, f"{head} (line {n})", "a finite number", got=value)
+            columns[name].append(value)
+    return {k: np.array(v) for k, v in columns.items()}, dict(zip(names, header, strict=True))
 
 
 def _suggest(name: str, columns: dict[str, np.ndarray]) -> str:
@@ -24,8 +89,15 @@ def _suggest(name: str, columns: dict[str, np.ndarray]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
-def quantity(columns: dict[str, np.ndarray], stem: str, kind: str, path: Path) -> np.ndarray:
-    """The column ``<stem>_<unit>`` converted to internal units (unit from the name)."""
+def quantity(
+    columns: dict[str, np.ndarray],
+    stem: str,
+    kind: str,
+    path: Path,
+    headers: dict[str, str] | None = None,
+) -> np.ndarray:
+    """The column ``<stem>_<unit>`` converted to internal units (unit from the name);
+    ``headers`` maps a name to the header written in the file (for the error)."""
     table = units.QUANTITIES[kind]
     found = [(name, name[len(stem) + 1 :]) for name in columns if name.startswith(stem + "_")]
     if not found:
@@ -37,7 +109,8 @@ def quantity(columns: dict[str, np.ndarray], stem: str, kind: str, path: Path) -
         )
     name, unit = found[0]
     if unit not in table:
-        raise InputError(path, name, f"a {kind} unit, one of {', '.join(table)}", got=unit)
+        written = (headers or {}).get(name, name)
+        raise InputError(path, written, f"a {kind} unit, one of {', '.join(table)}", got=unit)
     return columns[name] * table[unit]
 
 
@@ -62,12 +135,18 @@ class FlowCurve:
 
 
 def read_flow_curve(path: Path) -> FlowCurve:
-    """Read ``strain_rate_1_s`` (or ``shear_rate_1_s``) and ``viscosity_<unit>`` columns."""
-    columns = read_columns(path)
+    """Read ``strain_rate_1_s`` (or ``shear_rate_1_s``, ``Shear Rate [1/s]``) and
+    ``viscosity_<unit>`` (``Viscosity [<unit>]``) columns (:func:`read_table`)."""
+    columns, headers = read_table(path)
     stem = "strain_rate" if any(c.startswith("strain_rate_") for c in columns) else "shear_rate"
-    rate = _physical(quantity(columns, stem, "shear_rate", path), path, stem, "shear_rate_per_s")
+    rate = _physical(
+        quantity(columns, stem, "shear_rate", path, headers), path, stem, "shear_rate_per_s"
+    )
     eta = _physical(
-        quantity(columns, "viscosity", "viscosity", path), path, "viscosity", "viscosity_kPa_s"
+        quantity(columns, "viscosity", "viscosity", path, headers),
+        path,
+        "viscosity",
+        "viscosity_kPa_s",
     )
     return FlowCurve(rate, eta, str(path))
 
@@ -84,9 +163,9 @@ class DeformationTable:
 
 def read_deformation_table(path: Path) -> DeformationTable:
     """Read ``pressure_<unit>``, ``ratio_experiment`` and ``ratio_simulation`` columns."""
-    columns = read_columns(path)
+    columns, headers = read_table(path)
     pressure = _physical(
-        quantity(columns, "pressure", "pressure", path), path, "pressure", "pressure_kPa"
+        quantity(columns, "pressure", "pressure", path, headers), path, "pressure", "pressure_kPa"
     )
     name = next(c for c in columns if c.startswith("pressure_"))
     values, counts = np.unique(columns[name], return_counts=True)
