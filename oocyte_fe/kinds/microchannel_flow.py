@@ -8,8 +8,10 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
+from oocyte_fe.kinds.microchannel_input_rules import laminar_pressures
 from oocyte_fe.kinds.microchannel_inputs import CarreauInputs, ChannelInputs
 from oocyte_fe.microchannel import units
+from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.duct_fe import radial_mesh, rectangle_mesh, solve_duct_flow
 from oocyte_fe.microchannel.plotting import plot_convergence, plot_duct_velocity, plot_profiles
 from oocyte_fe.microchannel.poiseuille import (
@@ -20,7 +22,7 @@ from oocyte_fe.microchannel.poiseuille import (
 from oocyte_fe.microchannel.rabinowitsch import fully_developed_flow
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs, Increasing
+from oocyte_fe.runner.schema import CaseInputs, Increasing, Setup
 
 PA_PER_M = 1e-9  # 1 Pa/m = 1e-3 kPa / 1e6 um
 
@@ -74,7 +76,15 @@ class FlowInputs(CaseInputs):
         json_schema_extra={"unit": "1"},
     )
 
-    rules = (Increasing("rectangle_cells"), Increasing("radial_cells"))
+    rules = (
+        Increasing("rectangle_cells"),
+        Increasing("radial_cells"),
+        Setup(
+            lambda m: laminar_pressures(
+                m.channel.reynolds_ref, m.channel.pressure_ref_hPa, "pressures_hPa", m.pressures_hPa
+            )
+        ),
+    )
 
 
 METRICS = {
@@ -88,7 +98,35 @@ METRICS = {
     "fe_carreau_pipe_error": "Carreau pipe (axisymmetric FE): |Q_FE/Q_exact - 1|, finest mesh, 1",
     "fe_carreau_pipe_order": "observed convergence order of the Carreau pipe flow rate, 1",
     "carreau_wall_number": "Carreau number lambda * wall shear rate of the pipe test, 1",
+    "carreau_mean_velocity_ref": "mean velocity of the Carreau fluid at the reference pressure "
+    "(G = Dp / L), um/s",
+    "power_law_mean_velocity_ref": "mean velocity of the power-law fluid at the reference "
+    "pressure (G = Dp / L), um/s",
 }
+
+
+def _fluid_table(channel: Channel, fluids: dict[str, Rheology], pressures: np.ndarray) -> str:
+    """Flow rate Q (nL/s), mean velocity U = Q / (pi R^2) (mm/s) and wall shear rate (1/s) of
+    each fluid in the channel at each pressure, with ``G = Dp / L`` (Rabinowitsch-Mooney)."""
+    hpa = units.PRESSURE["hPa"]
+    head = " | ".join(f"{f}: Q (nL/s) | {f}: U (mm/s) | {f}: wall rate (1/s)" for f in fluids)
+    rows = [f"| pressure (hPa) | G (Pa/m) | {head} |", "|---" * (2 + 3 * len(fluids)) + "|"]
+    for p in pressures:
+        g = float(channel.pressure_gradient(p))
+        cells = []
+        for rheology in fluids.values():
+            flow = fully_developed_flow(rheology, "pipe", channel.radius, g)
+            cells += [f"{flow.flow_rate * 1e-6:.4g}", f"{flow.mean_velocity * 1e-3:.4g}"]
+            cells.append(f"{flow.wall_shear_rate:.3g}")
+        rows.append(f"| {p / hpa:g} | {g / PA_PER_M:.4g} | {' | '.join(cells)} |")
+    return "\n".join(rows) + (
+        "\n\nEach fluid as if it filled the whole driven path: the pressure gradient "
+        f"G = Dp / L with the effective hydraulic length L = {channel.hydraulic_length * 1e-3:.4g}"
+        " mm calibrated by the medium, in the pipe of the channel's radius "
+        f"{channel.radius:g} um; Q from Rabinowitsch-Mooney (exact for the fluid's flow curve), "
+        "U = Q / (pi R^2). A wall rate beyond the rates a flow curve was measured at is its "
+        "model's extrapolation."
+    )
 
 
 def _order(h: np.ndarray, err: np.ndarray) -> float:
@@ -148,6 +186,16 @@ def run(ctx: CaseContext) -> CaseOutcome:
             x / size,
             cflow.velocity(x) / cflow.mean_velocity,
         )
+
+    ctx.step("the fluids at each pressure")
+    fluids = {"Carreau": carreau, "power law": power}
+    fluid_points = _fluid_table(channel, fluids, pressures)
+    at_ref = {
+        key: fully_developed_flow(
+            fluid, "pipe", channel.radius, float(channel.pressure_gradient(channel.pressure_ref))
+        ).mean_velocity
+        for key, fluid in (("carreau", carreau), ("power_law", power))
+    }
 
     ctx.step("FE: Newtonian rectangular duct")
     w, h = inp.duct_width_um, inp.duct_height_um
@@ -227,12 +275,14 @@ def run(ctx: CaseContext) -> CaseOutcome:
         "fe_carreau_pipe_error": pipe_err[-1],
         "fe_carreau_pipe_order": _order(pipe_h, np.array(pipe_err)),
         "carreau_wall_number": carreau.params["time_constant"] * exact_pipe.wall_shear_rate,
+        **{f"{key}_mean_velocity_ref": u for key, u in at_ref.items()},
     }
     return CaseOutcome(
         metrics=metrics,
         figures=figures,
         sections=[
             ("Operating points (Poiseuille, calibrated by Re at the reference)", operating),
+            ("The Carreau and power-law fluids at each pressure", fluid_points),
             ("FE mesh convergence", "\n".join(conv_rows)),
         ],
     )

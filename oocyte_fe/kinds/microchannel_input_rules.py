@@ -16,6 +16,7 @@ import numpy as np
 
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel import units
+from oocyte_fe.microchannel.channel import LAMINAR_LIMIT
 from oocyte_fe.microchannel.rheology_fit import check_fit_data
 from oocyte_fe.microchannel.tables import FlowCurve, read_deformation_table, read_flow_curve
 from oocyte_fe.runner.schema import RuleBroken
@@ -92,3 +93,23 @@ def curve_fits(
                 f"a flow curve {model} can be fitted to ({path.name}: {exc.field}: {exc.expected})",
                 got,
             ) from None
+
+
+def laminar_pressures(
+    reynolds_ref: float, pressure_ref_hPa: float, field: str, pressures_hPa: Iterable[float]
+) -> None:
+    """Every pressure of ``field`` (hPa, as written) drives the channel below Re = 2000, where
+    the calibration ``U = Dp R^2 / (8 mu L)`` (Poiseuille) holds: ``Re`` is proportional to the
+    pressure, ``Re(p) = Re_ref p / p_ref`` (:class:`~oocyte_fe.microchannel.channel.Channel`),
+    so the limit is ``p < 2000 p_ref / Re_ref``."""
+    limit_hpa = LAMINAR_LIMIT * pressure_ref_hPa / reynolds_ref
+    worst = max(pressures_hPa)
+    if worst >= limit_hpa:
+        raise InputError(
+            "case.toml",
+            field,
+            f"pressures below {limit_hpa:.5g} hPa, where Re reaches {LAMINAR_LIMIT:g} (laminar "
+            f"Poiseuille; Re = {reynolds_ref:g} at channel.pressure_ref_hPa = "
+            f"{pressure_ref_hPa:g} hPa, Re proportional to the pressure)",
+            f"{worst:g} hPa (Re {reynolds_ref * worst / pressure_ref_hPa:.5g})",
+        )

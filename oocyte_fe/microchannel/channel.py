@@ -80,6 +80,11 @@ class Channel:
             / (8.0 * self.viscosity * self.hydraulic_length)
         )
 
+    def pressure_gradient(self, pressure: np.ndarray) -> np.ndarray:
+        """``G = Dp / L`` (kPa/um) along the effective hydraulic length at driving pressure
+        ``Dp`` (kPa): the gradient a fluid filling the whole driven path would carry."""
+        return np.asarray(pressure, dtype=float) / self.hydraulic_length
+
     def reynolds(self, pressure: np.ndarray) -> np.ndarray:
         return reynolds_number(
             self.density, self.mean_velocity(pressure), self.diameter, self.viscosity

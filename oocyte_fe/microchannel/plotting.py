@@ -28,11 +28,16 @@ def _finish(fig: plt.Figure, ax: plt.Axes, file: Path, which: str = "major") -> 
 
 
 def plot_viscosity_fits(
-    shear_rate: np.ndarray, viscosity: np.ndarray, fits: Sequence[ViscosityFit], file: Path
+    shear_rate: np.ndarray,
+    viscosity: np.ndarray,
+    fits: Sequence[ViscosityFit],
+    file: Path,
+    data_label: str,
 ) -> Path:
-    """Log-log flow curve: data (kPa s stored, shown in Pa s) and every fitted model."""
+    """Log-log flow curve: data (kPa s stored, shown in Pa s, labelled ``data_label``) and
+    every fitted model."""
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    ax.loglog(shear_rate, viscosity * PA_S, "ko", label="Table 2 (seed 001)")
+    ax.loglog(shear_rate, viscosity * PA_S, "ko", label=data_label)
     g = np.logspace(np.log10(shear_rate.min()) - 0.5, np.log10(shear_rate.max()) + 0.5, 200)
     for fit in fits:
         ax.loglog(g, fit.rheology.viscosity(g) * PA_S, label=f"{fit.model.name}, R² = {fit.r2:.4f}")

@@ -11,11 +11,14 @@ Uncertainty: covariance ``C = s^2 (J^T J)^+`` of the fitted variables from the J
 optimum, with ``s^2 = sum r^2 / (N - P)``; a log-scale parameter's standard error is
 ``p sqrt(C_kk)`` (first order). A parameter the data do not determine (a singular value of J
 below ``1e-8`` of the largest, or one at a bound of its range) is reported with an infinite error
-and listed in ``unidentified``. "At a bound" is within :data:`AT_BOUND` of it in the fitted
-variable (``ln p`` for a log-scale parameter, 0.1 % of its value; ``p`` itself otherwise): the
-trust-region solver keeps its iterates strictly inside the bounds, so a parameter the data
-drive to the bound (a Cross time constant on power-law data, lambda -> infinity) stops a little
-short of it (1.8e-6 in ln lambda), not on it.
+and listed in ``unidentified``. The trust-region solver keeps its iterates strictly inside the
+bounds, so a parameter the data drive to a bound (a Cross time constant on power-law data,
+lambda -> infinity) stops short of it, by 2e-6 to 4e-3 in ln lambda depending on the points.
+A parameter is therefore *at a bound* when the bound lies within one standard error (or
+:data:`AT_BOUND`) of it in the fitted variable (``ln p`` for a log-scale parameter, ``p``
+otherwise) and the fit with the parameter held on that bound (the others refitted: its profile)
+is no worse, ``cost_bound <= cost (1 + 1e-6) + 1e-15``: the data prefer the bound, or cannot
+tell it from the optimum.
 """
 
 from __future__ import annotations
@@ -31,7 +34,8 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.viscosity import Rheology, ViscosityModel, get_model
 
 AT_BOUND = 1e-3
-"""Distance to a bound, in the fitted variable, within which a parameter is at the bound."""
+"""Distance to a bound, in the fitted variable, within which a parameter may be at the bound
+(also when its standard error is smaller): its profile decides."""
 
 
 @dataclass(frozen=True)
@@ -41,12 +45,15 @@ class ViscosityFit:
     ``r2`` is the coefficient of determination of the viscosity itself,
     ``1 - sum (eta_i - eta_fit_i)^2 / sum (eta_i - mean eta)^2``; ``r2_log`` is the same on
     ln eta (the fitted quantity). ``rmse`` is in kPa s, ``rmse_log`` is dimensionless.
+    ``unidentified`` lists the free parameters with an infinite error, ``at_bound`` those of
+    them at a bound of their range.
     """
 
     rheology: Rheology
     stderr: Mapping[str, float]
     fixed: tuple[str, ...]
     unidentified: tuple[str, ...]
+    at_bound: tuple[str, ...]
     rmse: float
     rmse_log: float
     r2: float
@@ -177,7 +184,35 @@ def fit_viscosity(
     keep = sv > 1e-8 * sv[0]
     cov = (vt[keep].T / sv[keep] ** 2) @ vt[keep] * s2
     weak = ~keep
-    at_bound = (sol.x - lower <= AT_BOUND) | (upper - sol.x <= AT_BOUND)
+    spread = np.sqrt(np.clip(np.diag(cov), 0.0, None))  # standard errors, fitted variables
+
+    def pinned(k: int) -> bool:
+        """The profile of free parameter ``k`` is lowest at the bound near it."""
+        gaps = (sol.x[k] - lower[k], upper[k] - sol.x[k])
+        if min(gaps) > max(AT_BOUND, spread[k]):
+            return False
+        x = sol.x.copy()
+        x[k] = lower[k] if gaps[0] <= gaps[1] else upper[k]
+        rest = np.arange(len(free)) != k
+        cost = 0.5 * float(np.sum(residuals(x) ** 2))
+        if np.any(rest):
+
+            def pinned_residuals(y: np.ndarray) -> np.ndarray:
+                x[rest] = y
+                return residuals(x)
+
+            cost = float(
+                least_squares(
+                    pinned_residuals,
+                    sol.x[rest],
+                    bounds=(lower[rest], upper[rest]),
+                    x_scale="jac",
+                    method="trf",
+                ).cost
+            )
+        return cost <= sol.cost * (1.0 + 1e-6) + 1e-15
+
+    at_bound = [pinned(k) for k in range(len(free))]
     stderr: dict[str, float] = {key: 0.0 for key in fixed}
     unidentified = []
     for k, p in enumerate(free):
@@ -196,6 +231,7 @@ def fit_viscosity(
         stderr=stderr,
         fixed=tuple(fixed),
         unidentified=tuple(unidentified),
+        at_bound=tuple(p.key for p, hit in zip(free, at_bound, strict=True) if hit),
         rmse=float(np.sqrt(np.mean((eta_fit - eta) ** 2))),
         rmse_log=float(np.sqrt(np.mean(sol.fun**2))),
         r2=_r2(eta, eta_fit),
