@@ -60,6 +60,7 @@ from scipy.optimize import least_squares
 from scipy.stats import qmc
 
 from nmsd.errors import NmsdDivergence
+from nmsd.identifiability import Identifiability, identifiability
 from nmsd.parameters import NmsdParameters
 from nmsd.press import PressSetup
 from nmsd.tableII import ForceDisplacement
@@ -88,6 +89,14 @@ _BOUNDS = {
     "gap_um": (0.0, 20.0),
 }
 _FREE = {"linear_msd": ("k1", "d0"), "msd_d0": ("k2", "s", "d0"), "nmsd": ("k2", "s", "d0", "d1")}
+CONSTANTS = {
+    "linear_msd": ("k1", "d0"),
+    "msd_d0": ("k1", "k2", "d0"),
+    "nmsd": ("k1", "k2", "d0", "d1"),
+}
+"""The constants each family fits (before ``extra``)."""
+_PINS = {"k1": ("k1",), "k2": ("k1", "k2"), "s": ("k1",)}
+"""Constants a free variable on its bound pins (k2 = 0 makes k1 = s k2 = 0 too)."""
 EXTRA = ("dl_c", "gap_um")
 JACOBIANS = ("exact", "2-point")
 
@@ -133,6 +142,7 @@ class CalibrationResult:
     also_force_nN: tuple[np.ndarray, ...] = ()
     diverged_starts: int = 0
     ends: tuple[StartEnd, ...] = ()
+    identifiability: Identifiability | None = None
 
 
 def fit_metrics(model_nN: np.ndarray, measured_nN: np.ndarray) -> FitMetrics:
@@ -358,6 +368,16 @@ def calibrate(
             best = fit
     params = press_for(best.x, setup)[1]
     forces = [model_forces(press_for(best.x, p)[0], params, c) for p, c in curves]
+    x = best.x
+    on_bound = np.isclose(x, lower, rtol=1e-6, atol=1e-12) | np.isclose(x, upper, rtol=1e-6)
+    pinned = {c for n, b in zip(names, on_bound, strict=True) if b for c in _PINS.get(n, (n,))}
+    ident = identifiability(
+        [(press_for(x, p)[0], c) for p, c in curves],
+        params,
+        CONSTANTS[model] + extra,
+        float(x[-1]) if "gap_um" in extra else 0.0,
+        pinned,
+    )
     return CalibrationResult(
         model,
         params,
@@ -371,6 +391,7 @@ def calibrate(
         tuple(forces[1:]),
         replaced,
         tuple(sorted(ends, key=lambda end: end.rmse_nN)),
+        ident,
     )
 
 

@@ -13,10 +13,11 @@ from typing import Any
 
 TABLE_II: dict[str, Any] = {
     "columns": ["displacement_um", "force_experiment_uN", "force_simulation_uN"],
-    # the reader wants at least 3 rows (nmsd.tableII.MIN_ROWS)
+    # the reader wants at least 3 rows (nmsd.tableII.MIN_ROWS), validate one per NMSD constant
     "example_rows": [
         [28.125, 3.45531, 3.46787],
         [41.25, 10.44089, 10.75634],
+        [53.25, 13.48404, 13.38373],
         [62.375, 55.32843, 55.38837],
     ],
     "example_source": "seed 000 Table II (cases/nmsd_calibration_tableII); "

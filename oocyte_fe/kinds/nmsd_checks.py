@@ -10,6 +10,7 @@ import typing
 from pathlib import Path
 from typing import Any, Literal
 
+from nmsd.calibration import CONSTANTS
 from nmsd.lattice import circular_lattice
 from nmsd.press import press_setup
 from nmsd.spindle import Approach, approach_setup
@@ -78,20 +79,43 @@ def approach_travel_um(m: Any) -> float:
 
 
 @functools.lru_cache(maxsize=16)
-def _largest_displacement(path: Path, stamp: tuple[int, int]) -> float:
-    return float(read_force_displacement(path).displacement_um.max())
+def _displacements(path: Path, stamp: tuple[int, int]) -> tuple[float, ...]:
+    return tuple(float(d) for d in read_force_displacement(path).displacement_um)
+
+
+def data_displacements_um(path: Path | None) -> tuple[float, ...]:
+    """The ``displacement`` column of a Table II file, um; empty when it cannot be read (the
+    reader run at validation names the file, column and row: :class:`DataReader`)."""
+    if path is None:
+        return ()
+    try:
+        stat = Path(path).stat()
+        return _displacements(Path(path), (stat.st_mtime_ns, stat.st_size))
+    except (InputError, OSError):
+        return ()
 
 
 def data_extent_um(path: Path | None) -> float:
-    """Largest ``displacement_um`` of a Table II file, um; ``-inf`` when it cannot be read
-    (the reader run at validation names the file, column and row: :class:`DataReader`)."""
-    if path is None:
-        return -math.inf
-    try:
-        stat = Path(path).stat()
-        return _largest_displacement(Path(path), (stat.st_mtime_ns, stat.st_size))
-    except (InputError, OSError):
-        return -math.inf
+    """Largest displacement of a Table II file, um; ``-inf`` when it cannot be read."""
+    return max(data_displacements_um(path), default=-math.inf)
+
+
+def enough_points(m: Any) -> None:
+    """At least as many displacements past the contact (above ``gap_um``) as the calibration
+    frees constants: the most of the families in ``models`` (``nmsd``: k1, k2, d0, d1; the
+    spindle kind calibrates ``nmsd``) plus ``calibrate_extra``. With fewer, some combination
+    of constants is not determined at all (before contact the force is 0 whatever they are)."""
+    free = max(len(CONSTANTS[f]) for f in getattr(m, "models", ["nmsd"])) + len(m.calibrate_extra)
+    displacements = data_displacements_um(m.data)
+    past = sum(1 for d in displacements if d > m.gap_um)
+    if displacements and past < free:
+        raise InputError(
+            m.data,
+            "data",
+            f"at least {free} displacements above gap_um = {m.gap_um:g} um, one per constant "
+            "calibrated (with fewer, some constant is not determined at all)",
+            got=past,
+        )
 
 
 def data_inside_cell(m: Any) -> None:

@@ -22,6 +22,7 @@ from oocyte_fe.kinds.nmsd_checks import (
     approach_travel_um,
     data_extent_um,
     data_inside_cell,
+    enough_points,
     press_at_validation,
 )
 from oocyte_fe.runner.schema import (
@@ -37,7 +38,8 @@ TableIIFile = Annotated[
     DataFile,
     DataReader(read_force_displacement),
     Field(
-        description="Table II CSV: displacement_um, force_experiment_uN, force_simulation_uN",
+        description="force-displacement CSV: displacement_um, force_experiment_uN and optionally "
+        "force_simulation_uN (also nm/mm/m and nN/mN/N; compression positive)",
         json_schema_extra=TABLE_II,
     ),
 ]
@@ -174,6 +176,7 @@ class PressInputs(CaseInputs):
         ),
         Setup(press_at_validation, LIBRARY_ARGS),
         Distinct("calibrate_extra"),
+        Setup(enough_points),
     )
 
 

@@ -29,8 +29,9 @@ Output = Callable[[str], Path]
 Sections = list[tuple[str, str]]
 
 
-def params_table(results: Mapping[str, CalibrationResult], paper: FitMetrics) -> str:
-    """Calibrated constants and fit metrics of each model family, and the paper's column."""
+def params_table(results: Mapping[str, CalibrationResult], paper: FitMetrics | None) -> str:
+    """Calibrated constants and fit metrics of each model family, and the file's model column
+    (``force_simulation``; the row is left out when the file has none)."""
     rows = [
         "| model | damping | k1 (nN) | k2 (nN) | d0 (nN s/um) | d1 (nN s/um^2) | dl_c | gap (um) "
         "| RMSE (uN) | R^2 | S |",
@@ -44,18 +45,45 @@ def params_table(results: Mapping[str, CalibrationResult], paper: FitMetrics) ->
             f"| {name} | {p.damping} | {p.k1:.4g} | {p.k2:.4g} | {p.d0:.4g} | {p.d1:.4g} | "
             f"{p.dl_c:.3g} | {gap} | {m.rmse_nN * UN:.3f} | {m.r2:.4f} | {m.similarity:.5f} |"
         )
+    if paper is None:
+        return "\n".join(rows) + (
+            "\n\nThe data file has no force_simulation column: no model column is compared "
+            "(paper_rmse_uN is nan)."
+        )
     rows.append(
-        f"| paper model column | - | - | - | - | - | - | - | {paper.rmse_nN * UN:.3f} | "
+        f"| model column of the file | - | - | - | - | - | - | - | {paper.rmse_nN * UN:.3f} | "
         f"{paper.r2:.4f} | {paper.similarity:.5f} |"
     )
     return "\n".join(rows)
+
+
+def identifiability_table(results: Mapping[str, CalibrationResult]) -> str:
+    """Relative standard error of each fitted constant, or why it is not identified
+    (:mod:`nmsd.identifiability`: ``C = sigma^2 (J^T J)^+`` on the log constants)."""
+    rows = [
+        "| model | constant | value | relative s.e. or not identified |",
+        "|---|---|---|---|",
+    ]
+    for name, r in results.items():
+        ident = r.identifiability
+        values = {**vars(r.params), "gap_um": r.gap_um}
+        rows += [
+            f"| {name} | {c} | {values[c]:.4g} | {ident.describe(c)} |" for c in ident.relative_se
+        ]
+    sigma = {n: r.identifiability.sigma_nN * UN for n, r in results.items()}
+    noise = ", ".join(f"{n} {v:.3g} uN" for n, v in sigma.items())
+    return "\n".join(rows) + (
+        f"\n\nNoise level used (residual s.d., at least 1 % of the RMS force): {noise}. A "
+        "constant not identified can be changed many times over without changing the fitted "
+        "force curve: do not read it from this fit."
+    )
 
 
 def calibration_report(
     output: Output,
     data: ForceDisplacement,
     results: Mapping[str, CalibrationResult],
-    paper: FitMetrics,
+    paper: FitMetrics | None,
     setup: PressSetup,
     press: PressResult,
     rate: Mapping[float, PressResult],
@@ -64,15 +92,17 @@ def calibration_report(
     """Figures and sections of ``nmsd_calibration``.
 
     ``press`` is the calibrated NMSD's press with its snapshots, ``rate`` its presses at the
-    other speeds (um/s -> press).
+    other speeds (um/s -> press); ``paper`` the fit of the file's model column (None: none).
     """
     d = data.displacement_um
+    file = Path(data.source).name
     measured = data.force_nN * UN
     curves = {
         f"{name} (RMSE {r.metrics.rmse_nN * UN:.2f} uN)": (d, r.force_nN * UN)
         for name, r in results.items()
     }
-    curves["paper model column"] = (d, data.paper_model_nN * UN)
+    if data.paper_model_nN is not None:
+        curves["model column of the file"] = (d, data.paper_model_nN * UN)
     plot_force_curves(output("force_models.png"), d, measured, curves)
     rate_curves = {f"NMSD at {v:g} um/s": (r.advance_um, r.force_nN * UN) for v, r in rate.items()}
     plot_force_curves(output("rate_dependence.png"), d, measured, rate_curves)
@@ -86,12 +116,13 @@ def calibration_report(
         for n, r in results.items()
     )
     figures = [
-        Figure("force_models.png", "Table II against the calibrated model families"),
+        Figure("force_models.png", f"{file} against the calibrated model families"),
         Figure("rate_dependence.png", "calibrated NMSD pressed at three speeds (seed Fig. 4)"),
         Figure("snapshots.png", "lattice at 0, 15, 30, 45 um, coloured by |u| (seed Fig. 5)"),
     ]
     sections = [
         ("Calibrated constants (um, nN, s)", params_table(results, paper)),
+        ("Identifiability of the constants (docs/nmsd.md)", identifiability_table(results)),
         ("Rate dependence", rates),
         ("Cost", cost),
     ]
@@ -105,6 +136,7 @@ def spindle_report(
     paper_um: np.ndarray,
     trace: ApproachTrace,
     cal: CalibrationResult,
+    cal_source: str,
     removal_pipette_um: float,
     cell_diameter_um: float,
     spindle_length_um: float,
@@ -141,8 +173,9 @@ def spindle_report(
     ]
     sections = [
         (
-            "Calibration used (Table II only)",
-            f"{cal.params}\n\nRMSE {cal.metrics.rmse_nN * UN:.3f} uN",
+            f"Calibration used ({Path(cal_source).name} only)",
+            f"{cal.params}\n\nRMSE {cal.metrics.rmse_nN * UN:.3f} uN\n\n"
+            + identifiability_table({"nmsd": cal}),
         ),
         (
             "Cytoplasm loss against mouth-to-spindle distance (spindle length "
