@@ -56,7 +56,7 @@ from afm.instrument_io import (
     read_instrument_file,
     recognises,
 )
-from oocyte_fe.checks import excerpt
+from oocyte_fe.checks import excerpt, unit_that_fits
 from oocyte_fe.errors import InputError
 
 TEXT_SUFFIXES = {".csv", ".tsv", ".txt"}
@@ -369,13 +369,13 @@ def _check_range(
     )
     unit = "nN" if column not in {**PIEZO_COLUMNS, **INDENTATION_COLUMNS} else "um"
     stem = column.rpartition("_")[0] + "_"
+    scales = {n.removeprefix(stem): f for n, f in options.items() if n.startswith(stem)}
     got = f"{what} of {span:.3g} {unit}"
-    for other, scale in options.items():
-        rescaled = span * scale / options.get(column, np.nan)  # NaN: deflection_V, no guess
-        if other.startswith(stem) and other != column and low <= rescaled <= high:
-            name = _UNIT_NAMES[other.removeprefix(stem)]
-            got += f": looks like {name} ({other} would give {rescaled:.3g} {unit})"
-            break
+    fits = unit_that_fits(column, span, bounds, scales)  # deflection_V: no guess
+    if fits is not None:
+        other, rescaled = fits
+        name = _UNIT_NAMES[other.removeprefix(stem)]
+        got += f": looks like {name} ({other} would give {rescaled:.3g} {unit})"
     expected = f"{what} that an AFM force curve can have ({low:g} to {high:g} {unit})"
     raise InputError(path, column, expected, got)
 

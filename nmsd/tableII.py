@@ -87,17 +87,15 @@ def _plausible(
     low, high = bounds
     if low <= value <= high:
         return
-    stem, _, unit = column.rpartition("_")
     internal = "um" if units is DISPLACEMENT_UNITS else "nN"
     looks = ""
-    for other in sorted(units, key=lambda u: abs(np.log(units[u] / units[unit]))):
-        rescaled = value * units[other] / units[unit]
-        if other != unit and low <= rescaled <= high:
-            looks = (
-                f"; the values look like {other}: {stem}_{other} would give "
-                f"{rescaled:.3g} {internal}"
-            )
-            break
+    fits = checks.unit_that_fits(column, value, bounds, dict(units))
+    if fits is not None:
+        other, rescaled = fits
+        looks = (
+            f"; the values look like {other.rpartition('_')[2]}: {other} would give "
+            f"{rescaled:.3g} {internal}"
+        )
     expected = (
         f"{what} that a pipette press of a cell can have ({low:g} to {high:g} {internal}){looks}"
     )

@@ -149,6 +149,27 @@ def quantity(where: str | Path, name: str, value: object, kind: str) -> float:
     )
 
 
+def unit_that_fits(
+    column: str, value: float, bounds: tuple[float, float], scales: dict[str, float]
+) -> tuple[str, float] | None:
+    """The likely unit mistake behind ``value`` (internal units, read from the column
+    ``<stem>_<unit>``) lying outside ``bounds``: the column ``<stem>_<other>`` whose unit,
+    nearest in scale to the column's own (``scales``: unit suffix -> factor to the internal
+    unit), would read the same numbers as a value within ``bounds``, and that value; None
+    when no unit does (or the column's own unit is not in ``scales``). Metres written under
+    ``piezo_um`` (8e-06) give ``("piezo_m", 8.0)``."""
+    stem, _, unit = column.rpartition("_")
+    own = scales.get(unit)
+    if not own:
+        return None
+    low, high = bounds
+    for other in sorted(scales, key=lambda u: abs(math.log(scales[u] / own))):
+        rescaled = value * scales[other] / own
+        if other != unit and low <= rescaled <= high:
+            return f"{stem}_{other}", rescaled
+    return None
+
+
 def float_array(where: str | Path, name: str, values: object) -> np.ndarray:
     """``values`` as a float array (NaN kept: raw data); what numpy cannot read is refused."""
     try:
@@ -258,18 +279,29 @@ def excerpt(text: str) -> str:
     return f"[excerpt: {cut!r}]"
 
 
-def csv_lines(path: str | Path, text: str) -> list[tuple[int, list[str]]]:
-    """The rows of a comma-separated text with the file's own line numbers (1 = the first
-    line), blank lines and ``#`` comment lines left out; a row the CSV reader refuses is named
-    by its line."""
+SEPARATORS = {",": "comma", "\t": "tab", ";": "semicolon"}
+"""Cell separators of the text tables read, by name (for messages)."""
+
+
+def table_delimiter(header: str) -> str:
+    """The cell separator of a table whose header row is ``header``: a tab or a semicolon if
+    the row holds one (a spreadsheet's or a European export), else a comma."""
+    return next((d for d in ("\t", ";") if d in header), ",")
+
+
+def csv_lines(path: str | Path, text: str, delimiter: str = ",") -> list[tuple[int, list[str]]]:
+    """The rows of a ``delimiter``-separated text (one of :data:`SEPARATORS`) with the file's
+    own line numbers (1 = the first line), blank lines and ``#`` comment lines left out; a row
+    the CSV reader refuses is named by its line."""
     rows = []
     for line, text_line in enumerate(text.splitlines(), start=1):
         if not text_line.strip() or text_line.lstrip().startswith("#"):
             continue
         try:
-            rows.append((line, next(csv.reader([text_line]))))
+            rows.append((line, next(csv.reader([text_line], delimiter=delimiter))))
         except csv.Error as exc:
-            raise InputError(path, f"line {line}", f"comma-separated values ({exc})") from None
+            what = f"{SEPARATORS[delimiter]}-separated values ({exc})"
+            raise InputError(path, f"line {line}", what) from None
     return rows
 
 

@@ -188,3 +188,22 @@ def test_a_case_input_naming_its_quantity_is_within_that_quantity(value: float) 
             _Bounded.model_validate({"angle_deg": value})
         if math.isfinite(value) and abs(value) <= MAX_ABS:  # beyond: the magnitude bound first
             assert f"[{low:g}, {high:g}] {unit}" in str(err.value)
+
+
+def test_unit_that_fits_names_the_nearest_unit_that_reads_the_value_in_range() -> None:
+    """The shared "looks like unit X" guess of the AFM and NMSD readers: metres under
+    ``piezo_um`` (8e-6 um; the AFM travel units nm, um, m) read as ``piezo_m`` give 8 um;
+    of two units that would both fit, the nearer in scale is named; none when no unit fits or
+    the column's unit is unknown."""
+    import pytest
+
+    from oocyte_fe.checks import unit_that_fits
+
+    lengths = {"nm": 1e-3, "um": 1.0, "mm": 1e3, "m": 1e6}
+    assert unit_that_fits("piezo_um", 8e-6, (1e-3, 1e3), {"nm": 1e-3, "um": 1.0, "m": 1e6}) == (
+        "piezo_m",
+        pytest.approx(8.0),
+    )
+    assert unit_that_fits("d_um", 0.5, (1.0, 1e6), lengths) == ("d_mm", pytest.approx(500.0))
+    assert unit_that_fits("d_um", 1e-30, (1.0, 1e3), lengths) is None
+    assert unit_that_fits("deflection_V", 1e-9, (1e-3, 1e6), lengths) is None

@@ -11,7 +11,6 @@ column as written in the file and what was expected.
 
 from __future__ import annotations
 
-import csv
 import difflib
 import math
 import re
@@ -51,21 +50,15 @@ def read_table(path: Path) -> tuple[dict[str, np.ndarray], dict[str, str]]:
     :mod:`oocyte_fe.checks` (a regular UTF-8 file); every cell must be a finite number.
     """
     text = checks.read_text(path)
-    lines = [
-        (n, line)
-        for n, line in enumerate(text.splitlines(), start=1)
-        if line.strip() and not line.lstrip().startswith("#")
-    ]
-    if len(lines) < 2:
+    header_line = next(
+        (line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")),
+        "",
+    )
+    delimiter = checks.table_delimiter(header_line)
+    what = checks.SEPARATORS[delimiter]
+    rows = checks.csv_lines(path, text, delimiter)
+    if len(rows) < 2:
         raise InputError(path, "", "a header row and at least one data row")
-    delimiter = next((d for d in ("\t", ";") if d in lines[0][1]), ",")
-    what = {"\t": "tab", ";": "semicolon", ",": "comma"}[delimiter]
-    rows = []
-    for n, line in lines:
-        try:
-            rows.append((n, next(csv.reader([line], delimiter=delimiter))))
-        except csv.Error as exc:
-            raise InputError(path, f"line {n}", f"{what}-separated values ({exc})") from None
     header = [h.strip() for h in rows[0][1]]
     names = [column_name(h) for h in header]
     if len(set(names)) != len(names):
