@@ -20,14 +20,18 @@ def edited_case(tmp_path: Path, name: str, **inputs: Any) -> Path:
 
 
 def set_inputs(folder: Path, **inputs: Any) -> Path:
-    """``folder/case.toml`` with ``inputs`` set (dotted keys reach nested tables)."""
+    """``folder/case.toml`` with ``inputs`` set (dotted keys reach nested tables; ``None``
+    removes the key)."""
     raw = tomllib.loads((folder / "case.toml").read_text())
     for key, value in inputs.items():
         table = raw["inputs"]
         *parents, last = key.split(".")
         for part in parents:
             table = table.setdefault(part, {})
-        table[last] = value
+        if value is None:
+            table.pop(last, None)
+        else:
+            table[last] = value
     (folder / "case.toml").write_text(tomli_w.dumps(raw))
     return folder
 

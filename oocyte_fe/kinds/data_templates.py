@@ -94,3 +94,19 @@ CYTOPLASM_MATERIAL: dict[str, Any] = {
     "example_source": "elastic, E = 1.55 kPa (seed 001 Table 1, as cases/afm_creep_prony)",
 }
 """Read by :func:`oocyte_fe.fe.material.read_material_file`."""
+
+FITTED_RHEOLOGY: dict[str, Any] = {
+    "suffix": ".toml",
+    "example_text": (
+        "# oocyte-fe fitted rheology; units: Pa s, Pa s^n, s, 1/s\n"
+        "# written by microchannel_carreau_fit; read by microchannel_flow (rheology_file)\n"
+        '[data]\nfile = "table2_viscosity.csv"\n'
+        "shear_rate_min_1_s = 0.00172\nshear_rate_max_1_s = 0.0524\n\n"
+        "[carreau]\neta0_Pa_s = 1434.0\neta_inf_Pa_s = 1.368\ntime_constant_s = 661.3\n"
+        "n = 0.04713\n\n"
+        "[power_law]\nconsistency_Pa_s_n = 4.132\nn = 0.1319\n"
+    ),
+    "example_source": "the fluids of cases/microchannel_flow (Table 2's fits, seed 001, at its "
+    "rates 0.00172-0.0524 1/s); a microchannel_carreau_fit run writes this file",
+}
+"""Read by :func:`oocyte_fe.kinds.microchannel_flow_inputs.read_fluids`."""

@@ -12,6 +12,7 @@ from oocyte_fe.kinds.data_templates import FLOW_CURVE
 from oocyte_fe.kinds.microchannel_input_rules import curve_fits, eta_inf_below_curve
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.plotting import plot_viscosity_fits
+from oocyte_fe.microchannel.rheology_file import rheology_toml
 from oocyte_fe.microchannel.rheology_fit import ViscosityFit, fit_viscosity
 from oocyte_fe.microchannel.tables import read_flow_curve
 from oocyte_fe.microchannel.viscosity import ETA_INF, viscosity_models
@@ -212,6 +213,22 @@ def run(ctx: CaseContext) -> CaseOutcome:
             _parameter_table(fits) + "\n\n" + _notes(fits, curve.shear_rate, curve.viscosity),
         )
     ]
+    rates = (float(curve.shear_rate.min()), float(curve.shear_rate.max()))
+    fitted = ctx.output("fitted_rheology.toml")
+    fitted.write_text(
+        rheology_toml(
+            {f.model.key: f.rheology for f in fits}, {f.model.key: f.r2 for f in fits}, name, rates
+        )
+    )
+    sections.append(
+        (
+            "Fitted rheology file",
+            f"`{fitted.name}`: every fitted model's parameters (Pa s, s) and the rates of "
+            f"{name} ({rates[0]:.3g}-{rates[1]:.3g} 1/s); a `microchannel_flow` case reads it "
+            "as `rheology_file` (copied into its folder) and withholds the flow of a fluid "
+            "whose wall shear rate lies outside those rates.",
+        )
+    )
     if inp.table3_zero_shear_Pa_s or inp.table3_infinite_shear_Pa_s:
         sections.append(("Beside Table 3's Carreau limits", _table3(fits, inp)))
     return CaseOutcome(

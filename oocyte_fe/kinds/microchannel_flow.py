@@ -3,13 +3,10 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated
 
 import numpy as np
-from pydantic import Field
 
-from oocyte_fe.kinds.microchannel_input_rules import laminar_pressures
-from oocyte_fe.kinds.microchannel_inputs import CarreauInputs, ChannelInputs
+from oocyte_fe.kinds.microchannel_flow_inputs import FlowInputs
 from oocyte_fe.microchannel import units
 from oocyte_fe.microchannel.channel import Channel
 from oocyte_fe.microchannel.duct_fe import radial_mesh, rectangle_mesh, solve_duct_flow
@@ -22,69 +19,8 @@ from oocyte_fe.microchannel.poiseuille import (
 from oocyte_fe.microchannel.rabinowitsch import fully_developed_flow
 from oocyte_fe.microchannel.viscosity import Rheology
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, Figure, case_kind
-from oocyte_fe.runner.schema import CaseInputs, Increasing, Setup
 
 PA_PER_M = 1e-9  # 1 Pa/m = 1e-3 kPa / 1e6 um
-
-
-PositiveFloat = Annotated[float, Field(gt=0)]
-CellCount = Annotated[int, Field(ge=2, le=400)]
-
-
-class FlowInputs(CaseInputs):
-    channel: ChannelInputs = Field(description="the channel and its medium")
-    pressures_hPa: list[PositiveFloat] = Field(
-        min_length=1,
-        description="driving pressures (Table 4)",
-        json_schema_extra={"unit": "hPa"},
-    )
-    carreau: CarreauInputs = Field(description="cytoplasm rheology for the non-Newtonian flows")
-    power_law_consistency_Pa_s_n: float = Field(
-        gt=0,
-        description="consistency K for the closed-form power-law check",
-        json_schema_extra={"unit": "Pa s^n"},
-    )
-    power_law_n: float = Field(
-        gt=0, le=1.5, description="power-law index", json_schema_extra={"unit": "1"}
-    )
-    pressure_gradient_Pa_m: float = Field(
-        gt=0,
-        description="pressure gradient G for the non-Newtonian flows",
-        json_schema_extra={"unit": "Pa/m"},
-    )
-    duct_width_um: float = Field(
-        gt=0, description="rectangular duct width", json_schema_extra={"unit": "um"}
-    )
-    duct_height_um: float = Field(
-        gt=0, description="rectangular duct height", json_schema_extra={"unit": "um"}
-    )
-    rectangle_cells: list[CellCount] = Field(
-        min_length=1,
-        description="FE cells on the duct's short side, one mesh each",
-        json_schema_extra={"unit": "1"},
-    )
-    radial_cells: list[CellCount] = Field(
-        min_length=1,
-        description="FE cells on the pipe radius, one mesh each",
-        json_schema_extra={"unit": "1"},
-    )
-    continuation_steps: int = Field(
-        default=4,
-        ge=1,
-        le=20,
-        description="viscosity continuation steps of the non-Newtonian solve",
-        json_schema_extra={"unit": "1"},
-    )
-
-    rules = (
-        Increasing("rectangle_cells"),
-        Increasing("radial_cells"),
-        Setup(
-            lambda m: laminar_pressures(
-                m.channel.reynolds_ref, m.channel.pressure_ref_hPa, "pressures_hPa", m.pressures_hPa
-            )
-        ),
-    )
 
 
 METRICS = {
@@ -99,34 +35,84 @@ METRICS = {
     "fe_carreau_pipe_order": "observed convergence order of the Carreau pipe flow rate, 1",
     "carreau_wall_number": "Carreau number lambda * wall shear rate of the pipe test, 1",
     "carreau_mean_velocity_ref": "mean velocity of the Carreau fluid at the reference pressure "
-    "(G = Dp / L), um/s",
+    "(G = Dp / L), um/s; NaN where its wall rate lies outside the measured rates",
     "power_law_mean_velocity_ref": "mean velocity of the power-law fluid at the reference "
-    "pressure (G = Dp / L), um/s",
+    "pressure (G = Dp / L), um/s; NaN where its wall rate lies outside the measured rates",
 }
 
 
-def _fluid_table(channel: Channel, fluids: dict[str, Rheology], pressures: np.ndarray) -> str:
+def _fluid_table(
+    channel: Channel,
+    fluids: dict[str, Rheology],
+    pressures: np.ndarray,
+    rates: tuple[float, float] | None,
+    extrapolate: bool,
+    where: str,
+) -> str:
     """Flow rate Q (nL/s), mean velocity U = Q / (pi R^2) (mm/s) and wall shear rate (1/s) of
-    each fluid in the channel at each pressure, with ``G = Dp / L`` (Rabinowitsch-Mooney)."""
+    each fluid in the channel at each pressure, with ``G = Dp / L`` (Rabinowitsch-Mooney);
+    Q and U withheld where the wall rate lies outside ``rates`` (unless ``extrapolate``)."""
     hpa = units.PRESSURE["hPa"]
     head = " | ".join(f"{f}: Q (nL/s) | {f}: U (mm/s) | {f}: wall rate (1/s)" for f in fluids)
     rows = [f"| pressure (hPa) | G (Pa/m) | {head} |", "|---" * (2 + 3 * len(fluids)) + "|"]
+    outside = 0
     for p in pressures:
         g = float(channel.pressure_gradient(p))
         cells = []
         for rheology in fluids.values():
             flow = fully_developed_flow(rheology, "pipe", channel.radius, g)
-            cells += [f"{flow.flow_rate * 1e-6:.4g}", f"{flow.mean_velocity * 1e-3:.4g}"]
+            beyond = not _within(flow.wall_shear_rate, rates)
+            outside += beyond
+            if beyond and not extrapolate:
+                cells += ["-", "-"]
+            else:
+                mark = "*" if beyond else ""
+                cells += [
+                    f"{flow.flow_rate * 1e-6:.4g}{mark}",
+                    f"{flow.mean_velocity * 1e-3:.4g}{mark}",
+                ]
             cells.append(f"{flow.wall_shear_rate:.3g}")
         rows.append(f"| {p / hpa:g} | {g / PA_PER_M:.4g} | {' | '.join(cells)} |")
-    return "\n".join(rows) + (
+    text = (
         "\n\nEach fluid as if it filled the whole driven path: the pressure gradient "
         f"G = Dp / L with the effective hydraulic length L = {channel.hydraulic_length * 1e-3:.4g}"
         " mm calibrated by the medium, in the pipe of the channel's radius "
         f"{channel.radius:g} um; Q from Rabinowitsch-Mooney (exact for the fluid's flow curve), "
-        "U = Q / (pi R^2). A wall rate beyond the rates a flow curve was measured at is its "
-        "model's extrapolation."
+        f"U = Q / (pi R^2). The fluids from {where}. "
     )
+    if rates is None:
+        return (
+            "\n".join(rows)
+            + text
+            + (
+                "The rates their flow curve was measured at are not given (`shear_rate_range_1_s` "
+                "or a `rheology_file`): no figure is checked against them, and a wall rate beyond "
+                "them would be the model's extrapolation."
+            )
+        )
+    span = f"{rates[0]:.3g}-{rates[1]:.3g} 1/s"
+    if not outside:
+        return "\n".join(rows) + text + f"Every wall rate lies within the measured {span}."
+    if extrapolate:
+        said = "marked * and shown, as asked (`extrapolate = true`): the model's extrapolation."
+    else:
+        said = (
+            "withheld (-): a viscosity model fitted there says nothing about the flow at "
+            "those rates (`extrapolate = true` shows the model's extrapolation, marked)."
+        )
+    return (
+        "\n".join(rows)
+        + text
+        + (
+            f"The flow curve was measured at {span}; {outside} of {len(pressures) * len(fluids)} "
+            f"flows have a wall rate outside it, {said}"
+        )
+    )
+
+
+def _within(rate: float, rates: tuple[float, float] | None) -> bool:
+    """``rate`` (1/s) lies in the measured ``rates`` (to 1e-9 of each end), or none are known."""
+    return rates is None or rates[0] * (1 - 1e-9) <= rate <= rates[1] * (1 + 1e-9)
 
 
 def _order(h: np.ndarray, err: np.ndarray) -> float:
@@ -143,7 +129,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     pressures = channel.check_pressures(
         np.array(inp.pressures_hPa) * hpa, source, "inputs.pressures_hPa"
     )
-    carreau = inp.carreau.to_internal(source)
+    carreau, power, rates, where = inp.fluids(source)
     medium = Rheology.of("newtonian", mu=channel.viscosity)
     g = inp.pressure_gradient_Pa_m * PA_PER_M
 
@@ -167,8 +153,6 @@ def run(ctx: CaseContext) -> CaseOutcome:
     )
 
     ctx.step("Rabinowitsch-Mooney against closed forms")
-    k = inp.power_law_consistency_Pa_s_n * units.VISCOSITY["Pa_s"]
-    power = Rheology.of("power_law", source=source, consistency=k, n=inp.power_law_n)
     rm_newton, rm_power, profiles = 0.0, 0.0, {}
     for geometry in ("pipe", "slit"):
         size = channel.radius
@@ -177,7 +161,9 @@ def run(ctx: CaseContext) -> CaseOutcome:
         flow = fully_developed_flow(medium, geometry, size, g_medium)
         rm_newton = max(rm_newton, abs(flow.flow_rate / exact.flow_rate - 1.0))
         pl = fully_developed_flow(power, geometry, size, g)
-        closed = power_law_flow_rate(geometry, size, pl.wall_shear_stress, k, inp.power_law_n)
+        closed = power_law_flow_rate(
+            geometry, size, pl.wall_shear_stress, power.params["consistency"], power.params["n"]
+        )
         rm_power = max(rm_power, abs(pl.flow_rate / closed - 1.0))
         x = np.linspace(0.0, size, 41)
         cflow = fully_developed_flow(carreau, geometry, size, g)
@@ -189,13 +175,13 @@ def run(ctx: CaseContext) -> CaseOutcome:
 
     ctx.step("the fluids at each pressure")
     fluids = {"Carreau": carreau, "power law": power}
-    fluid_points = _fluid_table(channel, fluids, pressures)
-    at_ref = {
-        key: fully_developed_flow(
-            fluid, "pipe", channel.radius, float(channel.pressure_gradient(channel.pressure_ref))
-        ).mean_velocity
-        for key, fluid in (("carreau", carreau), ("power_law", power))
-    }
+    fluid_points = _fluid_table(channel, fluids, pressures, rates, inp.extrapolate, where)
+    g_ref = float(channel.pressure_gradient(channel.pressure_ref))
+    at_ref = {}
+    for key, fluid in (("carreau", carreau), ("power_law", power)):
+        flow = fully_developed_flow(fluid, "pipe", channel.radius, g_ref)
+        shown = inp.extrapolate or _within(flow.wall_shear_rate, rates)
+        at_ref[key] = flow.mean_velocity if shown else math.nan
 
     ctx.step("FE: Newtonian rectangular duct")
     w, h = inp.duct_width_um, inp.duct_height_um
