@@ -110,3 +110,18 @@ FITTED_RHEOLOGY: dict[str, Any] = {
     "rates 0.00172-0.0524 1/s); a microchannel_carreau_fit run writes this file",
 }
 """Read by :func:`oocyte_fe.kinds.microchannel_flow_inputs.read_fluids`."""
+
+NMSD_CONSTANTS: dict[str, Any] = {
+    "suffix": ".toml",
+    "example_text": (
+        "# oocyte-fe NMSD constants; units: nN, um, s\n"
+        "[nmsd]\nk1_nN = 3.0\nk2_nN = 8000.0\ndl_c = 0.8\nd0_nN_s_per_um = 14.6\n"
+        "d1_nN_s_per_um2 = 0.55\nnode_mass_nN_s2_per_um = 3.5038207453450298e-09\n"
+        'damping = "nodal"\n\n'
+        "[lattice]\ncell_diameter_um = 115.625\nspacings_across = 17\n"
+    ),
+    "example_source": "SYNTHETIC constants (k1 3 nN, k2 8000 nN, d0 14.6 nN s/um, d1 0.55 "
+    "nN s/um^2, like docs/nmsd.md) on the default lattice (115.625 um, 17 spacings, dl_c 0.8); "
+    "an nmsd_calibration run writes this file with its own constants",
+}
+"""Read by :func:`nmsd.constants_file.read_constants`."""

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -11,6 +12,7 @@ from pydantic import Field
 
 from nmsd.approach_pid import PidGains, pid_approach
 from nmsd.calibration import MODELS, CalibrationResult, calibrate, fit_metrics
+from nmsd.constants_file import constants_toml, read_constants, with_constants
 from nmsd.cytoplasm_loss import loss_fraction
 from nmsd.lattice import circular_lattice
 from nmsd.parameters import NmsdParameters, node_mass_for
@@ -141,6 +143,21 @@ def run_calibration(ctx: CaseContext) -> CaseOutcome:
     figures, sections = calibration_report(
         ctx.output, data, results, paper, setup, press, rate, inp.travel_um
     )
+    constants = ctx.output("nmsd_constants.toml")
+    name = Path(inp.data).name
+    rmse = best.metrics.rmse_nN * UN
+    constants.write_text(
+        constants_toml(best.params, inp.cell_diameter_um, inp.spacings_across, name, rmse)
+    )
+    sections.append(
+        (
+            "Constants file",
+            f"`{constants.name}`: the NMSD constants (nN, um, s) and the lattice they hold on "
+            f"({inp.cell_diameter_um:g} um, {inp.spacings_across} spacings across); an "
+            "`nmsd_spindle_offset` case reads it as `constants_file` (copied into its folder) "
+            "instead of calibrating again.",
+        )
+    )
     checks = [
         Check(
             "NMSD fit better than the mean force (R^2 >= 0)",
@@ -196,7 +213,11 @@ def run_spindle(ctx: CaseContext) -> CaseOutcome:
     """Calibrate on the data file, predict the spindle offset, drive the PID approach to it."""
     inp = ctx.inputs
     setup, base, data = _setup_and_data(ctx)
-    cal = _calibrate(ctx, setup, data, base, "nmsd")
+    if inp.constants_file is None:
+        cal = _calibrate(ctx, setup, data, base, "nmsd")
+    else:
+        ctx.step(f"the constants of {inp.constants_file.name} on the data")
+        cal = with_constants(setup, read_constants(inp.constants_file), data)
     ctx.step("approach to the spindle")
     off = predict_spindle_offset(
         setup.lattice,

@@ -8,6 +8,7 @@ from typing import Annotated, Literal
 from pydantic import Field
 
 from nmsd.calibration import MODELS
+from nmsd.constants_file import read_constants
 from nmsd.pipette import (
     CONTACT_STIFFNESS_NN_PER_UM,
     HOLD_HALF_WIDTH_UM,
@@ -15,7 +16,8 @@ from nmsd.pipette import (
     TABLE_I_WIDTH_UM,
 )
 from nmsd.tableII import read_force_displacement
-from oocyte_fe.kinds.data_templates import TABLE_II
+from oocyte_fe.errors import InputError
+from oocyte_fe.kinds.data_templates import NMSD_CONSTANTS, TABLE_II
 from oocyte_fe.kinds.nmsd_checks import (
     LIBRARY_ARGS,
     approach_at_validation,
@@ -31,6 +33,7 @@ from oocyte_fe.runner.schema import (
     DataReader,
     Distinct,
     Relation,
+    RuleBroken,
     Setup,
 )
 
@@ -206,7 +209,40 @@ class CalibrationInputs(PressInputs):
     )
 
 
+def same_lattice(m: SpindleInputs) -> None:
+    """The constants of ``constants_file`` hold on its lattice: the case presses the same
+    cell diameter and spacings, with the same critical strain and damping reading (an
+    unreadable file is left to its reader, which names the fault)."""
+    if m.constants_file is None:
+        return
+    try:
+        c = read_constants(m.constants_file)
+    except InputError:
+        return
+    for field, theirs in (
+        ("cell_diameter_um", c.cell_diameter_um),
+        ("spacings_across", c.spacings_across),
+        ("dl_c", c.params.dl_c),
+        ("damping", c.params.damping),
+    ):
+        ours = getattr(m, field)
+        if ours != theirs:
+            raise RuleBroken(
+                field,
+                f"{theirs!r}, as in constants_file {m.constants_file.name} (its constants "
+                "belong to the lattice and press they were calibrated on)",
+                ours,
+            )
+
+
 class SpindleInputs(PressInputs):
+    constants_file: Annotated[DataFile, DataReader(read_constants)] | None = Field(
+        default=None,
+        description="nmsd_constants.toml of an nmsd_calibration run (copied into the case "
+        "folder): its constants are used as they are (the data file is then only pressed "
+        "once, to report their fit); none: calibrated on the data file",
+        json_schema_extra=NMSD_CONSTANTS,
+    )
     spindle_initial_um: tuple[float, float] = Field(
         (15.8718, 18.1392),
         description="spindle position (x, y) before the approach",
@@ -274,4 +310,5 @@ class SpindleInputs(PressInputs):
             lambda m: m.removal_pipette_um / 2,
             "removal_pipette_um / 2 (a coarser step can leave the spindle outside the bore)",
         ),
+        Setup(same_lattice),
     )

@@ -173,7 +173,9 @@ def spindle_report(
     ]
     sections = [
         (
-            f"Calibration used ({Path(cal_source).name} only)",
+            f"Calibration used ({Path(cal_source).name} only)"
+            if cal.evaluations > 1
+            else f"Constants used ({cal.message}; their fit on {Path(cal_source).name})",
             f"{cal.params}\n\nRMSE {cal.metrics.rmse_nN * UN:.3f} uN\n\n"
             + identifiability_table({"nmsd": cal}),
         ),
