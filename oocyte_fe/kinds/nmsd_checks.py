@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from nmsd.calibration import CONSTANTS
+from nmsd.constants_file import read_constants
 from nmsd.lattice import circular_lattice
 from nmsd.press import press_setup
 from nmsd.spindle import Approach, approach_setup
@@ -184,3 +185,29 @@ def arrows_on_frames(m: Any) -> Any:
             off,
         )
     return m
+
+
+def same_lattice(m: Any) -> None:
+    """The constants of ``constants_file`` hold on its lattice: the case presses the same
+    cell diameter and spacings, with the same critical strain and damping reading (an
+    unreadable file is left to its reader, which names the fault)."""
+    if m.constants_file is None:
+        return
+    try:
+        c = read_constants(m.constants_file)
+    except InputError:
+        return
+    for field, theirs in (
+        ("cell_diameter_um", c.cell_diameter_um),
+        ("spacings_across", c.spacings_across),
+        ("dl_c", c.params.dl_c),
+        ("damping", c.params.damping),
+    ):
+        ours = getattr(m, field)
+        if ours != theirs:
+            raise RuleBroken(
+                field,
+                f"{theirs!r}, as in constants_file {m.constants_file.name} (its constants "
+                "belong to the lattice and press they were calibrated on)",
+                ours,
+            )

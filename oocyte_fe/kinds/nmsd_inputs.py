@@ -16,7 +16,6 @@ from nmsd.pipette import (
     TABLE_I_WIDTH_UM,
 )
 from nmsd.tableII import read_force_displacement
-from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.data_templates import NMSD_CONSTANTS, TABLE_II
 from oocyte_fe.kinds.nmsd_checks import (
     LIBRARY_ARGS,
@@ -26,6 +25,7 @@ from oocyte_fe.kinds.nmsd_checks import (
     data_inside_cell,
     enough_points,
     press_at_validation,
+    same_lattice,
 )
 from oocyte_fe.runner.schema import (
     CaseInputs,
@@ -33,7 +33,6 @@ from oocyte_fe.runner.schema import (
     DataReader,
     Distinct,
     Relation,
-    RuleBroken,
     Setup,
 )
 
@@ -207,32 +206,6 @@ class CalibrationInputs(PressInputs):
         Distinct("rate_speeds_um_s"),
         Distinct("snapshot_um"),
     )
-
-
-def same_lattice(m: SpindleInputs) -> None:
-    """The constants of ``constants_file`` hold on its lattice: the case presses the same
-    cell diameter and spacings, with the same critical strain and damping reading (an
-    unreadable file is left to its reader, which names the fault)."""
-    if m.constants_file is None:
-        return
-    try:
-        c = read_constants(m.constants_file)
-    except InputError:
-        return
-    for field, theirs in (
-        ("cell_diameter_um", c.cell_diameter_um),
-        ("spacings_across", c.spacings_across),
-        ("dl_c", c.params.dl_c),
-        ("damping", c.params.damping),
-    ):
-        ours = getattr(m, field)
-        if ours != theirs:
-            raise RuleBroken(
-                field,
-                f"{theirs!r}, as in constants_file {m.constants_file.name} (its constants "
-                "belong to the lattice and press they were calibrated on)",
-                ours,
-            )
 
 
 class SpindleInputs(PressInputs):
