@@ -226,3 +226,22 @@ def test_fit_files_groups_and_materials_without_the_runner():
         fit_files(files, "sneddon_cone", cone, 0.5, CASE, creep={"ZP": record})
     soft = fit_files(files, "sneddon_cone", cone, 0.5, CASE, groups={"soft": "curves/cyto*/*"})
     assert list(soft.stats) == ["soft", "zp"] and soft.known_errors is None
+
+
+def test_new_case_writes_an_example_curve_that_fits_to_its_modulus(tmp_path):
+    """`oocyte-fe new afm_fit_files` writes curves/ with one synthetic approach (10 deg cone
+    into 1.55 kPa, cantilever deflection taken off the travel) and sets curves = "curves":
+    the case runs as written and fits E = 1.55 kPa (within 0.5 %)."""
+    from oocyte_fe.runner.registry import get_kind
+    from oocyte_fe.runner.scaffold import new_case
+
+    folder = tmp_path / "mine"
+    written = new_case(get_kind("afm_fit_files"), folder)
+    assert folder / "curves" / "example_cone_1.55kPa.csv" in written
+    [result] = run_cases(plan([folder]), tmp_path / "out")
+    assert result.status == "PASS", result.reason
+    metrics = json.loads((tmp_path / "out" / "mine" / "metrics.json").read_text())["metrics"]
+    assert metrics["n_fitted"] == 1
+    with (tmp_path / "out" / "mine" / "fits.csv").open() as fh:
+        [row] = list(csv.DictReader(fh))
+    assert float(row["E_kPa"]) == pytest.approx(1.55, rel=5e-3)

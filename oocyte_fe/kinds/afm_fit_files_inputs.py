@@ -18,7 +18,7 @@ from oocyte_fe.checks import inside, regular_file
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.afm_fit_files_check import check_case, read_creep_records
 from oocyte_fe.kinds.afm_fit_files_tables import Calibration, CorrectionInputs, Viscoelastic
-from oocyte_fe.kinds.data_templates import KNOWN_MODULI
+from oocyte_fe.kinds.data_templates import AFM_CURVES_FOLDER, KNOWN_MODULI
 from oocyte_fe.runner.casefile import DataFile
 from oocyte_fe.runner.schema import CaseInputs, DataReader, RuleBroken
 
@@ -28,6 +28,7 @@ class FitFilesInputs(CaseInputs):
         min_length=1,
         description="folder (searched recursively) or glob of curve files, relative to the "
         "case folder: CSV/TSV tables or any instrument file afmformats reads",
+        json_schema_extra=AFM_CURVES_FOLDER,
     )
     model: str = Field("sneddon_cone", description="tip model key (afm.models)")
     geometry: dict[str, float] = Field(

@@ -125,3 +125,25 @@ NMSD_CONSTANTS: dict[str, Any] = {
     "an nmsd_calibration run writes this file with its own constants",
 }
 """Read by :func:`nmsd.constants_file.read_constants`."""
+
+
+def _cone_curve(e_kpa: float, half_angle_deg: float, k_nn_per_um: float, contact_um: float) -> str:
+    """A synthetic approach (piezo_um, force_nN) on a Sneddon cone, nu = 0.5: the force
+    ``F = c d^2``, ``c = 2 E tan(alpha) / (pi (1 - nu^2))``, with the indentation ``d = z - z0
+    - F / k`` (the cantilever's deflection taken off the piezo travel), 0 before contact."""
+    c = 2.0 * e_kpa * math.tan(math.radians(half_angle_deg)) / (math.pi * 0.75)
+    rows = [f"# spring_constant_N_per_m = {k_nn_per_um * 1e-3:g}", "piezo_um,force_nN"]
+    for i in range(201):
+        z = 0.03 * i
+        travel = max(z - contact_um, 0.0)
+        d = (-k_nn_per_um + math.sqrt(k_nn_per_um**2 + 4 * c * k_nn_per_um * travel)) / (2 * c)
+        rows.append(f"{z:.2f},{c * d * d:.6g}")
+    return "\n".join(rows) + "\n"
+
+
+AFM_CURVES_FOLDER: dict[str, Any] = {
+    "example_folder": {"example_cone_1.55kPa.csv": _cone_curve(1.55, 10.0, 70.0, 2.0)},
+    "example_source": "SYNTHETIC, one approach on a 10 deg Sneddon cone into E = 1.55 kPa "
+    "(nu = 0.5, contact at 2 um, k = 0.07 N/m: a cytoplasm of seed 001), exact, no noise",
+}
+"""The example of ``afm_fit_files``' folder input ``curves``."""

@@ -16,6 +16,7 @@ import json
 import types
 import typing
 from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +44,7 @@ class InputDoc:
     suffix: str  # of the data-file template
     source: str  # where the template's example comes from
     model: type[BaseModel] | None  # a nested table of inputs
+    folder_files: dict[str, str] = dataclass_field(default_factory=dict)  # a folder's examples
 
 
 def _extra(field: FieldInfo) -> dict[str, Any]:
@@ -103,6 +105,7 @@ def input_docs(model: type[BaseModel]) -> list[InputDoc]:
                 str(extra.get("suffix", ".csv")),
                 str(extra.get("example_source", "")),
                 nested,
+                dict(extra.get("example_folder", {})),
             )
         )
     return docs
@@ -198,7 +201,11 @@ def _table(
             continue
         if doc.description or doc.unit:
             lines.append(_comment(doc))
-        if doc.is_file:
+        if doc.folder_files:  # a folder input: example files written into it
+            files[doc.name] = doc
+            lines.append(f"# examples written in {doc.name}/: {doc.source}")
+            lines.append(f'{doc.name} = "{doc.name}"   # replace with your folder')
+        elif doc.is_file:
             files[doc.name] = doc
             if doc.source:
                 lines.append(f"# template written beside this file; its rows: {doc.source}")
@@ -268,6 +275,12 @@ def new_case(kind: CaseKind, folder: Path, template: str | None = None) -> list[
     written = [folder / CASE_FILE]
     _write(folder, written[0], "\n".join(lines))
     for name, doc in files.items():
+        for file, text in doc.folder_files.items():
+            path = folder / name / file
+            _write(path.parent, path, text)
+            written.append(path)
+        if doc.folder_files:
+            continue
         path = folder / f"{name}{doc.suffix}"
         if path.exists():
             continue
