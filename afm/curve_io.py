@@ -331,11 +331,44 @@ def read_table_travel(
         raise InputError(path, "header", f"a piezo column: one of {', '.join(PIEZO_COLUMNS)}")
     force = _force(columns, meta, k, sensitivity_nm_per_V, path)
     piezo = columns[piezo_name] * PIEZO_COLUMNS[piezo_name]
-    towards, end = approach_segment(piezo, force, str(path), piezo_name)
     force_name = _name(columns, {**FORCE_COLUMNS, **DEFLECTION_COLUMNS}) or "deflection_V"
+    head = _swapped_head(piezo, force)
+    if head is not None:
+        raise InputError(
+            path,
+            f"{piezo_name}, {force_name}",
+            "the travel in the piezo/height column and the force in the force column",
+            f"columns that look swapped: {force_name} moves one way in even steps, like a "
+            f"travel, and {piezo_name} changes by {100 * head:.2g} % of its range over its "
+            "first tenth of the rows, like a force before contact",
+        )
+    towards, end = approach_segment(piezo, force, str(path), piezo_name)
     _check_range(path, piezo_name, np.ptp(towards[:end]), TRAVEL_RANGE_UM, "an approach travel")
     _check_range(path, force_name, np.ptp(force[:end]), FORCE_RANGE_NN, "a force range")
     return TableTravel(towards, force, end, k_internal, columns, meta)
+
+
+SWAP_EVEN_STEPS = 0.05
+"""Largest spread of a column's steps (SD over mean) that reads as a travel's even steps."""
+SWAP_HEAD_SPAN = 0.05
+"""Largest change over the first tenth of the rows (a fraction of the column's range) that
+reads as a force's baseline: a travel in even steps changes by about a tenth there."""
+
+
+def _swapped_head(travel: np.ndarray, force: np.ndarray) -> float | None:
+    """When the columns look swapped (``force`` moves one way in even steps, like a travel,
+    and ``travel`` hardly changes over its first tenth of the rows, like a force before
+    contact, whose noise makes a force never move in even steps), the change of ``travel``
+    over that tenth as a fraction of its range; else None."""
+    if travel.size < 20 or not (np.all(np.isfinite(travel)) and np.all(np.isfinite(force))):
+        return None
+    steps = np.diff(force)
+    one_way = bool(np.all(steps > 0) or np.all(steps < 0))
+    if not one_way or np.std(steps) > SWAP_EVEN_STEPS * abs(steps.mean()):
+        return None
+    span = float(np.ptp(travel))
+    head = float(np.ptp(travel[: travel.size // 10])) / span if span > 0 else 0.0
+    return head if head < SWAP_HEAD_SPAN else None
 
 
 def _read_table_curve(

@@ -237,3 +237,27 @@ def test_a_creep_table_in_metres_or_newtons_is_refused(tmp_path: Path) -> None:
         read_creep(_creep_table(tmp_path / "m.csv", 5.0, depth * 1e-6))
     with pytest.raises(InputError, match=r"force_nN: expected a mean clamp force .* looks like"):
         read_creep(_creep_table(tmp_path / "n.csv", 5e-9, depth))
+
+
+# --- swapped columns are named as such (outside tester 4) ---------------------------------
+
+
+@pytest.mark.parametrize("noise_nN", [0.0, 0.05])
+def test_swapped_columns_are_refused_saying_so(tmp_path: Path, noise_nN: float) -> None:
+    """A travel in even steps (an instrument's piezo) written under force_nN and the force
+    (with or without baseline noise) under piezo_um: refused naming both columns and
+    'swapped' (before: "no contact" or a step back of the piezo); the same rows in their
+    own columns are fitted (E within 0.5 %)."""
+    z = np.linspace(0.0, TRAVEL_UM, 800)
+    c = 2 / math.pi * E_KPA / (1 - NU**2) * math.tan(math.radians(HALF_ANGLE_DEG))
+    k = 1e3 * K_N_PER_M  # nN/um
+    travel = np.clip(z - CONTACT_UM, 0.0, None)
+    delta = (-k + np.sqrt(k**2 + 4 * c * k * travel)) / (2 * c)  # d = z - z0 - F / k
+    force = c * delta**2 + np.random.default_rng(3).normal(0.0, noise_nN, z.size)
+    swapped = _csv(tmp_path / "swapped.csv", "piezo_um,force_nN", force, z)
+    with pytest.raises(InputError) as err:
+        read_curve(swapped)
+    assert err.value.field == "piezo_um, force_nN"
+    assert "columns that look swapped" in str(err.value)
+    right = _fit(_csv(tmp_path / "right.csv", "piezo_um,force_nN", z, force))
+    assert right.E_kPa == pytest.approx(E_KPA, rel=E_REL)

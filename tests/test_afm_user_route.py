@@ -60,11 +60,11 @@ def test_new_case_on_own_files_says_done_and_needs_no_known_moduli(tmp_path):
     # files, so the first run on one's own curves FAILed
     case = tmp_path / "mine"
     written = new_case(get_kind("afm_fit_files"), case)
-    assert [p.name for p in written] == ["case.toml"]
+    assert [p.name for p in written] == ["case.toml", "example_cone_1.55kPa.csv"]
     text = (case / "case.toml").read_text()
-    assert "\nknown_moduli =" not in text
+    assert "\nknown_moduli =" not in text and '\ncurves = "curves"' in text
+    shutil.rmtree(case / "curves")  # one's own curves in place of the example
     shutil.copytree(CASE / "curves", case / "curves")
-    (case / "case.toml").write_text(text.replace("# curves =    # REQUIRED", 'curves = "curves" #'))
     result, out = _run(case, tmp_path / "out")
     assert result.status == "PASS", result.reason
     [done] = json.loads((out / "metrics.json").read_text())["checks"]
