@@ -227,7 +227,8 @@ PIERCE_REFUSES = {
 def pierce_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
     """Keywords of :func:`afm.batch.fit_batch` for pierce-through curves
     (:func:`afm.pierce.fit_pierce`): the ZP's fit range (``max_indentation_um`` past the ZP
-    contact, ``max_force_fraction`` of the force at the drop) and the contact method.
+    contact, ``max_force_fraction`` of the force at the drop), the contact method and the
+    least drop taken as the pierce.
 
     Refused (naming ``case.toml`` and the input): a tip for which the cytoplasm fit is not
     defined (:func:`afm.pierce.pierce_model`: ``flat_punch``), nanite's analysis, a
@@ -253,4 +254,5 @@ def pierce_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
         "pierce": True,
         "zp_range": FitRange(inp.max_indentation_um, inp.max_force_fraction),
         "contact_method": inp.contact_method,
+        "min_drop_fraction": inp.pierce_min_drop_fraction,
     }

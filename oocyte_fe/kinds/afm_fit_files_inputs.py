@@ -106,6 +106,14 @@ class FitFilesInputs(CaseInputs):
         "ZP fitted up to the drop, the cytoplasm after it (afm.pierce.fit_pierce); a curve "
         "without a drop is refused (no pierce detected); materials per layer",
     )
+    pierce_min_drop_fraction: float = Field(
+        0.1,
+        gt=0,
+        lt=1,
+        description="the least force drop taken as the pierce, a fraction of the curve's force "
+        "range (pierce = true; the prominence of the drop's peak, afm.pierce.detect_pierce)",
+        json_schema_extra={"unit": "1"},
+    )
     include_poor: bool = Field(
         False,
         description="keep fits rated poor in the group means and material files (default: "
