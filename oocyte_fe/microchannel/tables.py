@@ -12,7 +12,6 @@ column as written in the file and what was expected.
 from __future__ import annotations
 
 import difflib
-import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,6 +20,7 @@ import numpy as np
 
 from oocyte_fe import checks
 from oocyte_fe.errors import InputError
+from oocyte_fe.io.columns import read_table_columns
 from oocyte_fe.microchannel import units
 
 BRACKETED = re.compile(r"^(?P<name>[^\[\]()]+?)\s*[\[(]\s*(?P<unit>[^\[\]()]+?)\s*[\])]$")
@@ -49,32 +49,7 @@ def read_table(path: Path) -> tuple[dict[str, np.ndarray], dict[str, str]]:
     with semicolons a decimal comma in a cell is read as a point. The file is opened through
     :mod:`oocyte_fe.checks` (a regular UTF-8 file); every cell must be a finite number.
     """
-    text = checks.read_text(path)
-    header_line = next(
-        (line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")),
-        "",
-    )
-    delimiter = checks.table_delimiter(header_line)
-    what = checks.SEPARATORS[delimiter]
-    rows = checks.csv_lines(path, text, delimiter)
-    if len(rows) < 2:
-        raise InputError(path, "", "a header row and at least one data row")
-    header = [h.strip() for h in rows[0][1]]
-    names = [column_name(h) for h in header]
-    if len(set(names)) != len(names):
-        raise InputError(path, "header", "distinct column names", got=", ".join(header)[:80])
-    columns: dict[str, list[float]] = {name: [] for name in names}
-    for n, row in rows[1:]:
-        if len(row) != len(header):
-            raise InputError(path, f"line {n}", f"{len(header)} {what}-separated values")
-        for head, name, cell in zip(header, names, row, strict=True):
-            if delimiter == ";":
-                cell = cell.replace(",", ".")
-            value = checks.number_cell(path, f"{head} (line {n})", cell)
-            if not math.isfinite(value):
-                raise InputError(path, f"{head} (line {n})", "a finite number", got=value)
-            columns[name].append(value)
-    return {k: np.array(v) for k, v in columns.items()}, dict(zip(names, header, strict=True))
+    return read_table_columns(path, column_name)
 
 
 def _suggest(name: str, columns: dict[str, np.ndarray]) -> str:
