@@ -128,20 +128,6 @@ def _number(file: str | Path, field: str, value: object) -> float:
     return value
 
 
-def _table(file: str, data: dict, key: str, allowed: set[str], required: bool) -> dict:
-    table = data.get(key)
-    if table is None:
-        if required:
-            raise InputError(file, f"[{key}]", "this table (it is required)")
-        return {}
-    if not isinstance(table, dict):
-        raise InputError(file, key, "a table")
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise InputError(file, f"{key}.{unknown[0]}", f"one of {sorted(allowed)}")
-    return table
-
-
 def read_material(path: str | Path) -> MaterialFile:
     """Read and validate a material file; errors name the file and the field."""
     file = str(path)
@@ -163,8 +149,8 @@ def read_material(path: str | Path) -> MaterialFile:
     unknown = sorted(set(data) - {"material", "prony"})
     if unknown:
         raise InputError(file, unknown[0], "only the tables [material] and [prony]")
-    material = _table(file, data, "material", _MATERIAL_KEYS, required=True)
-    prony = _table(file, data, "prony", _PRONY_KEYS, required=False)
+    material = checks.toml_table(file, data, "material", _MATERIAL_KEYS)
+    prony = checks.toml_table(file, data, "prony", _PRONY_KEYS, required=False)
     for key in ("name", "E_kPa", "nu"):
         if key not in material:
             raise InputError(file, f"material.{key}", "this key (it is required)")

@@ -28,7 +28,6 @@ number of spacings.
 from __future__ import annotations
 
 import time
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -93,27 +92,14 @@ def constants_toml(
     return HEADER + tomli_w.dumps(body)
 
 
-def _table(file: str, raw: dict, name: str, keys: set[str]) -> dict:
-    table = raw.get(name)
-    if not isinstance(table, dict):
-        raise InputError(file, name, f"a [{name}] table")
-    unknown = sorted(set(table) - keys)
-    if unknown:
-        raise InputError(file, f"{name}.{unknown[0]}", f"one of {sorted(keys)}")
-    return table
-
-
 def read_constants(path: str | Path) -> NmsdConstants:
     """Read and check an NMSD constants file; every fault names the file and the field."""
     file = str(path)
-    try:
-        raw = tomllib.loads(checks.read_text(path))
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(file, "", f"valid TOML ({exc})") from None
+    raw = checks.read_toml(path)
     unknown = sorted(set(raw) - {"nmsd", "lattice", "calibration"})
     if unknown:
         raise InputError(file, unknown[0], "only the tables [nmsd], [lattice], [calibration]")
-    nmsd = _table(file, raw, "nmsd", {*NAMES.values(), "damping", *OPTIONAL})
+    nmsd = checks.toml_table(file, raw, "nmsd", {*NAMES.values(), "damping", *OPTIONAL})
     values: dict[str, object] = {}
     for key, name in NAMES.items():
         if name not in nmsd:
@@ -122,7 +108,7 @@ def read_constants(path: str | Path) -> NmsdConstants:
     values |= {k: checks.number(file, f"nmsd.{k}", nmsd[k]) for k in OPTIONAL if k in nmsd}
     damping = nmsd.get("damping", "nodal")
     params = NmsdParameters(**values, damping=damping, source=f"{file}: [nmsd]")
-    lattice = _table(file, raw, "lattice", {"cell_diameter_um", "spacings_across"})
+    lattice = checks.toml_table(file, raw, "lattice", {"cell_diameter_um", "spacings_across"})
     for name in ("cell_diameter_um", "spacings_across"):
         if name not in lattice:
             raise InputError(file, f"lattice.{name}", "this value (the constants' lattice)")
@@ -130,9 +116,7 @@ def read_constants(path: str | Path) -> NmsdConstants:
         file, "lattice.cell_diameter_um", lattice["cell_diameter_um"], "length_um"
     )
     spacings = checks.integer(file, "lattice.spacings_across", lattice["spacings_across"], 2, 1000)
-    calibration = raw.get("calibration", {})
-    if not isinstance(calibration, dict):
-        raise InputError(file, "calibration", "a [calibration] table")
+    calibration = checks.toml_table(file, raw, "calibration", {"data", "rmse_uN"}, False)
     rmse = calibration.get("rmse_uN")
     rmse = float("nan") if rmse is None else checks.number(file, "calibration.rmse_uN", rmse, ge=0)
     return NmsdConstants(

@@ -32,6 +32,7 @@ import math
 import numbers
 import os
 import stat
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -410,3 +411,33 @@ def inside(path: str | Path, folder: str | Path, where: str | Path, field: str) 
             got=str(path),
         )
     return resolved
+
+
+def read_toml(path: str | Path, field: str = "") -> dict:
+    """A TOML file's tables, read through :func:`read_text`; a fault of the TOML (or nesting
+    deep enough to exhaust the parser) is one :class:`InputError` naming the file."""
+    text = read_text(path, field)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(path, field, f"valid TOML ({exc})") from None
+    except RecursionError:
+        raise InputError(path, field, "TOML nested less deeply") from None
+
+
+def toml_table(
+    where: str | Path, data: dict, key: str, allowed: set[str], required: bool = True
+) -> dict:
+    """The table ``key`` of a TOML file's ``data`` holding only ``allowed`` keys (``{}`` when
+    it is left out and not ``required``); otherwise :class:`InputError` naming the key."""
+    table = data.get(key)
+    if table is None:
+        if required:
+            raise InputError(where, f"[{key}]", "this table (it is required)")
+        return {}
+    if not isinstance(table, dict):
+        raise InputError(where, key, "a table")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise InputError(where, f"{key}.{unknown[0]}", f"one of {sorted(allowed)}")
+    return table

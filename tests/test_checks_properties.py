@@ -207,3 +207,26 @@ def test_unit_that_fits_names_the_nearest_unit_that_reads_the_value_in_range() -
     assert unit_that_fits("d_um", 0.5, (1.0, 1e6), lengths) == ("d_mm", pytest.approx(500.0))
     assert unit_that_fits("d_um", 1e-30, (1.0, 1e3), lengths) is None
     assert unit_that_fits("deflection_V", 1e-9, (1e-3, 1e6), lengths) is None
+
+
+def test_toml_files_and_tables_fail_in_one_line_naming_the_key(tmp_path) -> None:
+    """checks.read_toml and checks.toml_table: the one TOML reading of the material,
+    fitted-rheology and NMSD constants files."""
+    path = tmp_path / "f.toml"
+    path.write_text("[a]\nx = 1\ny = 2\n[b]\nz = [1, 2]\n")
+    data = checks.read_toml(path)
+    assert checks.toml_table(path, data, "a", {"x", "y"}) == {"x": 1, "y": 2}
+    assert checks.toml_table(path, data, "c", set(), required=False) == {}
+    for key, allowed, required, field, says in (
+        ("a", {"x"}, True, "a.y", "one of ['x']"),
+        ("c", set(), True, "[c]", "this table (it is required)"),
+    ):
+        with pytest.raises(InputError) as err:
+            checks.toml_table(path, data, key, allowed, required)
+        assert (err.value.field, err.value.expected) == (field, says)
+    path.write_text("a = " + "[" * 3000 + "]" * 3000)
+    with pytest.raises(InputError, match="TOML nested less deeply"):
+        checks.read_toml(path)
+    path.write_text("a = = 1\n")
+    with pytest.raises(InputError, match="valid TOML"):
+        checks.read_toml(path)

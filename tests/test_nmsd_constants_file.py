@@ -37,7 +37,7 @@ def test_the_file_gives_back_every_constant_exactly(tmp_path: Path) -> None:
     ("text", "field"),
     [
         ("[nmsd]\nk2_nN = 1.0\n", "nmsd.k1_nN"),
-        ("[lattice]\ncell_diameter_um = 100.0\nspacings_across = 17\n", "nmsd"),
+        ("[lattice]\ncell_diameter_um = 100.0\nspacings_across = 17\n", "[nmsd]"),
         (
             "[nmsd]\nk1_nN = 1.0\nk2_nN = 100.0\ndl_c = 0.8\nd0_nN_s_per_um = 1.0\n"
             "d1_nN_s_per_um2 = 1.0\nnode_mass_nN_s2_per_um = 1e-9\nk3 = 1\n",

@@ -25,7 +25,6 @@ flow whose wall rate lies there is the model's extrapolation.
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -109,13 +108,10 @@ def rheology_toml(
 def read_rheology_file(path: str | Path) -> FittedRheology:
     """Read and check a fitted-rheology file; every fault names the file and the field."""
     file = str(path)
-    try:
-        raw = tomllib.loads(checks.read_text(path))
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(file, "", f"valid TOML ({exc})") from None
-    data = raw.get("data")
-    if not isinstance(data, dict):
-        raise InputError(file, "data", "a [data] table naming the fitted flow curve's rates")
+    raw = checks.read_toml(path)
+    data = checks.toml_table(
+        file, raw, "data", {"file", "shear_rate_min_1_s", "shear_rate_max_1_s"}
+    )
     lo = checks.quantity(file, "data.shear_rate_min_1_s", data.get("shear_rate_min_1_s"), RATE)
     hi = checks.quantity(file, "data.shear_rate_max_1_s", data.get("shear_rate_max_1_s"), RATE)
     if not lo < hi:
