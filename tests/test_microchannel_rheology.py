@@ -122,3 +122,16 @@ def test_table2_fit_does_not_move_with_round_off(model: str) -> None:
         for key, value in base.params.items():
             if key not in base.unidentified:
                 assert fit.params[key] == pytest.approx(value, rel=5e-3), key
+
+
+def test_a_noiseless_power_law_does_not_identify_carreaus_eta0_and_lambda() -> None:
+    """20 noiseless points of eta = K gamma^(n-1) (K = 2 Pa s^n, n = 0.5, 0.1-100 1/s): only
+    eta0 lambda^(n-1) is in the data. With the residual alone as the noise eta0 and lambda
+    came out to 6 and 12 %; with the 1 % floor their errors exceed a factor e: not
+    identified, and n = 0.5 within its error (0.004)."""
+    rate = np.logspace(-1, 2, 20)
+    fit = fit_viscosity("carreau", rate, 2e-3 * rate ** (0.5 - 1.0))
+    assert {"eta0", "time_constant"} <= set(fit.unidentified)
+    assert fit.stderr["eta0"] == np.inf and fit.stderr["time_constant"] == np.inf
+    assert "n" not in fit.unidentified
+    assert abs(fit.params["n"] - 0.5) < fit.stderr["n"] < 0.01

@@ -8,10 +8,16 @@ orders-of-magnitude spread into one scale for the trust-region solver and keeps 
 exponents are fitted as they are. Bounds are the registry's.
 
 Uncertainty: covariance ``C = s^2 (J^T J)^+`` of the fitted variables from the Jacobian at the
-optimum, with ``s^2 = sum r^2 / (N - P)``; a log-scale parameter's standard error is
-``p sqrt(C_kk)`` (first order). A parameter the data do not determine (a singular value of J
-below ``1e-8`` of the largest, or one at a bound of its range) is reported with an infinite error
-and listed in ``unidentified``. The trust-region solver keeps its iterates strictly inside the
+optimum, with ``s^2 = max(sum r^2 / (N - P), FLOOR^2)``: the noise is the residual's but at
+least :data:`FLOOR` (1 %) in ln eta, as :mod:`nmsd.identifiability` takes it (on a curve fitted
+to round-off the residual alone makes every error vanish: on a noiseless power law, 20 points
+at 0.1-100 1/s, a Carreau fit gave eta0 and lambda to 6 and 12 % although only
+eta0 lambda^(n-1) is in the data); a log-scale parameter's standard error is ``p sqrt(C_kk)``
+(first order). A parameter the data do not determine (a singular value of J below ``1e-8`` of
+the largest, one at a bound of its range, or one whose standard error in the fitted variable
+exceeds :data:`MAX_SE`: its one-sigma range spans more than a factor e, or more than its own
+size for an exponent) is reported with an infinite error and listed in ``unidentified``.
+The trust-region solver keeps its iterates strictly inside the
 bounds, so a parameter the data drive to a bound (a Cross time constant on power-law data,
 lambda -> infinity) stops short of it, by 2e-6 to 4e-3 in ln lambda depending on the points.
 A parameter is therefore *at a bound* when the bound lies within one standard error (or
@@ -33,6 +39,11 @@ from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.microchannel.viscosity import Rheology, ViscosityModel, get_model
 
+FLOOR = 0.01
+"""Least noise assumed in ln eta (1 % of the viscosity), as nmsd.identifiability's FLOOR."""
+MAX_SE = 1.0
+"""Largest standard error of an identified parameter: in ln p for a log-scale one, relative
+(over |p|) for an exponent."""
 AT_BOUND = 1e-3
 """Distance to a bound, in the fitted variable, within which a parameter may be at the bound
 (also when its standard error is smaller): its profile decides."""
@@ -179,7 +190,7 @@ def fit_viscosity(
     rheology = Rheology(model, params, source)
 
     dof = max(gamma.size - len(free), 1)
-    s2 = 2.0 * sol.cost / dof
+    s2 = max(2.0 * sol.cost / dof, FLOOR**2)
     u, sv, vt = np.linalg.svd(sol.jac, full_matrices=False)
     keep = sv > 1e-8 * sv[0]
     cov = (vt[keep].T / sv[keep] ** 2) @ vt[keep] * s2
@@ -218,12 +229,13 @@ def fit_viscosity(
     for k, p in enumerate(free):
         # a direction the data do not see: the parameter loads on a dropped singular vector
         undetermined = bool(np.any(np.abs(vt[weak, k]) > 1e-3)) or bool(at_bound[k])
+        se = float(np.sqrt(cov[k, k]))
+        undetermined |= se > MAX_SE * (1.0 if p.log_scale else abs(params[p.key]))
         if undetermined:
             stderr[p.key] = float("inf")
             unidentified.append(p.key)
             continue
-        sd = float(np.sqrt(cov[k, k]))
-        stderr[p.key] = params[p.key] * sd if p.log_scale else sd
+        stderr[p.key] = params[p.key] * se if p.log_scale else se
 
     eta_fit = model(gamma, params)
     return ViscosityFit(
