@@ -22,7 +22,6 @@ the file and the field.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -131,21 +130,9 @@ def _number(file: str | Path, field: str, value: object) -> float:
 def read_material(path: str | Path) -> MaterialFile:
     """Read and validate a material file; errors name the file and the field."""
     file = str(path)
-    target = Path(path)
-    if not target.is_file():  # also refuses folders and FIFOs (opening one would block)
-        raise InputError(file, "", "an existing material file (a regular file)")
-    if target.stat().st_size > MAX_FILE_BYTES:
+    if checks.regular_file(path).stat().st_size > MAX_FILE_BYTES:  # no FIFO, no folder
         raise InputError(file, "", f"a material file under {MAX_FILE_BYTES} bytes")
-    try:
-        data = tomllib.loads(target.read_bytes().decode("utf-8"))
-    except OSError as exc:
-        raise InputError(file, "", "a readable material file", exc.strerror) from None
-    except UnicodeDecodeError as exc:
-        raise InputError(file, "", f"UTF-8 text (byte {exc.start} is not)") from None
-    except RecursionError:
-        raise InputError(file, "", "TOML nested less deeply") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(file, "", f"valid TOML ({exc})") from None
+    data = checks.read_toml(path)  # UTF-8 text, valid TOML: every fault one line
     unknown = sorted(set(data) - {"material", "prony"})
     if unknown:
         raise InputError(file, unknown[0], "only the tables [material] and [prony]")
