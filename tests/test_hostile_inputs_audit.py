@@ -27,6 +27,7 @@ from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.experiment.tools import cone_profile
 from oocyte_fe.fe.material import Material
 from oocyte_fe.runner.casefile import load_case
+from oocyte_fe.runner.run import plan
 from oocyte_fe.tracking.video import write_overlay_gif, write_tiff
 from tests.case_copies import edited_case
 
@@ -340,3 +341,18 @@ def test_the_cone_reach_is_the_depth_of_its_drawn_flank(
     cone = Cone.model_validate(raw)
     drawn = cone_profile(angle, tip, length, 0.0)[-1][1]
     assert cone.reach_um == pytest.approx(drawn, rel=1e-12, abs=1e-12)
+
+
+def test_run_lists_a_case_nested_too_deeply_as_invalid(tmp_path: Path) -> None:
+    """A ``case.toml`` nested beyond the parser's recursion (5 000 arrays) is an invalid case
+    with the reader's one line, its kind unknown (``?``): it once raised a RecursionError out of
+    ``plan`` when the declared kind was read again from the same file."""
+    folder = tmp_path / "deep"
+    folder.mkdir()
+    (folder / "case.toml").write_text('kind = "fe_experiment"\na = ' + "[" * 5000 + "]" * 5000)
+    found = plan([folder])
+    assert found.cases == []
+    assert found.invalid == [
+        ("deep", f"{folder / 'case.toml'}: tables and arrays nested at most 16 deep")
+    ]
+    assert found.declared == {"deep": "?"}

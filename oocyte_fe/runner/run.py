@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from oocyte_fe import checks
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import CASE_FILE, Case, discover, load_case
 from oocyte_fe.runner.execute import (
@@ -73,10 +73,11 @@ class RunPlan:
 
 
 def declared_kind(folder: Path) -> str:
-    """The ``kind`` a case file names, as written (``?`` where the file does not say)."""
+    """The ``kind`` a case file names, as written (``?`` where the file does not say, or
+    cannot be read: the file's fault is the case's error, reported by :func:`load_case`)."""
     try:
-        kind = tomllib.loads((folder / CASE_FILE).read_text()).get("kind")
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        kind = checks.read_toml(folder / CASE_FILE).get("kind")
+    except InputError:
         return "?"
     return kind if isinstance(kind, str) and kind else "?"
 
