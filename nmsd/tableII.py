@@ -104,16 +104,21 @@ def _plausible(
 
 
 def read_force_displacement(path: str | Path) -> ForceDisplacement:
-    """Read the CSV; raise :class:`InputError` naming file and column on bad content."""
+    """Read the table (cells separated by commas, or by tabs or semicolons if the header row
+    holds one, a decimal comma read as a point with semicolons: a spreadsheet's export); raise
+    :class:`InputError` naming file and column on bad content."""
     path = Path(path)
+    text = checks.read_text(path).splitlines()
+    delimiter = checks.table_delimiter(next((line for line in text if line.strip()), ""))
     try:
-        reader = csv.DictReader(checks.read_text(path).splitlines())
+        reader = csv.DictReader(text, delimiter=delimiter)
         rows, lines = [], []  # each row and its line in the file (blank lines are skipped)
         for row in reader:
             rows.append(row)
             lines.append(reader.line_num)
     except csv.Error as exc:
-        raise InputError(str(path), "", f"a comma-separated table ({exc})") from None
+        what = checks.SEPARATORS[delimiter]
+        raise InputError(str(path), "", f"a {what}-separated table ({exc})") from None
     header = [str(h) for h in reader.fieldnames or ()]
     if not header:
         raise InputError(path, "", "a header row and data rows (the file is empty)")
@@ -134,8 +139,11 @@ def read_force_displacement(path: str | Path) -> ForceDisplacement:
     for stem, name in names.items():
         values = []
         for line, row in zip(lines, rows, strict=True):
+            cell = row[name]
+            if delimiter == ";" and isinstance(cell, str):  # a European export's decimal comma
+                cell = cell.replace(",", ".")
             try:
-                value = float(row[name])
+                value = float(cell)
             except (TypeError, ValueError):
                 raise InputError(
                     str(path), name, f"numbers in every row (line {line})", got=row[name]

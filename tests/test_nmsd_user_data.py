@@ -143,6 +143,35 @@ def test_other_units_are_converted_at_the_boundary(tmp_path, truth_uN, header, d
 
 
 @pytest.mark.parametrize(
+    ("separator", "decimal"),
+    [("\t", "."), (";", ","), (";", ".")],
+    ids=["tab", "semicolon-comma", "semicolon"],
+)
+def test_a_spreadsheet_export_reads_as_the_comma_file(tmp_path, truth_uN, separator, decimal):
+    """Tab- and semicolon-separated exports (with a decimal comma: a European spreadsheet's)
+    give the comma file's numbers exactly (the same cells, written with 9 digits)."""
+    rows = np.c_[D_UM, truth_uN, 1.1 * truth_uN]
+    header = ["displacement_um", "force_experiment_uN", "force_simulation_uN"]
+    comma = read_force_displacement(_table(tmp_path / "t.csv", ",".join(header), rows))
+    lines = [separator.join(header)] + [
+        separator.join(f"{v:.9g}".replace(".", decimal) for v in row) for row in rows
+    ]
+    (tmp_path / "t.txt").write_text("\n".join(lines) + "\n")
+    export = read_force_displacement(tmp_path / "t.txt")
+    for name in ("displacement_um", "force_nN", "paper_model_nN"):
+        np.testing.assert_array_equal(getattr(export, name), getattr(comma, name))
+
+
+def test_a_bad_cell_of_a_semicolon_table_is_named_by_column_and_line(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text("displacement_um;force_experiment_uN\n5;1,5\n10;2,x\n15;3\n")
+    with pytest.raises(InputError, match=r"force_experiment_uN: expected numbers in every row "):
+        read_force_displacement(path)
+    with pytest.raises(InputError, match=r"\(line 3\)"):
+        read_force_displacement(path)
+
+
+@pytest.mark.parametrize(
     ("rows", "fragment"),
     [
         # compression recorded negative
