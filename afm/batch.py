@@ -2,8 +2,11 @@
 
 A file that cannot be read, or a curve that cannot be fitted, is recorded with its one-line
 error and skipped; the batch goes on. A force map gives one row per curve, with its index and
-map position. Every row names the height channel its tip position came from. Groups come from
-each curve's ``group`` (the file's ``# group =`` metadata, or its folder name). Statistics:
+map position. Every row names the height channel its tip position came from. A row's group is
+the first glob pattern of ``groups`` matching its file's path, else the curve's ``group`` (the
+file's ``# group =`` metadata), else its folder name (:meth:`CurveFitting.group`); ``pierce``
+names the groups whose curves are pierce-through curves (:func:`afm.pierce.fit_pierce`), or
+all (true) or none (false). Statistics:
 arithmetic mean and sample SD (ddof = 1) over the fits rated good (poor ones only when asked);
 the SD of a single value is not defined (NaN, "n/a" in tables).
 """
@@ -11,8 +14,9 @@ the SD of a single value is not defined (NaN, "n/a" in tables).
 from __future__ import annotations
 
 import csv
+import fnmatch
 import math
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -126,83 +130,116 @@ def curve_files(folder: str | Path) -> list[Path]:
     return files
 
 
-def _fit_row(
-    file: Path,
-    curve: ForceCurve,
-    pierce: bool,
-    fit_function: Callable[..., IndentationFit],
-    fit_options: Mapping[str, object],
-) -> BatchRow:
-    where = {
-        "height_channel": curve.height_channel,
-        "curve_index": curve.curve_index,
-        "map_position_um": curve.map_position_um,
-        "spring_constant_N_per_m": curve.spring_constant_nN_per_um / 1e3,
-    }
-    group = curve.group or file.parent.name
-    try:
-        if pierce:
-            both: PierceFit = fit_pierce(curve, **fit_options)
-            return BatchRow(str(file), group, both.zp, both.cytoplasm, **where)
-        fit = fit_function(curve, **fit_options)
-        _ = fit.rating  # rated in the fitting process; the cached rating travels with the fit
-        return BatchRow(str(file), group, fit, **where)
-    except (InputError, ValueError, FloatingPointError) as exc:
-        return BatchRow(str(file), group, error=str(exc).splitlines()[0], curve=curve, **where)
+def pattern_group(relative: str, patterns: Mapping[str, str]) -> str | None:
+    """The group of the first glob pattern (group -> pattern) matching ``relative`` (a curve
+    file's path, ``/``-separated), or None."""
+    return next((g for g, p in patterns.items() if fnmatch.fnmatch(relative, p)), None)
+
+
+@dataclass(frozen=True)
+class CurveFitting:
+    """How each curve of a batch gets its group and its fit (sent to the fitting processes).
+
+    ``groups`` (group -> glob on the file's path relative to ``relative_to``, the first
+    matching) name a file's group; ``pierce`` is true (every curve), false (none) or the
+    groups whose curves are fitted by :func:`afm.pierce.fit_pierce` with ``pierce_options``;
+    the other curves by ``fit_function`` with ``fit_options``.
+    """
+
+    fit_function: Callable[..., IndentationFit]
+    fit_options: Mapping[str, object]
+    pierce: bool | frozenset[str] = False
+    pierce_options: Mapping[str, object] = field(default_factory=dict)
+    groups: Mapping[str, str] = field(default_factory=dict)
+    relative_to: Path | None = None
+
+    def group(self, file: Path, curve: ForceCurve | None = None) -> str:
+        """The group of a curve of ``file`` (``curve`` None: a file that could not be read):
+        the first pattern of ``groups`` matching the file's path relative to ``relative_to``,
+        else the curve's own ``group``, else the file's folder name."""
+        found = None
+        if self.groups:
+            relative = file if self.relative_to is None else file.relative_to(self.relative_to)
+            found = pattern_group(relative.as_posix(), self.groups)
+        return found or (curve.group if curve is not None else "") or file.parent.name
+
+    def is_pierce(self, group: str) -> bool:
+        """Whether the curves of ``group`` are fitted as pierce-through curves."""
+        return self.pierce if isinstance(self.pierce, bool) else group in self.pierce
+
+    def row(self, file: Path, curve: ForceCurve) -> BatchRow:
+        """The fitted row of ``curve`` (of ``file``), or its error row."""
+        where = {
+            "height_channel": curve.height_channel,
+            "curve_index": curve.curve_index,
+            "map_position_um": curve.map_position_um,
+            "spring_constant_N_per_m": curve.spring_constant_nN_per_um / 1e3,
+        }
+        group = self.group(file, curve)
+        try:
+            if self.is_pierce(group):
+                both: PierceFit = fit_pierce(curve, **self.pierce_options)
+                return BatchRow(str(file), group, both.zp, both.cytoplasm, **where)
+            fit = self.fit_function(curve, **self.fit_options)
+            _ = fit.rating  # rated in the fitting process; the cached rating travels with the fit
+            return BatchRow(str(file), group, fit, **where)
+        except (InputError, ValueError, FloatingPointError) as exc:
+            return BatchRow(str(file), group, error=str(exc).splitlines()[0], curve=curve, **where)
 
 
 ReadOptions = Mapping[str, object] | Callable[[Path], Mapping[str, object]]
 """Reader keywords for every file, or a function giving each file its own."""
 
 
-def _fit_curves(
-    jobs: list[tuple[Path, ForceCurve]],
-    pierce: bool,
-    fit_function: Callable[..., IndentationFit],
-    fit_options: Mapping[str, object],
-) -> list[BatchRow]:
-    return [_fit_row(file, curve, pierce, fit_function, fit_options) for file, curve in jobs]
+def _fit_curves(jobs: list[tuple[Path, ForceCurve]], fitting: CurveFitting) -> list[BatchRow]:
+    return [fitting.row(file, curve) for file, curve in jobs]
 
 
 def _read_and_fit(
-    file: Path,
-    options: Mapping[str, object],
-    selection: range,
-    pierce: bool,
-    fit_function: Callable[..., IndentationFit],
-    fit_options: Mapping[str, object],
+    file: Path, options: Mapping[str, object], selection: range, fitting: CurveFitting
 ) -> list[BatchRow]:
     """Rows of the curves ``selection`` of ``file``, read and fitted in this process."""
     try:
         curves = list(iter_curves(file, **options, selection=selection))
     except (InputError, ValueError, FloatingPointError) as exc:
         first = f"curves {selection.start}-{selection.stop - 1}: "
-        return [BatchRow(str(file), file.parent.name, error=first + str(exc).splitlines()[0])]
-    return _fit_curves([(file, c) for c in curves], pierce, fit_function, fit_options)
+        return [BatchRow(str(file), fitting.group(file), error=first + str(exc).splitlines()[0])]
+    return _fit_curves([(file, c) for c in curves], fitting)
 
 
 def fit_batch(
     files: Sequence[str | Path],
-    pierce: bool = False,
+    pierce: bool | Collection[str] = False,
     reader: Callable[..., ForceCurve | Iterable[ForceCurve]] = iter_curves,
     read_options: ReadOptions | None = None,
     fit_function: Callable[..., IndentationFit] = fit_indentation,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
+    *,
+    pierce_options: Mapping[str, object] | None = None,
+    groups: Mapping[str, str] | None = None,
+    relative_to: str | Path | None = None,
     **fit_options: object,
 ) -> BatchResult:
-    """Fit every curve of every file (``fit_pierce`` when ``pierce``, else ``fit_function``:
-    :func:`afm.fit.fit_indentation`, or :func:`afm.nanite_pipeline.fit_nanite_default` for
-    nanite's analysis).
+    """Fit every curve of every file: :func:`afm.pierce.fit_pierce` for the pierce-through
+    curves (``pierce``: true for every curve, or the names of their groups), else
+    ``fit_function`` (:func:`afm.fit.fit_indentation`, or
+    :func:`afm.nanite_pipeline.fit_nanite_default` for nanite's analysis).
+
+    A row's group is the first glob of ``groups`` (group -> pattern) matching its file's path
+    relative to ``relative_to`` (the path as given without it), else the curve's ``group``
+    (``# group =`` metadata), else the file's folder name (:meth:`CurveFitting.group`).
 
     ``reader(file, **options)`` returns one curve or several (a list, or an iterator taken
     as it is read; a force map gives one row per curve); ``options`` is ``read_options``, or
     ``read_options(file)`` when it is a function (per-file calibration). The default
     :func:`afm.curve_io.iter_curves` takes ``spring_constant_N_per_m``,
-    ``sensitivity_nm_per_V`` and ``height_channel``. ``fit_options`` go to the fit function
-    (model, geometry, nu, fit range, contact method). A file that cannot be read is an error
-    row (after the rows of the curves read before the error); a missing optional dependency
-    is not a curve error and is raised.
+    ``sensitivity_nm_per_V`` and ``height_channel``. ``fit_options`` go to ``fit_function``
+    (model, geometry, nu, fit range, contact method), ``pierce_options`` to ``fit_pierce``
+    (model, geometry, nu, ``zp_range``, contact method, ``min_drop_fraction``; default
+    ``fit_options``, for a batch of pierce-through curves only). A file that cannot be read
+    is an error row (after the rows of the curves read before the error); a missing optional
+    dependency is not a curve error and is raised.
 
     ``workers`` > 1 fits in that many processes, in chunks of ``CHUNK_CURVES`` curves sent
     off as they are read; with the default reader, a file whose curves can be counted
@@ -211,6 +248,14 @@ def fit_batch(
     stay in file and curve order; ``fit_function`` must then be a module-level function.
     ``progress(done, total)`` is called as the fitted curves come back (counts of curves).
     """
+    fitting = CurveFitting(
+        fit_function,
+        fit_options,
+        pierce if isinstance(pierce, bool) else frozenset(pierce),
+        fit_options if pierce_options is None else pierce_options,
+        groups or {},
+        None if relative_to is None else Path(relative_to),
+    )
     segments: list[tuple[list[BatchRow] | Future, int]] = []  # rows (or their future), curves
     pending: list[tuple[Path, ForceCurve]] = []
     pool: ProcessPoolExecutor | None = None
@@ -226,10 +271,9 @@ def fit_batch(
         if not jobs:
             return
         if workers > 1 and (pool is not None or len(jobs) >= CHUNK_CURVES):
-            future = processes().submit(_fit_curves, jobs, pierce, fit_function, fit_options)
-            segments.append((future, len(jobs)))
+            segments.append((processes().submit(_fit_curves, jobs, fitting), len(jobs)))
         else:
-            segments.append((_fit_curves(jobs, pierce, fit_function, fit_options), len(jobs)))
+            segments.append((_fit_curves(jobs, fitting), len(jobs)))
 
     try:
         for file in map(Path, files):
@@ -239,9 +283,7 @@ def fit_batch(
                 send()
                 for start in range(0, count, CHUNK_CURVES):
                     part = range(start, min(start + CHUNK_CURVES, count))
-                    future = processes().submit(
-                        _read_and_fit, file, options, part, pierce, fit_function, fit_options
-                    )
+                    future = processes().submit(_read_and_fit, file, options, part, fitting)
                     segments.append((future, len(part)))
                 continue
             try:
@@ -255,7 +297,7 @@ def fit_batch(
             except (InputError, ValueError, FloatingPointError) as exc:
                 send()
                 error = str(exc).splitlines()[0]
-                segments.append(([BatchRow(str(file), file.parent.name, error=error)], 1))
+                segments.append(([BatchRow(str(file), fitting.group(file), error=error)], 1))
         send()
         rows: list[BatchRow] = []
         done, total = 0, sum(size for _, size in segments)

@@ -1,7 +1,8 @@
 """A set of curve files -> moduli per group -> a material per group (the user route).
 
-:func:`fit_files` fits every curve (:func:`afm.batch.fit_batch`), regroups the rows by file
-pattern (:func:`regroup`), takes the mean +- SD of E per group over the fits rated good (poor
+:func:`fit_files` fits every curve (:func:`afm.batch.fit_batch`: its group by file pattern,
+subfolder or ``# group`` metadata; the curves of the ``pierce`` groups as pierce-through
+curves, ZP and cytoplasm), takes the mean +- SD of E per group over the fits rated good (poor
 ones only when asked; :meth:`afm.batch.BatchResult.stats`) and makes each group's material:
 
 * with a force-clamp creep record of the group: instantaneous E0 and the exact relaxation
@@ -22,8 +23,7 @@ written or drawn here: the result goes to a report (the ``afm_fit_files`` case k
 
 from __future__ import annotations
 
-import fnmatch
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import NamedTuple
@@ -74,12 +74,13 @@ class GroupMaterial:
 class FitFilesResult:
     """Result of :func:`fit_files`.
 
-    ``stats`` holds the mean +- SD of E per group (sorted by group) and ``materials`` one
-    entry per group of ``stats``; ``ramps`` the viscoelastic ramp fits (None without the
-    option); ``corrected`` the corrected E of each row of ``batch`` [kPa] or why not (None
-    without ``correction``). ``known_errors`` are |E / E_known - 1|
-    of the fitted curves with a known modulus (None without known moduli), ``n_known`` the
-    curves listed.
+    ``stats`` holds the mean +- SD of E per group (sorted by group; the ZP's for a ``pierce``
+    group) and ``materials`` one entry per group of ``stats``; ``pierce`` the groups fitted
+    as pierce-through curves (their cytoplasm's E in the rows' ``cytoplasm``); ``ramps`` the
+    viscoelastic ramp fits (None without the option); ``corrected`` the corrected E of each
+    row of ``batch`` [kPa] or why not (None without ``correction``). ``known_errors`` are
+    |E / E_known - 1| of the fitted curves with a known modulus (None without known moduli),
+    ``n_known`` the curves listed.
     """
 
     batch: BatchResult
@@ -91,6 +92,7 @@ class FitFilesResult:
     ramps: RampFilesResult | None = None
     correction: Correction | None = None
     corrected: tuple[float | str, ...] | None = None
+    pierce: frozenset[str] = frozenset()
 
     @property
     def fitted(self) -> list[BatchRow]:
@@ -187,25 +189,6 @@ def read_known_moduli(path: str | Path) -> dict[str, float]:
     return {row.file: row.E_kPa for row in read_known_rows(path)}
 
 
-def pattern_group(relative: str, patterns: Mapping[str, str]) -> str | None:
-    """The group of the first glob pattern (group -> pattern) matching ``relative`` (a curve
-    file's path relative to the case folder, ``/``-separated), or None."""
-    return next((g for g, p in patterns.items() if fnmatch.fnmatch(relative, p)), None)
-
-
-def regroup(
-    result: BatchResult, relative_to: str | Path, patterns: Mapping[str, str]
-) -> BatchResult:
-    """``result`` with each row in the group of the first glob pattern (group -> pattern)
-    matching its file path relative to ``relative_to``; rows matching none keep their group."""
-    rows = []
-    for row in result.rows:
-        relative = Path(row.file).relative_to(relative_to).as_posix()
-        name = pattern_group(relative, patterns)
-        rows.append(row if name is None else replace(row, group=name))
-    return BatchResult(rows)
-
-
 def group_material(
     group: str,
     stats: GroupStats,
@@ -263,6 +246,8 @@ def fit_files(
     fit_options: Mapping[str, object] | None = None,
     read_options: ReadOptions | None = None,
     groups: Mapping[str, str] | None = None,
+    pierce: bool | Collection[str] = False,
+    pierce_options: Mapping[str, object] | None = None,
     creep: Mapping[str, CreepRecord] | None = None,
     include_poor: bool = False,
     known_moduli: Mapping[str, float] | None = None,
@@ -276,9 +261,12 @@ def fit_files(
     ``model``, ``geometry`` and ``nu`` are the tip and Poisson ratio of every fit;
     ``fit_options`` go to :func:`afm.batch.fit_batch` besides them (``fit_range`` and
     ``contact_method``, or ``fit_function``), as do ``read_options``, ``workers`` and
-    ``progress``. ``groups`` (group -> glob on the path relative to ``relative_to``) regroups
-    the rows (:func:`regroup`); ``creep`` (group -> :class:`CreepRecord`) gives a group its
-    viscoelastic material; ``include_poor`` keeps fits rated poor in the statistics;
+    ``progress``. ``groups`` (group -> glob on the path relative to ``relative_to``) name
+    the rows' groups (:func:`afm.batch.fit_batch`); ``pierce`` (true, false or group names)
+    the pierce-through curves, fitted by :func:`afm.pierce.fit_pierce` with the tip, ``nu``
+    and ``pierce_options`` (``zp_range``, ``contact_method``, ``min_drop_fraction``);
+    ``creep`` (group -> :class:`CreepRecord`) gives a group its viscoelastic material (a
+    ``pierce`` group: its ZP's); ``include_poor`` keeps fits rated poor in the statistics;
     ``known_moduli`` (relative path -> E_kPa) is compared with the fits; ``viscoelastic``
     also fits every ramp in time (:func:`afm.ramp_files.fit_ramp_files`); ``correction``
     corrects every modulus (:func:`afm.corrected_batch.apply_correction`; checked by the
@@ -301,17 +289,19 @@ def fit_files(
             read_options=read_options,
             groups=groups,
         )
+    tip = {"model": model, "geometry": geometry, "nu": nu}
     batch = fit_batch(
         files,
+        pierce,
         read_options=read_options,
         workers=workers,
         progress=progress,
-        model=model,
-        geometry=geometry,
-        nu=nu,
+        pierce_options=tip | dict(pierce_options or {}),
+        groups=groups,
+        relative_to=relative_to,
+        **tip,
         **(fit_options or {}),
     )
-    batch = regroup(batch, relative_to, groups or {})
     corrected = None if correction is None else apply_correction(batch, correction)
     listed = (
         batch.stats(include_poor)
@@ -347,6 +337,9 @@ def fit_files(
         ramps=ramps,
         correction=correction,
         corrected=corrected,
+        pierce=frozenset(
+            () if pierce is False else {r.group for r in batch.rows} if pierce is True else pierce
+        ),
     )
     if known_moduli is None:
         return result

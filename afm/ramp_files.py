@@ -181,7 +181,7 @@ def fit_ramp_files(
 ) -> RampFilesResult:
     """Fit the ramp of every curve of ``files`` and, per group, all of them together.
 
-    Groups as :func:`afm.fit_files.regroup` (first glob of ``groups`` on the path relative
+    Groups as :func:`afm.batch.fit_batch` (first glob of ``groups`` on the path relative
     to ``relative_to``, else the folder). A file without times raises :class:`InputError`;
     any other curve that cannot be read or fitted is a row with its error.
     """

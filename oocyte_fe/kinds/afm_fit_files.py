@@ -12,7 +12,9 @@ M poor, K refused". With ``viscoelastic`` every ramp is also fitted in time (Tin
 its columns in ``fits.csv``, F(t) figures, a group's material from its joint fit). With
 ``correction`` every modulus is also corrected for the sample's shape (shelled oocyte, bonded
 layer; :mod:`~oocyte_fe.kinds.afm_fit_files_correction`): a column beside the apparent one,
-and the groups' statistics and materials from the corrected moduli.
+and the groups' statistics and materials from the corrected moduli. With ``pierce`` (true, or
+the groups it names) those curves are pierce-through curves, fitted per layer (ZP, cytoplasm;
+:mod:`~oocyte_fe.kinds.afm_fit_files_pierce`), beside plain curves of the other groups.
 
 Inputs and what they name: :mod:`~oocyte_fe.kinds.afm_fit_files_inputs`; the fits, groups and
 materials: :func:`afm.fit_files.fit_files`; the outputs:
@@ -29,6 +31,7 @@ from oocyte_fe.kinds.afm_fit_files_args import (
     find_curve_files,
     fit_options,
     known_moduli_file,
+    pierce_options,
     read_options,
 )
 from oocyte_fe.kinds.afm_fit_files_correction import add_correction_columns, correction
@@ -49,6 +52,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     case_dir = ctx.case_dir
     files = find_curve_files(case_dir, inp.curves)
     creep = creep_records(inp, case_dir)  # refuses a bad creep tip before fitting
+    pierced = pierce_options(inp, case_dir / "case.toml")  # its refusals first, as validate
     options = fit_options(inp, case_dir / "case.toml")
     corrected_by = correction(inp, case_dir / "case.toml")  # refused before fitting
     known_file = known_moduli_file(inp, case_dir)
@@ -64,6 +68,8 @@ def run(ctx: CaseContext) -> CaseOutcome:
         fit_options=options,
         read_options=read_options(inp, case_dir),
         groups=inp.groups,
+        pierce=inp.pierce,
+        pierce_options=pierced,
         creep=creep,
         include_poor=inp.include_poor,
         known_moduli=known,

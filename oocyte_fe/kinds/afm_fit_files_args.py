@@ -8,10 +8,10 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from afm.batch import curve_files
+from afm.batch import curve_files, pattern_group
 from afm.curve_io import TEXT_SUFFIXES, is_instrument_file, iter_curves, read_table
 from afm.fit import FitRange
-from afm.fit_files import CreepRecord, pattern_group
+from afm.fit_files import CreepRecord
 from afm.instrument_io import INSTRUMENT_SUFFIXES
 from afm.models import get_model
 from afm.nanite_pipeline import fit_nanite_default
@@ -187,11 +187,9 @@ def creep_records(inp: FitFilesInputs, case_dir: Path) -> dict[str, CreepRecord]
 
 
 def fit_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
-    """Keywords of :func:`afm.batch.fit_batch` for ``analysis``: nanite's fit function (no fit
-    range, contact point free), or the fit range and contact method of the default fit; with
-    ``pierce``, those of :func:`pierce_options`."""
-    if inp.pierce:
-        return pierce_options(inp, where)
+    """Keywords of :func:`afm.batch.fit_batch` for the plain curves (those of no ``pierce``
+    group), by ``analysis``: nanite's fit function (no fit range, contact point free), or the
+    fit range and contact method of the default fit."""
     if inp.analysis == "nanite":
         fit_range = (inp.max_indentation_um, inp.max_force_fraction)
         if fit_range != (None, None) or inp.contact_method != "fit":
@@ -221,37 +219,48 @@ PIERCE_REFUSES = {
     "viscoelastic": "a ramp fit in time takes the whole curve as one layer",
     "correction": "a correction takes one layer's modulus, the other's given",
 }
-"""Input tables refused with ``pierce = true``, and why."""
+"""Input tables refused with pierce-through curves (``pierce`` true or naming groups), and
+why."""
 
 
-def pierce_options(inp: FitFilesInputs, where: Path) -> dict[str, object]:
-    """Keywords of :func:`afm.batch.fit_batch` for pierce-through curves
-    (:func:`afm.pierce.fit_pierce`): the ZP's fit range (``max_indentation_um`` past the ZP
-    contact, ``max_force_fraction`` of the force at the drop), the contact method and the
-    least drop taken as the pierce.
+def pierce_setting(inp: FitFilesInputs) -> str:
+    """``pierce`` as written in ``case.toml``: ``pierce = true`` or ``pierce = ["a", "b"]``."""
+    if isinstance(inp.pierce, bool):
+        return f"pierce = {str(inp.pierce).lower()}"
+    return "pierce = [" + ", ".join(f'"{g}"' for g in inp.pierce) + "]"
+
+
+def pierce_options(inp: FitFilesInputs, where: Path) -> dict[str, object] | None:
+    """Keywords of :func:`afm.pierce.fit_pierce` for the curves of the ``pierce`` groups
+    (all with ``pierce = true``; None without pierce-through curves): the ZP's fit range
+    (``max_indentation_um`` past the ZP contact, ``max_force_fraction`` of the force at the
+    drop), the contact method and the least drop taken as the pierce
+    (``pierce_min_drop_fraction``, of the curve's force range).
 
     Refused (naming ``case.toml`` and the input): a tip for which the cytoplasm fit is not
     defined (:func:`afm.pierce.pierce_model`: ``flat_punch``), nanite's analysis, a
     ``viscoelastic`` or ``correction`` table.
     """
+    if not inp.pierce:
+        return None
+    setting = pierce_setting(inp)
     try:
         pierce_model(inp.model, str(where))
     except InputError as exc:
         raise InputError(
-            where, "inputs.model", f"{exc.expected}, with pierce = true", exc.got
+            where, "inputs.model", f"{exc.expected}, with {setting}", exc.got
         ) from None
     if inp.analysis != "default":
         raise InputError(
             where,
             "inputs.analysis",
-            'analysis = "default" with pierce = true (both layers are fitted by afm.fit)',
+            f'analysis = "default" with {setting} (both layers are fitted by afm.fit)',
             inp.analysis,
         )
     for name, why in PIERCE_REFUSES.items():
         if getattr(inp, name) is not None:
-            raise InputError(where, f"inputs.{name}", f"no {name} table with pierce = true ({why})")
+            raise InputError(where, f"inputs.{name}", f"no {name} table with {setting} ({why})")
     return {
-        "pierce": True,
         "zp_range": FitRange(inp.max_indentation_um, inp.max_force_fraction),
         "contact_method": inp.contact_method,
         "min_drop_fraction": inp.pierce_min_drop_fraction,

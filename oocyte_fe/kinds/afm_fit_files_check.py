@@ -21,6 +21,7 @@ from oocyte_fe.kinds.afm_fit_files_args import (
     first_readable_curve,
     fit_options,
     known_moduli_file,
+    pierce_options,
     read_options,
     tip_geometry,
 )
@@ -57,8 +58,9 @@ def check_case(inp: FitFilesInputs, case_dir: Path) -> None:
     """Refuse (:class:`InputError` naming ``case.toml`` and the input) what ``run`` would
     refuse before fitting or only later, with the functions ``run`` uses: the curve files
     (:func:`find_curve_files`; at least one that the reader reads), the tip's geometry (the
-    model's own check), a ``groups`` pattern that takes no curve file, a creep record for a
-    group no curve file belongs to, its tip, the fit range against ``analysis``, the
+    model's own check), a ``groups`` pattern that takes no curve file, a creep record or a
+    ``pierce`` name for a group no curve file belongs to, the creep tip, the fit range against
+    ``analysis``, what pierce-through curves cannot take (:func:`pierce_options`), the
     ``correction`` against the tip, ``nu`` and the fit range, a known-moduli row naming a
     file that does not exist.
 
@@ -82,20 +84,39 @@ def check_case(inp: FitFilesInputs, case_dir: Path) -> None:
                 "matching it)",
                 pattern,
             )
-    unknown = sorted(set(inp.creep) - set(by_pattern.values()))
-    if unknown:  # the groups of the files no pattern takes: read only when needed
-        groups = {g or default_group(f) for f, g in by_pattern.items()}
-        unknown = sorted(set(inp.creep) - groups)
-        if unknown:
-            raise InputError(
-                where,
-                f"inputs.creep.{unknown[0]}",
-                f"a group of the curve files (one of {', '.join(sorted(groups))}: their "
-                "subfolders, '# group' metadata or inputs.groups)",
-            )
+    _named_groups_exist(inp, by_pattern, where)
+    pierce_options(inp, where)  # before fit_options: its refusal of nanite's analysis first
     fit_options(inp, where)
     correction(inp, where)
     _known_rows_name_files(inp, case_dir)
+
+
+def _named_groups_exist(
+    inp: FitFilesInputs, by_pattern: dict[Path, str | None], where: Path
+) -> None:
+    """Every group named by ``creep`` (its keys) and by a ``pierce`` list is a group of the
+    curve files: a ``groups`` pattern's, else a file's ``# group`` metadata or subfolder
+    (:func:`default_group`, read only when a name is no pattern's group)."""
+    pierce = [] if isinstance(inp.pierce, bool) else inp.pierce
+    if set(inp.creep) | set(pierce) <= set(by_pattern.values()):
+        return
+    groups = {g or default_group(f) for f, g in by_pattern.items()}
+    one_of = (
+        f"one of {', '.join(sorted(groups))}: their subfolders, '# group' metadata or inputs.groups"
+    )
+    unknown = sorted(set(inp.creep) - groups)
+    if unknown:
+        raise InputError(
+            where, f"inputs.creep.{unknown[0]}", f"a group of the curve files ({one_of})"
+        )
+    unknown = [g for g in pierce if g not in groups]
+    if unknown:
+        raise InputError(
+            where,
+            "inputs.pierce",
+            f"true, false or names of groups of the curve files ({one_of})",
+            unknown[0],
+        )
 
 
 def _known_rows_name_files(inp: FitFilesInputs, case_dir: Path) -> None:

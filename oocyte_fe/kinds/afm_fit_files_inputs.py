@@ -100,18 +100,21 @@ class FitFilesInputs(CaseInputs):
         "(default: the creep fit uses the curves' model and geometry)",
         json_schema_extra={"unit": "deg", "quantity": "cone_half_angle_deg"},
     )
-    pierce: bool = Field(
+    pierce: bool | list[str] = Field(
         False,
-        description="pierce-through curves (the force drops when the probe pierces the ZP): the "
-        "ZP fitted up to the drop, the cytoplasm after it (afm.pierce.fit_pierce); a curve "
-        "without a drop is refused (no pierce detected); materials per layer",
+        description="pierce-through curves (the force drops when the probe pierces the ZP): "
+        "true (every curve), false (none) or a list of group names (the curves of those groups; "
+        "the other groups fitted as plain curves); the ZP fitted up to the drop, the cytoplasm "
+        "after it (afm.pierce.fit_pierce); a curve without a drop is refused (no pierce "
+        "detected); materials per layer",
     )
     pierce_min_drop_fraction: float = Field(
         0.1,
         gt=0,
         lt=1,
         description="the least force drop taken as the pierce, a fraction of the curve's force "
-        "range (pierce = true; the prominence of the drop's peak, afm.pierce.detect_pierce)",
+        "range (the curves pierce takes; the prominence of the drop's peak, "
+        "afm.pierce.detect_pierce)",
         json_schema_extra={"unit": "1"},
     )
     include_poor: bool = Field(
@@ -161,6 +164,17 @@ class FitFilesInputs(CaseInputs):
         except InputError as exc:
             raise ValueError(exc.expected + ("" if exc.got is None else f" ({exc.got})")) from None
 
+    @field_validator("pierce", mode="before")
+    @classmethod
+    def _pierce_value(cls, value: object) -> object:
+        """``pierce`` is true, false or a list of group names: anything else is refused in one
+        line (not as the union's first error, "a valid boolean"). The names are checked
+        against the case's groups by :func:`check_case`."""
+        names = isinstance(value, list) and all(isinstance(g, str) and g for g in value)
+        if isinstance(value, bool) or names:
+            return value
+        raise ValueError('true, false or a list of group names, e.g. ["zp"]')
+
     @field_validator("model")
     @classmethod
     def _known_model(cls, value: str) -> str:
@@ -198,7 +212,7 @@ METRICS = {
     "n_fitted": "curves fitted",
     "n_failed": "curves that could not be read or fitted (reported and skipped)",
     "n_poor": "fitted curves rated poor",
-    "n_no_pierce": "curves without a detectable pierce (pierce = true)",
+    "n_no_pierce": "pierce-through curves without a detectable pierce (pierce = true or groups)",
     "max_known_error_pct": "largest |E / E_known - 1| over curves with a known modulus, %",
     "n_ramps_fitted": "ramps fitted in time (viscoelastic option)",
     "ve_E0_kPa": "E0 of the first group's joint ramp fit (groups by name), kPa",

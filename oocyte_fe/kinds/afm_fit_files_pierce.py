@@ -1,13 +1,15 @@
-"""Pierce-through curves in ``afm_fit_files`` (``pierce = true``): the two layers' outputs.
+"""Pierce-through curves in ``afm_fit_files`` (``pierce``: true, or the groups it names): the
+two layers' outputs, beside the one layer of the other groups' plain curves.
 
-Each curve is fitted by :func:`afm.pierce.fit_pierce` (the ZP up to the force drop, the
-cytoplasm after it: ``F = F1 + E_cyt shape(x - x1)`` [nN], E in kPa, x in um); a curve
-without a drop is a refused row ("no pierce detected"). :func:`afm.fit_files.fit_files`
-makes each group's material from the ZP moduli (column ``E_kPa``); here the cytoplasm's
-statistics (column ``E_cytoplasm_kPa``, mean +- SD over the fits rated good) and elastic
-material are added, and the group's two materials are named by layer:
-``material_<group>_zp`` and ``material_<group>_cytoplasm``. A figure per curve shows both
-segments with their fits (:func:`afm.plotting.plot_fit`).
+Each curve of a pierce group (``result.pierce``) is fitted by :func:`afm.pierce.fit_pierce`
+(the ZP up to the force drop, the cytoplasm after it: ``F = F1 + E_cyt shape(x - x1)`` [nN],
+E in kPa, x in um); a curve without a drop is a refused row ("no pierce detected").
+:func:`afm.fit_files.fit_files` makes each group's material from its moduli (column
+``E_kPa``: the ZP's for a pierce group); here a pierce group's cytoplasm statistics (column
+``E_cytoplasm_kPa``, mean +- SD over the fits rated good) and elastic material are added,
+and its two materials are named by layer: ``material_<group>_zp`` and
+``material_<group>_cytoplasm``; a plain group keeps its one ``material_<group>``. A figure
+per pierce-through curve shows both segments with their fits (:func:`afm.plotting.plot_fit`).
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ from afm.material_file import MaterialFile
 
 LAYERS = ("ZP", "cytoplasm")
 """The layers of a pierce-through curve, in the order the probe meets them."""
+ONE_LAYER = "one layer"
+"""The layer column of a plain group (a curve fitted as one layer) in the moduli table."""
 
 
 def layer_fit(row: BatchRow, layer: str) -> IndentationFit | None:
@@ -32,22 +36,26 @@ def layer_fit(row: BatchRow, layer: str) -> IndentationFit | None:
 
 
 def cytoplasm_stats(result: FitFilesResult) -> dict[str, GroupStats]:
-    """Mean +- SD of the cytoplasm's E per group (kPa; over the fits rated good, poor ones
-    too with ``include_poor``), the groups of ``result.stats``."""
+    """Mean +- SD of the cytoplasm's E per pierce group (kPa; over the fits rated good, poor
+    ones too with ``include_poor``), the pierce groups of ``result.stats``."""
     listed = result.batch.stats(result.include_poor)
     found = {s.group: s for s in listed if s.quantity == "E_cytoplasm_kPa"}
     empty = GroupStats("", "E_cytoplasm_kPa", 0, 0, float("nan"), float("nan"))
-    return {g: found.get(g, replace(empty, group=g)) for g in result.stats}
+    return {g: found.get(g, replace(empty, group=g)) for g in result.stats if g in result.pierce}
 
 
 def layer_materials(result: FitFilesResult, nu: float, model: str) -> list[GroupMaterial]:
-    """Per group, the ZP's material of ``result`` (elastic mean, or the creep record's) as
-    ``<group>_zp`` and the cytoplasm's elastic material (its mean E, Poisson ratio ``nu``)
-    as ``<group>_cytoplasm``; a layer with no fit rated good has none."""
+    """Per pierce group, the ZP's material of ``result`` (elastic mean, or the creep
+    record's) as ``<group>_zp`` and the cytoplasm's elastic material (its mean E [kPa],
+    Poisson ratio ``nu``) as ``<group>_cytoplasm``; a layer with no fit rated good has none.
+    A plain group keeps its material of ``result``, named by the group."""
     cytoplasm = cytoplasm_stats(result)
     used = "good or poor" if result.include_poor else "good"
     out = []
     for made in result.materials:
+        if made.group not in result.pierce:
+            out.append(made)
+            continue
         name = f"{made.group}_zp"
         zp = made.material
         if zp is not None:
@@ -64,24 +72,31 @@ def layer_materials(result: FitFilesResult, nu: float, model: str) -> list[Group
 
 
 def moduli_rows(result: FitFilesResult) -> str:
-    """Rows ``| group | layer | n | n_poor | E [kPa] |`` of the moduli table, both layers."""
+    """Rows ``| group | layer | n | n_poor | E [kPa] |`` of the moduli table: both layers of a
+    pierce group, the one layer of a plain group (:data:`ONE_LAYER`)."""
     cytoplasm = cytoplasm_stats(result)
     rows = []
     for group, zp in result.stats.items():
-        for layer, s in (("ZP", zp), ("cytoplasm", cytoplasm[group])):
+        pierced = group in cytoplasm
+        layers = (("ZP", zp), ("cytoplasm", cytoplasm[group])) if pierced else ((ONE_LAYER, zp),)
+        for layer, s in layers:
             value = f"{s.mean_sd_text} |" if s.n else "- |"
             rows.append(f"| {group} | {layer} | {s.n} | {s.n_poor} | {value}")
     return "\n".join(rows)
 
 
 def strip_groups(result: FitFilesResult) -> dict[str, list[IndentationFit]]:
-    """The fits of each group and layer, ``<group> ZP`` and ``<group> cytoplasm``, for the
-    strip plot of the moduli."""
-    return {
-        f"{g} {layer}": [f for r in result.fitted if r.group == g and (f := layer_fit(r, layer))]
-        for g in result.stats
-        for layer in LAYERS
-    }
+    """The fits of each group, for the strip plot of the moduli: a plain group's as
+    ``<group>``, a pierce group's by layer as ``<group> ZP`` and ``<group> cytoplasm``."""
+    strips = {}
+    for g in result.stats:
+        rows = [r for r in result.fitted if r.group == g]
+        if g not in result.pierce:
+            strips[g] = [r.fit for r in rows if r.fit is not None]
+            continue
+        for layer in LAYERS:
+            strips[f"{g} {layer}"] = [f for r in rows if (f := layer_fit(r, layer))]
+    return strips
 
 
 def pierce_plot_name(row: BatchRow) -> str:
@@ -121,5 +136,6 @@ def plot_line(row: BatchRow, plots: set[str]) -> str:
 
 
 def no_pierce(result: FitFilesResult) -> int:
-    """Curves refused because no pierce (force drop) was detected."""
+    """Curves refused because no pierce (force drop) was detected (only the curves of the
+    pierce groups are searched for one)."""
     return sum("no pierce detected" in r.error for r in result.batch.failures)

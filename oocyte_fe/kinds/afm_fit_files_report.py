@@ -19,9 +19,11 @@ from afm.fe_export import ansys_prony_block, febio_material
 from afm.fit_files import FitFilesResult, GroupMaterial, tip_text
 from afm.material_file import write_material
 from afm.ramp_files import RAMP_COLUMNS
+from oocyte_fe.kinds.afm_fit_files_args import pierce_setting
 from oocyte_fe.kinds.afm_fit_files_correction import CORRECTION_COLUMNS, correction_text
 from oocyte_fe.kinds.afm_fit_files_inputs import FitFilesInputs
 from oocyte_fe.kinds.afm_fit_files_pierce import (
+    ONE_LAYER,
     layer_materials,
     moduli_rows,
     no_pierce,
@@ -60,11 +62,13 @@ WHY_NOT_NANITE = (
 
 
 PIERCE_TEXT = (
-    " Pierce-through curves (pierce = true): the ZP fitted up to the force drop (its fit range "
+    " Pierce-through curves ({setting}): the ZP fitted up to the force drop (its fit range "
     "the one given), the cytoplasm after it (afm.pierce.fit_pierce: F = F1 + E_cyt shape(x - "
     "x1)); each layer rated on its own, a curve rated good when both are; a curve without a "
-    "drop is refused (no pierce detected)."
+    "drop is refused (no pierce detected).{others}"
 )
+"""The moduli section's note on pierce-through curves (``setting``: ``pierce = ...`` as
+written; ``others``: what the other groups are)."""
 
 
 def fit_range_text(inp: FitFilesInputs) -> str:
@@ -106,18 +110,20 @@ def write_fits(
         add_ramp_columns(output("fits.csv"), result.ramps, links)
         figures.extend(group_figures(result.ramps, output))
     if result.fitted:
-        by_group = (
-            strip_groups(result)
-            if inp.pierce
-            else {g: [r.fit for r in result.fitted if r.group == g] for g in result.stats}
-        )
-        plotting.plot_strip(by_group, output("moduli.png"), inp.include_poor)
+        plotting.plot_strip(strip_groups(result), output("moduli.png"), inp.include_poor)
         figures.append(Figure("moduli.png", "Fitted Young's moduli per group (log axis)"))
     for file in sorted({r.file for r in batch.rows if r.map_position_um is not None}):
         name = f"modulus_map_{Path(file).stem}.png"
         plotting.plot_modulus_map(batch, file, output(name))
         figures.append(Figure(name, f"Modulus map of {Path(file).name}"))
     return figures, plots
+
+
+def _pierce_text(inp: FitFilesInputs) -> str:
+    """:data:`PIERCE_TEXT` for ``inp.pierce``: a list of groups also says the others' curves
+    are plain (one layer)."""
+    others = "" if inp.pierce is True else f" The other groups' curves are plain: {ONE_LAYER} each."
+    return PIERCE_TEXT.format(setting=pierce_setting(inp), others=others)
 
 
 def _material_row(made: GroupMaterial, output: Output) -> str:
@@ -153,11 +159,10 @@ def _material_row(made: GroupMaterial, output: Output) -> str:
 
 def write_materials(result: FitFilesResult, inp: FitFilesInputs, output: Output) -> list[str]:
     """``material_<group>.toml``, ``_ansys.inp`` and ``_febio.xml`` of every group with a
-    material (and the creep figure of a group with a creep record); with ``pierce`` one
+    material (and the creep figure of a group with a creep record); for a pierce group one
     per layer, ``<group>_zp`` and ``<group>_cytoplasm`` (:func:`layer_materials`); the rows
     of the report's material table."""
-    made = layer_materials(result, inp.nu, inp.model) if inp.pierce else result.materials
-    return [_material_row(m, output) for m in made]
+    return [_material_row(m, output) for m in layer_materials(result, inp.nu, inp.model)]
 
 
 def sections(
@@ -177,7 +182,7 @@ def sections(
     poor_left_out = "are left out (include_poor = true keeps them)"
     table = (
         "| group | layer | n | n_poor | E [kPa] |\n|---|---|---|---|---|\n" + moduli_rows(result)
-        if inp.pierce
+        if result.pierce
         else "| group | n | n_poor | E [kPa] |\n|---|---|---|---|\n"
         + "\n".join(
             f"| {s.group} | {s.n} | {s.n_poor} | " + (f"{s.mean_sd_text} |" if s.n else "- |")
@@ -213,7 +218,7 @@ def sections(
             f"{contact}; fit range: {fit_range_text(inp)}); n_poor fits rated poor "
             f"{'are included' if inp.include_poor else poor_left_out}"
             "; SD n/a for n = 1. Every row is in `fits.csv`."
-            + (PIERCE_TEXT if inp.pierce else "")
+            + (_pierce_text(inp) if inp.pierce else "")
             + "\n\n"
             + table,
         ),
