@@ -16,14 +16,13 @@ not removed from the fit.
 
 from __future__ import annotations
 
-import fnmatch
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from afm.batch import ReadOptions
+from afm.batch import ReadOptions, pattern_group
 from afm.instrument_io import RecordedRamp
 from afm.ramp_io import ramp_curve, read_ramps
 from afm.viscoelastic import RampCurve, RampFit, fit_ramp
@@ -159,7 +158,7 @@ def drag_offset(ramp: RampCurve, contact_um: float) -> float | None:
 
 
 def _group(recorded: RecordedRamp, relative: str, patterns: Mapping[str, str]) -> str:
-    return next((g for g, p in patterns.items() if fnmatch.fnmatch(relative, p)), recorded.group)
+    return pattern_group(relative, patterns) or recorded.group
 
 
 def _read(file: Path, read_options: ReadOptions | None) -> list[RecordedRamp]:
