@@ -12,11 +12,13 @@ import numpy as np
 import pydantic
 import pytest
 import skfem
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from nmsd.zona import zona_link_factor
 from oocyte_fe.crosscheck.agreement import displacement_agreement, spindle_tolerance_um
 from oocyte_fe.crosscheck.comparison import zona_ring_ratio
-from oocyte_fe.crosscheck.fe_press import FeSettings, press_experiment
+from oocyte_fe.crosscheck.fe_press import FeSettings, output_frames, press_experiment
 from oocyte_fe.crosscheck.scenario import PressScenario, interior_grid
 from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
@@ -220,3 +222,22 @@ def test_nmsd_zona_ratio_from_the_afm_layers_is_relaxed_or_instantaneous() -> No
     )
     with pytest.raises(pydantic.ValidationError, match="nmsd_zona_stiffness_ratio"):
         CrosscheckInputs(**files, nmsd_zona_stiffness_ratio="afm")
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    frames=st.integers(1, 400),
+    step=st.floats(0.01, 50.0),
+    e_travel=st.sampled_from([-1e-9, 0.0, 1e-9]),
+    e_step=st.sampled_from([-1e-9, 0.0, 1e-9]),
+)
+def test_output_frames_of_a_step_that_fits_the_travel_ignore_round_off(
+    frames: int, step: float, e_travel: float, e_step: float
+) -> None:
+    """A step written to fit the travel (travel = frames x step) keeps its frames when either
+    is off by a relative 1e-9 (an absolute slack of 1e-9 on the ratio gave one frame more, so
+    that the shipped matched-lattice case's arrows at 20 / 40 / 60 um fell between frames); a
+    step 1e-4 short of fitting gives the next frame."""
+    travel = frames * step
+    assert output_frames(travel * (1 + e_travel), step * (1 + e_step)) == frames
+    assert output_frames(travel * (1 + 1e-4), step) == frames + 1

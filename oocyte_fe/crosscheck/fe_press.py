@@ -254,8 +254,12 @@ def run_fe_presses(
 
 def output_frames(travel_um: float, step_um: float) -> int:
     """Output frames of a press of ``travel_um``: one every ``step_um`` (the last frame at the
-    travel's end, so the frames are ``travel_um / n`` apart), at least one."""
-    return max(1, int(np.ceil(travel_um / step_um - 1e-9)))
+    travel's end, so the frames are ``travel_um / n`` apart), at least one. A ratio within a
+    relative 1e-6 above a whole number is that number: a step written to fit the travel (62.5 /
+    2.5) keeps its 25 frames when either is off by round-off (an absolute 1e-9 gave 26 frames,
+    2.4 um apart, for a relative 1e-9 on both)."""
+    ratio = travel_um / step_um
+    return max(1, int(np.ceil(ratio * (1.0 - 1e-6))))
 
 
 def _press(
