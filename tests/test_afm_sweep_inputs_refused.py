@@ -23,7 +23,7 @@ from typer.testing import CliRunner
 from oocyte_fe.cli import app
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.casefile import load_case
-from oocyte_fe.verification import observed_order
+from oocyte_fe.verification import monotone_observed_order, observed_order
 from tests.case_copies import edited_case, refused_message
 
 
@@ -325,3 +325,28 @@ def test_sample_the_model_refuses_names_the_field(tmp_path: Path) -> None:
     refused = [p for p in planned if p.case is None]
     assert refused and all(p.values["x_um"] <= 0 for p in refused)
     assert all(p.error.startswith("inputs.x_um: Input should be greater than 0") for p in refused)
+
+
+@pytest.mark.parametrize(
+    "sizes", [(0.5, 0.25, 0.125), (1.0, 0.5, 0.0625), (0.5, 0.4, 0.1), (4.0, 0.02, 0.0101)]
+)
+@pytest.mark.parametrize("order", [0.5, 2.4])
+def test_monotone_order_is_the_order_of_a_converging_series(
+    sizes: tuple[float, ...], order: float
+) -> None:
+    """``f = 1 + 0.3 h^p`` with p > 0 converges monotonically: its order, as ``observed_order``."""
+    values = [1.0 + 0.3 * h**order for h in sizes]
+    assert monotone_observed_order(values, sizes) == pytest.approx(order, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    "values",
+    [
+        [0.420433, 0.420399, 0.421167],  # the shipped Hertz forces: down, then up
+        [1.0 + 0.3 * h**-1.0 for h in (0.5, 0.25, 0.125)],  # diverging (p = -1)
+        [1.0, 1.1, 1.0],  # oscillating
+        [1.0, 1.0, 1.1],  # no change, then a change
+    ],
+)
+def test_monotone_order_is_nan_outside_the_asymptotic_range(values: list[float]) -> None:
+    assert math.isnan(monotone_observed_order(values, (0.5, 0.25, 0.125)))
