@@ -310,6 +310,13 @@ class ToolBase(CaseInputs):
         20.0, gt=0, le=1e6, description="normal penalty eps_N h / E_max (h: refine size)"
     )
     smoothing_um: float = Field(0.0, ge=0, le=10, description="C1 smoothing of the contact law")
+    quadrature_order: int | None = Field(
+        None,
+        ge=2,
+        le=40,
+        description="Gauss order of the contact's facet quadrature (default: the body's, 4; "
+        "a sharp tool corner between quadrature points is not seen)",
+    )
     displacement_um: PathSpec | None = Field(
         None, description="advance towards the cell's centre (um) against time (s)"
     )

@@ -235,6 +235,7 @@ def run_experiment(
                 ),
                 motion=tl.motion(tool),
                 name=name,
+                quadrature_order=tool.quadrature_order,
             )
         )
         if isinstance(tool, StraightPipette) and tool.suction_Pa is not None:

@@ -160,9 +160,11 @@ class Body:
             )
         return boundaries[boundary]
 
-    def facet_basis(self, boundary: str) -> FacetBasis:
+    def facet_basis(self, boundary: str, intorder: int | None = None) -> FacetBasis:
+        """The boundary's facet basis, integrated at Gauss order ``intorder`` (default: the
+        body's)."""
         return FacetBasis(
-            self.mesh, self.uelem, facets=self.facets(boundary), intorder=self.intorder
+            self.mesh, self.uelem, facets=self.facets(boundary), intorder=intorder or self.intorder
         )
 
     def node_dofs(self) -> NDArray:

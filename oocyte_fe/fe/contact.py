@@ -104,13 +104,17 @@ class ContactLaw:
 @dataclass(frozen=True)
 class Contact:
     """Contact of the boundary ``boundary`` with a rigid ``obstacle`` moving by ``motion(t)``,
-    under the contact ``law``."""
+    under the contact ``law``, evaluated at the Gauss points of order ``quadrature_order`` on
+    each facet (default: the body's order). Penalty contact acts only at those points: a sharp
+    obstacle corner that presses between two of them is not resisted there, and the facet folds
+    round it (the wedge pipette's mouth corners, docs/fe.md, Limits)."""
 
     boundary: str
     obstacle: Obstacle
     law: ContactLaw
     motion: Callable[[float], tuple[float, float]] = _still
     name: str = "contact"
+    quadrature_order: int | None = None
 
 
 @dataclass

@@ -171,7 +171,7 @@ class Problem:
         )
         self.prescribed = list(prescribed)
         self.pressures = [(pl, body.facet_basis(pl.boundary)) for pl in pressures]
-        self.contacts = [(c, body.facet_basis(c.boundary)) for c in contacts]
+        self.contacts = [(c, body.facet_basis(c.boundary, c.quadrature_order)) for c in contacts]
         self.log = log or LOG
         self._pattern = SparsityPattern((body.n_dofs, body.n_dofs))
         self._fixed = [

@@ -141,6 +141,14 @@ class CrosscheckInputs(CaseInputs):
         description="C1 smoothing of the normal contact law, um (0: exact kink)",
         json_schema_extra={"unit": "um"},
     )
+    fe_contact_quadrature_order: int = Field(
+        20,
+        ge=2,
+        le=40,
+        description="Gauss order of the FE contact quadrature per facet (4: the body's; the "
+        "wedge's mouth corners press between 3 points and fold the ZP: docs/cases/nmsd_vs_fe.md)",
+        json_schema_extra={"unit": "1"},
+    )
     nmsd_spacings_across: SpacingsAcross = 17
     nmsd_dl_c: CriticalStrain = 0.8
     nmsd_damping: Damping = "nodal"

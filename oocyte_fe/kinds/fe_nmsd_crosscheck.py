@@ -65,6 +65,7 @@ def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
         inp.fe_penalty_factor,
         inp.fe_rtol,
         inp.fe_contact_smoothing_um,
+        inp.fe_contact_quadrature_order,
         source=source,
     )
     return scenario, settings
