@@ -134,6 +134,22 @@ def test_validate_refuses_a_pierce_that_is_no_bool_and_no_list(tmp_path):
     result = CliRunner().invoke(app, ["validate", str(case)])
     assert result.exit_code == 2, result.output
     assert result.output.strip().splitlines() == [
-        f"invalid {case}/case.toml: inputs.pierce: expected true, false or a list of group "
-        "names, e.g. [\"zp\"], got 'pierced'"
+        f"invalid {case}/case.toml: inputs.pierce: expected true, false or a list of one or "
+        "more group names, e.g. [\"zp\"], got 'pierced'"
     ]
+
+
+@pytest.mark.parametrize(
+    ("pierce", "expected"),
+    [
+        ("[]", 'true, false or a list of one or more group names, e.g. ["zp"]'),
+        ('["pierced", "pierced"]', "each group once (named twice: pierced)"),
+    ],
+    ids=["empty", "twice"],
+)
+def test_validate_refuses_an_empty_pierce_list_or_a_group_named_twice(tmp_path, pierce, expected):
+    case = _case(tmp_path / "list", pierce)
+    result = CliRunner().invoke(app, ["validate", str(case)])
+    assert result.exit_code == 2, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line.startswith(f"invalid {case}/case.toml: inputs.pierce: expected {expected}, got")

@@ -171,9 +171,14 @@ class FitFilesInputs(CaseInputs):
         line (not as the union's first error, "a valid boolean"). The names are checked
         against the case's groups by :func:`check_case`."""
         names = isinstance(value, list) and all(isinstance(g, str) and g for g in value)
-        if isinstance(value, bool) or names:
+        if isinstance(value, bool):
             return value
-        raise ValueError('true, false or a list of group names, e.g. ["zp"]')
+        if names and value and len(set(value)) == len(value):
+            return value
+        if names and value:  # a group named twice: a slip, perhaps for another group
+            twice = sorted({g for g in value if value.count(g) > 1})
+            raise ValueError(f"each group once (named twice: {', '.join(twice)})")
+        raise ValueError('true, false or a list of one or more group names, e.g. ["zp"]')
 
     @field_validator("model")
     @classmethod
