@@ -56,7 +56,8 @@ class FeSettings:
     ``contact_quadrature_order``: the Gauss order of the contact on each surface facet (at the
     body's order 4, three points per facet, the wedge's mouth corner pressed between two of
     them, folded the ZP facet round it and stopped the press on 3 of 5 meshes of the case's
-    sizes; at 20 it converged on every mesh tried: docs/cases/nmsd_vs_fe.md, FE notes).
+    sizes; at 20 it converged on every mesh of 0.71-1.2 times the case's sizes tried:
+    docs/cases/nmsd_vs_fe.md, FE notes).
     """
 
     size_um: float = 6.0
