@@ -149,19 +149,18 @@ def compare(a: Path, b: Path) -> tuple[float, str, str, list[str]]:
             c = change(value, other)
         except (TypeError, ValueError):
             c = 0.0 if value == other else math.inf
-        if c <= RULE:
-            continue
         moved = f"{key} {_short(value)} -> {_short(other)}"
-        if is_deviation(key) and math.isfinite(c):
+        if c > RULE and is_deviation(key) and math.isfinite(c):
             pct = key.endswith("_pct")
             step = float(np.nanmax(np.abs(np.subtract(other, value, dtype=float))))
             if step <= (100 * RULE if pct else RULE):
                 unit = " points" if pct else ""
                 beyond.append(f"{moved} (a relative deviation moved {step:.2g}{unit}: not counted)")
                 continue
-        beyond.append(moved)
-        if c > worst:
+        if c > worst:  # the largest change of a counted figure, within the rule or not
             worst, name = c, key
+        if c > RULE:
+            beyond.append(moved)
     return worst, name, f"{ra['status']} / {rb['status']}", beyond
 
 
