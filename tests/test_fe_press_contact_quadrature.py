@@ -20,6 +20,7 @@ from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.crosscheck.zp_material import afm_layer_materials
 from oocyte_fe.errors import InputError
 from oocyte_fe.kinds.crosscheck_inputs import CrosscheckInputs
+from oocyte_fe.kinds.fe_nmsd_crosscheck import press_settings
 from oocyte_fe.runner.casefile import load_case
 from tests.test_nmsd_vs_fe import CASE
 
@@ -27,25 +28,7 @@ from tests.test_nmsd_vs_fe import CASE
 def _press_inputs() -> tuple[PressScenario, FeSettings, object, CrosscheckInputs]:
     inp = load_case(CASE).inputs
     assert isinstance(inp, CrosscheckInputs)
-    scenario = PressScenario(
-        inp.cell_diameter_um,
-        inp.cytoplasm_diameter_um,
-        inp.pipette_width_um,
-        inp.tip_angle_deg,
-        inp.speed_um_s,
-        inp.hold_half_width_um,
-        tuple(inp.spindle_paper_um),
-    )
-    settings = FeSettings(
-        inp.fe_size_um,
-        inp.fe_refine_size_um,
-        step_um=inp.fe_step_um,
-        max_step_um=inp.fe_max_step_um,
-        penalty_factor=inp.fe_penalty_factor,
-        rtol=inp.fe_rtol,
-        contact_smoothing_um=inp.fe_contact_smoothing_um,
-        contact_quadrature_order=inp.fe_contact_quadrature_order,
-    )
+    scenario, settings = press_settings(inp, str(CASE / "case.toml"))
     materials = afm_layer_materials(
         inp.creep_data, inp.cytoplasm_E_kPa, inp.nu, inp.afm_half_angle_deg
     )

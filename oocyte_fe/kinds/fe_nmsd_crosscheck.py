@@ -42,9 +42,9 @@ from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
 UN = 1e-3  # nN -> uN
 
 
-def _scenario(ctx: CaseContext) -> tuple[PressScenario, FeSettings]:
-    inp = ctx.inputs
-    source = str(ctx.case_dir / "case.toml")
+def press_settings(inp: CrosscheckInputs, source: str) -> tuple[PressScenario, FeSettings]:
+    """The press scenario and the FE press's settings of a case's inputs (``source``: its
+    ``case.toml``, named in refusals)."""
     scenario = PressScenario(
         inp.cell_diameter_um,
         inp.cytoplasm_diameter_um,
@@ -124,7 +124,7 @@ def _fe_presses(
 def run(ctx: CaseContext) -> CaseOutcome:
     """Layered FE press and NMSD press (calibrated to it): forces and internal motion."""
     inp: CrosscheckInputs = ctx.inputs  # type: ignore[assignment]
-    scenario, settings = _scenario(ctx)
+    scenario, settings = press_settings(inp, str(ctx.case_dir / "case.toml"))
     ctx.step("ZP material from the AFM creep record")
     materials = afm_layer_materials(
         inp.creep_data, inp.cytoplasm_E_kPa, inp.nu, inp.afm_half_angle_deg
