@@ -37,6 +37,10 @@ Length = Annotated[float, Field(gt=0, le=1e4)]
 Friction = Annotated[float, Field(ge=0, le=2)]
 MAX_FRAMES = 10_000
 """Most output frames of an experiment (one solver step each)."""
+TIME_SLACK = 1e-6
+"""A path's last time or a section time up to this fraction of ``time.duration_s`` past it is
+taken as ending at the duration (round-off: ``fe_afm_sphere``'s probe path and duration, each
+x (1 +- 1e-9), were refused)."""
 DISH_HINT = (
     " (a dish or stage the cell rests on, a tool that does not move: a holding_pipette, the "
     "bonded patch of the cell on it, with half_width_um or cap_deg)"
@@ -846,9 +850,12 @@ class Experiment(CaseInputs):
 
     def _sections(self) -> Experiment:
         """Section times and the last time of every path within ``time.duration_s``: the
-        driver solves up to the duration, so a path's later values would never be applied."""
+        driver solves up to the duration, so a path's later values would never be applied. A
+        time within a relative :data:`TIME_SLACK` past the duration is its round-off (a path
+        and a duration written to end together, one of them off by 1e-9, was refused)."""
+        end = self.time.duration_s * (1.0 + TIME_SLACK)
         for t in self.record.sections_at_s:
-            if t > self.time.duration_s:
+            if t > end:
                 raise ValueError(f"record.sections_at_s within the duration ({t:g} s)")
         if self.record.section_window_um is not None:
             paths = [getattr(t, "displacement_um", None) for t in self.tools.values()]
@@ -864,7 +871,7 @@ class Experiment(CaseInputs):
             for name, part in named.items():
                 for key in PATH_FIELDS:
                     path = getattr(part, key, None)
-                    if isinstance(path, PathSpec) and path.time_s[-1] > self.time.duration_s:
+                    if isinstance(path, PathSpec) and path.time_s[-1] > end:
                         raise ValueError(
                             f"{group}.{name}.{key}.time_s within time.duration_s = "
                             f"{self.time.duration_s:g} s (the path runs to {path.time_s[-1]:g} s; "
