@@ -13,7 +13,6 @@ from nmsd.pipette import (
     TABLE_I_TIP_ANGLE_DEG,
     TABLE_I_WIDTH_UM,
 )
-from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.experiment.description import MAX_FRAMES
 from oocyte_fe.kinds.data_templates import CREEP
 from oocyte_fe.kinds.nmsd_checks import (
@@ -21,6 +20,7 @@ from oocyte_fe.kinds.nmsd_checks import (
     FINEST,
     ZonaRatioReading,
     arrows_on_frames,
+    press_scenario,
     radius,
     ratio_or_reading,
     second_speed_given,
@@ -257,17 +257,7 @@ class CrosscheckInputs(CaseInputs):
         Relation("grid_margin_um", "<", radius, "cell_diameter_um / 2 (a grid inside the cell)"),
         Relation("arrow_advances_um", "<=", lambda m: m.travel_um, "travel_um", measure="max"),
         Relation("fe_step_um", "<=", lambda m: m.travel_um, "travel_um"),
-        Setup(
-            lambda m: PressScenario(
-                m.cell_diameter_um,
-                m.cytoplasm_diameter_um,
-                m.pipette_width_um,
-                m.tip_angle_deg,
-                m.speed_um_s,
-                m.hold_half_width_um,
-                tuple(m.spindle_paper_um),
-            )
-        ),
+        Setup(press_scenario),
     )
 
     _ratio = field_validator("nmsd_zona_stiffness_ratio", mode="before")(ratio_or_reading)

@@ -37,6 +37,7 @@ from oocyte_fe.errors import InputError
 from oocyte_fe.experiment.layers import LayerMaterials
 from oocyte_fe.kinds.crosscheck_inputs import METRICS, CrosscheckInputs
 from oocyte_fe.kinds.nmsd_cases import build_press
+from oocyte_fe.kinds.nmsd_checks import press_scenario
 from oocyte_fe.runner.registry import CaseContext, CaseOutcome, case_kind
 
 UN = 1e-3  # nN -> uN
@@ -45,16 +46,7 @@ UN = 1e-3  # nN -> uN
 def press_settings(inp: CrosscheckInputs, source: str) -> tuple[PressScenario, FeSettings]:
     """The press scenario and the FE press's settings of a case's inputs (``source``: its
     ``case.toml``, named in refusals)."""
-    scenario = PressScenario(
-        inp.cell_diameter_um,
-        inp.cytoplasm_diameter_um,
-        inp.pipette_width_um,
-        inp.tip_angle_deg,
-        inp.speed_um_s,
-        inp.hold_half_width_um,
-        tuple(inp.spindle_paper_um),
-        source=source,
-    )
+    scenario = press_scenario(inp, source)
     settings = FeSettings(
         inp.fe_size_um,
         inp.fe_refine_size_um,

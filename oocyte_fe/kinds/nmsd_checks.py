@@ -16,6 +16,7 @@ from nmsd.lattice import circular_lattice
 from nmsd.press import press_setup
 from nmsd.spindle import Approach, approach_setup
 from nmsd.tableII import read_force_displacement
+from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError
 from oocyte_fe.runner.schema import RuleBroken
 
@@ -138,6 +139,21 @@ READINGS = typing.get_args(ZonaRatioReading)
 CELLS_ACROSS = 1000
 FINEST = f"cell_diameter_um / {CELLS_ACROSS} (at most ~1e6 elements or grid points)"
 """``nmsd_vs_fe``'s finest FE element and comparison grid: a thousandth of the cell."""
+
+
+def press_scenario(m: Any, source: str = "PressScenario") -> PressScenario:
+    """The press scenario of a crosscheck case's inputs (``source``: named in refusals); its
+    ``Setup`` rule builds it at ``validate``, the kind at ``run``."""
+    return PressScenario(
+        m.cell_diameter_um,
+        m.cytoplasm_diameter_um,
+        m.pipette_width_um,
+        m.tip_angle_deg,
+        m.speed_um_s,
+        m.hold_half_width_um,
+        tuple(m.spindle_paper_um),
+        source=source,
+    )
 
 
 def radius(m: Any) -> float:
