@@ -271,3 +271,18 @@ def test_an_inline_material_error_names_the_field_as_the_file_has_it(tmp_path: P
     _write_case(tmp_path, inputs)
     with pytest.raises(InputError, match=r"materials\.cytoplasm\.E_kPa: expected a value"):
         load_case(tmp_path)
+
+
+@pytest.mark.parametrize(("radius", "refused"), [(6.0, False), (7.0, True)])
+def test_a_wedge_edge_radius_must_fit_its_mouth(tmp_path: Path, radius: float, refused: bool):
+    """The press template's wedge (mouth 10 um, tip angle 30 deg): each edge's arc takes
+    r / tan(52.5 deg) of the mouth's half width, so r < 5 tan(52.5 deg) = 6.516 um."""
+    inputs = copy.deepcopy(TEMPLATES["press"])
+    inputs["tools"]["pipette"]["edge_radius_um"] = radius
+    _write_case(tmp_path, inputs)
+    if not refused:
+        assert load_case(tmp_path).inputs.tools["pipette"].edge_radius_um == radius
+        return
+    with pytest.raises(InputError, match="tools.pipette.edge_radius_um") as err:
+        load_case(tmp_path)
+    assert "6.516" in str(err.value)  # the bound, named with its formula

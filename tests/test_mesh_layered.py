@@ -232,3 +232,32 @@ def test_cache_hit_does_not_call_gmsh(monkeypatch, mesh_cache):
     with pytest.raises(AssertionError, match="cache hit"):
         layered_oocyte_mesh(LayeredOocyte(size_um=12.0, order=1))
     assert not list(mesh_cache.glob(".tmp-*"))
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_inputs_off_by_round_off_draw_the_same_mesh(tmp_path, monkeypatch, sign: float):
+    """gmsh is not continuous in its inputs: a radius or size x (1 + 1e-9) gave another mesh
+    (other vertex count, or nodes renumbered and moved). The mesh is drawn for the inputs
+    rounded to 7 significant digits, so each built afresh (own cache) is the same mesh; a
+    change of 1e-5 still draws another one."""
+    geom = dict(
+        cytoplasm_radius_um=41.7985,
+        zona_thickness_um=16.014,
+        form="plane_strain",
+        size_um=8.0,
+        refine_polar_deg=(60.0, 120.0),
+        refine_size_um=3.3,
+        refine_depth_um=20.0,
+        order=2,
+    )
+
+    def mesh(factor: float, folder: str) -> skfem.Mesh:
+        monkeypatch.setenv("OOCYTE_FE_CACHE", str(tmp_path / folder))
+        scaled = {k: v * factor if isinstance(v, float) else v for k, v in geom.items()}
+        return layered_oocyte_mesh(LayeredOocyte(**scaled))
+
+    base = mesh(1.0, "a")
+    off = mesh(1.0 + sign * 1e-9, "b")
+    assert np.array_equal(base.t, off.t) and np.array_equal(base.p, off.p)
+    other = mesh(1.0 + sign * 1e-5, "c")
+    assert other.p.shape != base.p.shape or np.abs(other.p - base.p).max() > 1e-3

@@ -57,7 +57,9 @@ class FeSettings:
     body's order 4, three points per facet, the wedge's mouth corner pressed between two of
     them, folded the ZP facet round it and stopped the press on 3 of 5 meshes of the case's
     sizes; at 20 it converged on every mesh of 0.71-1.2 times the case's sizes tried:
-    docs/cases/nmsd_vs_fe.md, FE notes).
+    docs/cases/nmsd_vs_fe.md, FE notes); ``edge_radius_um``: the wedge's two mouth edges
+    rounded with this radius (0: sharp; a sharp edge catches the ZP's surface facets, whose
+    path then differs from mesh to mesh: docs/cases/nmsd_vs_fe.md, "The mouth's edges").
     """
 
     size_um: float = 6.0
@@ -70,6 +72,7 @@ class FeSettings:
     rtol: float = 1e-6
     contact_smoothing_um: float = 0.2
     contact_quadrature_order: int = 20
+    edge_radius_um: float = 0.0
     source: str = "FeSettings"
 
     def __post_init__(self) -> None:
@@ -80,6 +83,8 @@ class FeSettings:
             raise InputError(
                 self.source, "refine_half_window_deg", "in (0, 90) deg", self.refine_half_window_deg
             )
+        if not self.edge_radius_um >= 0:
+            raise InputError(self.source, "edge_radius_um", ">= 0 um", self.edge_radius_um)
         if not self.contact_smoothing_um >= 0:
             raise InputError(
                 self.source, "contact_smoothing_um", ">= 0 um", self.contact_smoothing_um
@@ -126,7 +131,9 @@ class FePress:
         return self.point_displacement_um[k]
 
 
-def pipette_at(scenario: PressScenario, advance_um: float, length_um: float = 80.0) -> Polyline:
+def pipette_at(
+    scenario: PressScenario, advance_um: float, length_um: float = 80.0, edge_radius_um: float = 0.0
+) -> Polyline:
     """The wedge pipette after ``advance_um`` of travel (mouth at x = R - advance)."""
     return wedge_tip(
         (scenario.radius_um - advance_um, 0.0),
@@ -134,6 +141,7 @@ def pipette_at(scenario: PressScenario, advance_um: float, length_um: float = 80
         scenario.pipette_width_um,
         scenario.tip_angle_deg,
         length_um,
+        edge_radius_um,
     )
 
 
@@ -177,6 +185,7 @@ def press_experiment(
                 "penalty_factor": settings.penalty_factor,
                 "smoothing_um": settings.contact_smoothing_um,
                 "quadrature_order": settings.contact_quadrature_order,
+                "edge_radius_um": settings.edge_radius_um,
                 "displacement_um": {"time_s": [0.0, duration], "value": [0.0, travel_um]},
             },
             HELD: {

@@ -48,9 +48,11 @@ def crosscheck_figures(
     arrows: Sequence[float],
     scenario: PressScenario,
     setup: PressSetup,
+    edge_radius_um: float = 0.0,
 ) -> list[Figure]:
     """Force curves (with Table II and NMSD - FE), displacement arrows at the ``arrows``
-    advances, and the FE section at the end of the travel."""
+    advances, and the FE section at the end of the travel (the FE's wedge: its mouth edges
+    rounded with ``edge_radius_um``)."""
     plot_force_overlay(
         output("force_curves.png"),
         {
@@ -70,7 +72,7 @@ def crosscheck_figures(
         scenario.radius_um,
         {a: setup.pipette.outline(a) for a in arrows},
     )
-    end = pipette_at(scenario, fe.advance_um[-1])
+    end = pipette_at(scenario, fe.advance_um[-1], edge_radius_um=edge_radius_um)
     plot_section(
         output("fe_section_end.png"),
         fe.mesh,
@@ -190,16 +192,22 @@ def write_press_outputs(
     cal: CalibrationResult,
     agree: DisplacementAgreement,
     scenario: PressScenario,
+    edge_radius_um: float = 0.0,
 ) -> None:
-    """The FE press's VTU/PVD series (``fields/``), ``force_history.csv`` (uN) and
-    ``spindle_history.csv`` (um) of both models."""
+    """The FE press's VTU/PVD series (``fields/``, with the FE's wedge: mouth edges rounded
+    with ``edge_radius_um``), ``force_history.csv`` (uN) and ``spindle_history.csv`` (um) of
+    both models."""
     with FieldSeriesWriter(output("fields"), fe.mesh, "press") as series:
         for k, advance in enumerate(fe.advance_um):
             series.write(
                 advance / scenario.speed_um_s,  # s
                 fe.vertex_displacement_um[k],
                 pressure=fe.vertex_pressure_kPa[k],
-                obstacles={"pipette": np.asarray(pipette_at(scenario, advance).points)},
+                obstacles={
+                    "pipette": np.asarray(
+                        pipette_at(scenario, advance, 80.0, edge_radius_um).points
+                    )
+                },
             )
     write_history_csv(
         output("force_history.csv"),

@@ -70,6 +70,7 @@ TOOL_LENGTHS = (
     "inner_radius_um",
     "wall_um",
     "mouth_fillet_um",
+    "edge_radius_um",
     "width_um",
     "bore_diameter_um",
     "neck_diameter_um",
@@ -374,6 +375,22 @@ class WedgePipette(ToolBase):
     width_um: Length
     tip_angle_deg: float = Field(gt=0, lt=180)
     length_um: Length = 80.0
+    edge_radius_um: float = Field(
+        0.0,
+        ge=0,
+        le=1e3,
+        description="the mouth's two edges rounded with this radius (0: sharp; see docs/fe.md)",
+        json_schema_extra={"unit": "um"},
+    )
+
+    rules = (
+        Relation(
+            "edge_radius_um",
+            "<",
+            lambda m: 0.5 * m.width_um * np.tan(np.deg2rad(45.0 + 0.25 * m.tip_angle_deg)),
+            "the largest that fits the mouth, width_um / 2 tan(45 deg + tip_angle_deg / 4)",
+        ),
+    )
 
 
 class HoldingPipette(CaseInputs):

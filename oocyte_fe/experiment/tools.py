@@ -18,7 +18,7 @@ Shapes (lengths um, angles deg), in the top frame with the clearance ``g`` (``ga
   (:mod:`oocyte_fe.neck.pipette`), the cell ``clearance_um`` from the taper; its suction acts
   ahead of the seal the cell makes with the wall (:func:`oocyte_fe.neck.suction.seal_mask`);
 * wedge pipette (plane strain): a flat tip of width ``b`` at ``(0, R + g)``, flanks at the
-  included angle;
+  included angle, its two mouth edges rounded with ``edge_radius_um`` (polyline arcs);
 * a pipette's ``fixed`` seal: the outer-surface facets under its end face are held along its
   axis (Theret's rigid annular punch); the rest of the glass acts by contact;
 * holding pipette: no obstacle; the outer-surface facets within ``half_width`` of its axis on
@@ -131,7 +131,14 @@ def obstacle(tool: object, name: str, radius_um: float, axisym: bool) -> Obstacl
     if isinstance(tool, NeckedPipette):
         return necked_pipette(tool, R).obstacle()
     if isinstance(tool, WedgePipette):
-        wedge = wedge_tip((0.0, y0), (0.0, -1.0), tool.width_um, tool.tip_angle_deg, tool.length_um)
+        wedge = wedge_tip(
+            (0.0, y0),
+            (0.0, -1.0),
+            tool.width_um,
+            tool.tip_angle_deg,
+            tool.length_um,
+            tool.edge_radius_um,
+        )
         return _turned(list(wedge.points), tool.side, name)
     raise TypeError(f"unknown tool {type(tool).__name__}")
 

@@ -167,15 +167,50 @@ def cone_indenter(apex: tuple[float, float], half_angle_deg: float, length: floa
     return Polyline((apex, (float(top[0]), float(top[1]))), name="cone")
 
 
+def rounded_corners(
+    points: list[tuple[float, float]], radius: float, segments_per_quarter: int = 8
+) -> list[tuple[float, float]]:
+    """The polyline ``points`` with every interior vertex replaced by a circular arc of
+    ``radius`` [um] tangent to both of its segments (``ceil(segments_per_quarter * turn /
+    90 deg)`` chords, their ends on the arc). A vertex of interior angle ``2 beta`` gives up
+    ``radius / tan(beta)`` of each segment; a segment too short for that is refused."""
+    p = np.asarray(points, dtype=float)
+    out = [p[0]]
+    cut = np.zeros(len(p))  # length each vertex takes from its segments
+    centres = []
+    for i in range(1, len(p) - 1):
+        u = (p[i - 1] - p[i]) / np.linalg.norm(p[i - 1] - p[i])
+        w = (p[i + 1] - p[i]) / np.linalg.norm(p[i + 1] - p[i])
+        beta = 0.5 * np.arccos(np.clip(u @ w, -1.0, 1.0))  # half the interior angle
+        cut[i] = radius / np.tan(beta)
+        bisector = (u + w) / np.linalg.norm(u + w)
+        centres.append(
+            (p[i] + u * cut[i], p[i] + w * cut[i], p[i] + bisector * radius / np.sin(beta))
+        )
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    if np.any(cut[:-1] + cut[1:] > seg):
+        raise InputError("polyline", "radius", "arcs that fit on the segments", got=radius)
+    for start, end, c in centres:
+        a0 = np.arctan2(*(start - c)[::-1])
+        turn = (np.arctan2(*(end - c)[::-1]) - a0 + np.pi) % (2.0 * np.pi) - np.pi
+        n = max(1, int(np.ceil(segments_per_quarter * abs(turn) / (0.5 * np.pi) - 1e-9)))
+        angles = a0 + turn * np.arange(n + 1) / n
+        out += list(c + radius * np.stack([np.cos(angles), np.sin(angles)], axis=1))
+    out.append(p[-1])
+    return [(float(x), float(y)) for x, y in out]
+
+
 def wedge_tip(
     tip: tuple[float, float],
     direction: tuple[float, float],
     width: float,
     angle_deg: float,
     length: float,
+    edge_radius: float = 0.0,
 ) -> Polyline:
     """Plane-strain wedge micropipette: flat tip of ``width`` [um] centred at ``tip``, advancing
-    along ``direction``, flanks opening at the full ``angle_deg`` behind it."""
+    along ``direction``, flanks opening at the full ``angle_deg`` behind it; with
+    ``edge_radius`` > 0 [um] the two mouth edges are rounded (:func:`rounded_corners`)."""
     d = np.asarray(direction, dtype=float)
     d /= np.linalg.norm(d)
     side = np.array([-d[1], d[0]])
@@ -185,8 +220,10 @@ def wedge_tip(
     p2 = c - side * width / 2
     b1 = p1 - d * length + side * length * half
     b2 = p2 - d * length - side * length * half
-    pts = (b2, p2, p1, b1)  # solid on the left when travelling b2 -> p2 -> p1 -> b1
-    return Polyline(tuple((float(p[0]), float(p[1])) for p in pts), name="wedge")
+    pts = [(float(p[0]), float(p[1])) for p in (b2, p2, p1, b1)]  # solid on the left
+    if edge_radius > 0:
+        pts = rounded_corners(pts, edge_radius)
+    return Polyline(tuple(pts), name="wedge")
 
 
 def necked_pipette_wall(profile: list[tuple[float, float]], name: str = "pipette") -> Polyline:

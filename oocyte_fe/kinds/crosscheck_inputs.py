@@ -98,10 +98,7 @@ class CrosscheckInputs(CaseInputs):
         json_schema_extra={"unit": "um"},
     )
     fe_size_um: float = Field(
-        6.0,
-        gt=0,
-        description="FE element size away from the pipette",
-        json_schema_extra={"unit": "um"},
+        6.0, gt=0, description="FE element size off the pipette", json_schema_extra={"unit": "um"}
     )
     fe_refine_size_um: float = Field(
         2.5, gt=0, description="FE element size under the pipette", json_schema_extra={"unit": "um"}
@@ -148,6 +145,12 @@ class CrosscheckInputs(CaseInputs):
         description="Gauss order of the FE contact quadrature per facet (4: the body's; the "
         "wedge's mouth corners press between 3 points and fold the ZP: docs/cases/nmsd_vs_fe.md)",
         json_schema_extra={"unit": "1"},
+    )
+    fe_pipette_edge_radius_um: float = Field(
+        0.0,
+        ge=0,
+        description="the FE wedge's mouth edges rounded (0: sharp; docs/cases/nmsd_vs_fe.md)",
+        json_schema_extra={"unit": "um"},
     )
     nmsd_spacings_across: SpacingsAcross = 17
     nmsd_dl_c: CriticalStrain = 0.8

@@ -58,6 +58,7 @@ def press_settings(inp: CrosscheckInputs, source: str) -> tuple[PressScenario, F
         inp.fe_rtol,
         inp.fe_contact_smoothing_um,
         inp.fe_contact_quadrature_order,
+        inp.fe_pipette_edge_radius_um,
         source=source,
     )
     return scenario, settings
@@ -182,8 +183,9 @@ def run(ctx: CaseContext) -> CaseOutcome:
         arrows,
         scenario,
         setup,
+        settings.edge_radius_um,
     )
-    write_press_outputs(ctx.output, fe, fe_nN, cal, agree, scenario)
+    write_press_outputs(ctx.output, fe, fe_nN, cal, agree, scenario, settings.edge_radius_um)
 
     metrics = {
         "fe_force_end_uN": float(fe_nN[-1] * UN),

@@ -19,6 +19,7 @@ plane strain the window is mirrored about the y axis. Points of the surface are
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Literal
 
@@ -31,6 +32,8 @@ from oocyte_fe.mesh import validate
 from oocyte_fe.mesh.cache import cached_mesh
 from oocyte_fe.mesh.gmsh_session import add_physical, distance_to_curves, refine_near
 
+SIGNIFICANT = 7
+"""Significant digits of the lengths and angles gmsh is given (:func:`drawn`)."""
 SUBDOMAINS = ("cytoplasm", "zona")
 BOUNDARIES = {
     "axisymmetric": ("outer_surface", "interface", "axis"),
@@ -198,8 +201,31 @@ def _build(geom: LayeredOocyte) -> float:
     return geom.size_um
 
 
+def _significant(value: object) -> object:
+    if isinstance(value, float):
+        return float(f"{value:.{SIGNIFICANT}g}")
+    if isinstance(value, tuple):
+        return tuple(_significant(v) for v in value)
+    return value
+
+
+def drawn(geom: LayeredOocyte) -> LayeredOocyte:
+    """The parameters gmsh meshes: every length and angle of ``geom`` rounded to
+    :data:`SIGNIFICANT` significant digits (a relative change of 5e-7 at most).
+
+    gmsh's mesh is not continuous in its inputs: a radius or a size changed by a relative 1e-9
+    gives another mesh (nodes renumbered and moved by up to half an element), so a figure that
+    depends on the mesh at the level of its discretisation error (a small difference of two
+    displacements, say) moved with the round-off of an input. Rounded, such inputs draw the
+    same mesh; what another mesh does is the subject of a mesh study, not of round-off."""
+    changed = {f.name: _significant(getattr(geom, f.name)) for f in dataclasses.fields(geom)}
+    return dataclasses.replace(geom, **changed)
+
+
 def layered_oocyte_mesh(geom: LayeredOocyte) -> skfem.Mesh:
     """The mesh of ``geom`` (``MeshTri1``, or ``MeshTri2`` with curved edges for order 2),
     with subdomains ``cytoplasm``, ``zona`` and boundaries ``outer_surface``, ``interface``
-    (and ``axis`` in the axisymmetric form); built with gmsh once, then read from the cache."""
+    (and ``axis`` in the axisymmetric form); built with gmsh once, then read from the cache.
+    The mesh is drawn for :func:`drawn` (``geom`` rounded to 7 significant digits)."""
+    geom = drawn(geom)
     return cached_mesh(geom, geom.order, lambda: _build(geom))
