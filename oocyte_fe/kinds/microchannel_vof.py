@@ -7,14 +7,15 @@ as one liquid, ``interIsoFoam``) or ``three_phase_mules`` (medium, ZP, cytoplasm
 :func:`.microchannel_vof_runs.run_specs` (on Dask, :mod:`oocyte_fe.microchannel.vof.pool`:
 ``concurrent`` at a time locally or on the workers of a scheduler: the CLI's ``--scheduler``,
 else the ``scheduler`` input; each with ``ranks`` MPI ranks), and the reduced Kelvin-Voigt
-model beside it.
+model beside it. The liquid cell's deform-recompute passes at several pressures go the same
+way, one task per pressure (:func:`recompute_at`).
 Without OpenFOAM the case is SKIPPED (not a failure) with the install line as its reason; the
 reduced model still runs and its table is in the report.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -136,35 +137,37 @@ def _job(ctx: CaseContext, inp: VofInputs, spec: RunSpec) -> tuple:
     return (foam, ctx.output(f"openfoam/{spec.label}"), setup, inp.ranks, inp.nice)
 
 
-def _recompute(
-    ctx: CaseContext,
+def recompute_at(
     inp: VofInputs,
     spec: RunSpec,
     first: JunctionRun,
     one_way: ElasticAtPressure | None,
+    folder: Path,
+    progress: Callable[[str], None] | None = None,
 ) -> DeformRecompute | str:
-    """The deform-recompute passes at the pressure of ``spec`` (pass 0 is its run ``first``,
-    whose elastic cell ``one_way`` the report's one-way section computed: taken as it is,
-    in the reading of ``recompute_load``), or why they did not run."""
-    if one_way is not None and inp.recompute_load == "follower":
-        one_way = one_way.follower
+    """The deform-recompute passes at the pressure of ``spec`` in ``folder``, or why they did
+    not run ("not computed: ..."). Pass 0 is the run ``first`` with ``one_way``, its elastic
+    cell from the report's one-way section in the reading of ``recompute_load``, taken as it
+    is. Plain data in and out, no case context: a task of :func:`run_concurrently` (it may run
+    on a remote Dask worker); ``progress`` gets a line at each pass's flow."""
     foam = find_openfoam(inp.openfoam)
 
-    def run_flow(outline: np.ndarray | None, folder: Path) -> tuple:
+    def run_flow(outline: np.ndarray | None, sub: Path) -> tuple:
         setup = _setup(inp, spec, outline)
         run = first
         if outline is not None:
-            ctx.step(
-                f"deform-recompute {spec.pressure_hPa:g} hPa: {folder.parent.name}, the flow "
-                "past the FE's shape"
-            )
-            run = run_junction(foam, folder, setup, inp.ranks, inp.nice)
+            if progress is not None:
+                progress(
+                    f"deform-recompute {spec.pressure_hPa:g} hPa: {sub.parent.name}, the flow "
+                    "past the FE's shape"
+                )
+            run = run_junction(foam, sub, setup, inp.ranks, inp.nice)
         return run.case, setup.layout, run.ratio_at_junction
 
     try:
         return deform_recompute(
             run_flow,
-            ctx.output(f"recompute/p{spec.pressure_hPa:g}hPa"),
+            folder,
             inp.fluids,
             max_passes=inp.recompute_passes,
             steps=step_pair(foam, inp.nice),
@@ -175,6 +178,37 @@ def _recompute(
         )
     except (InputError, SolverError) as exc:
         return f"not computed: {exc}"
+
+
+def _recompute_all(
+    ctx: CaseContext,
+    inp: VofInputs,
+    specs: list[RunSpec],
+    main: list[JunctionRun],
+    cells: Sequence[ElasticAtPressure | None],
+) -> list[tuple[float, DeformRecompute | str]]:
+    """:func:`recompute_at` at the first pressure, or at each with ``recompute_pressures =
+    "all"``: one Dask task per pressure, ``concurrent`` at a time, on the case's scheduler
+    when there are several (one pressure: in this process)."""
+    at = range(len(main)) if inp.recompute_pressures == "all" else range(1)
+    follower = inp.recompute_load == "follower"
+    jobs = [
+        (
+            inp,
+            specs[k],
+            main[k],
+            cells[k].follower if follower and cells[k] is not None else cells[k],
+            ctx.output(f"recompute/p{specs[k].pressure_hPa:g}hPa"),
+        )
+        for k in at
+    ]
+    scheduler = None
+    if len(jobs) > 1:
+        scheduler = run_scheduler(ctx, inp)
+        where = scheduler or f"a local cluster of {inp.concurrent}"
+        ctx.step(f"deform-recompute passes at {len(jobs)} pressures on {where}")
+    done = run_concurrently(recompute_at, jobs, inp.concurrent, scheduler, [ctx.step] * len(jobs))
+    return [(job[1].pressure_hPa, r) for job, r in zip(jobs, done, strict=True)]
 
 
 def run_scheduler(ctx: CaseContext, inp: VofInputs) -> str | None:
@@ -223,12 +257,7 @@ def run(ctx: CaseContext) -> CaseOutcome:
     ctx.step("the AFM-elastic cell under each run's traction (one-way)")
     one_way = one_way_cells(ctx, inp, pressures, main)  # in the order of the pressures
     cells = [None] * n if isinstance(one_way, str) else one_way
-    recompute = []
-    if inp.recompute_passes:
-        at = range(n) if inp.recompute_pressures == "all" else range(1)
-        recompute = [
-            (specs[k].pressure_hPa, _recompute(ctx, inp, specs[k], main[k], cells[k])) for k in at
-        ]
+    recompute = _recompute_all(ctx, inp, specs, main, cells) if inp.recompute_passes else []
     return report_outcome(
         ctx, inp, table, kv_p, kv_ratio, pressures, main, extra, recompute, one_way
     )
