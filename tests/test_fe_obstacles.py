@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from oocyte_fe.errors import InputError
-from oocyte_fe.fe.obstacles import Circle, Polyline, wedge_tip
+from oocyte_fe.fe.obstacles import Circle, Polyline, rounded_corners, wedge_tip
 
 
 def test_sharp_wedge_distances_to_mouth_flank_and_corner() -> None:
@@ -48,6 +48,13 @@ def test_rounded_wedge_edges_are_arcs_tangent_to_mouth_and_flank(radius: float) 
     assert D + radius / np.sin(beta) - radius <= g <= D + radius / np.sin(beta) - radius + chord_sag
     far = np.array([[-5.0, 5.0], [0.0, 30.0]])  # mouth middle; beside the flank, far back
     assert w.distance(far)[0] == pytest.approx(sharp.distance(far)[0], abs=1e-12)
+
+
+def test_rounding_keeps_a_vertex_where_the_polyline_runs_straight_on() -> None:
+    pts = rounded_corners([(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0)], 0.5)
+    assert pts[:2] == [(0.0, 0.0), (1.0, 0.0)]  # the straight vertex kept, no NaN
+    assert pts[2] == pytest.approx((1.5, 0.0)) and pts[-2] == pytest.approx((2.0, 0.5))
+    assert np.all(np.isfinite(pts))
 
 
 def test_an_edge_radius_that_does_not_fit_the_mouth_is_refused() -> None:

@@ -173,24 +173,30 @@ def rounded_corners(
     """The polyline ``points`` with every interior vertex replaced by a circular arc of
     ``radius`` [um] tangent to both of its segments (``ceil(segments_per_quarter * turn /
     90 deg)`` chords, their ends on the arc). A vertex of interior angle ``2 beta`` gives up
-    ``radius / tan(beta)`` of each segment; a segment too short for that is refused."""
+    ``radius / tan(beta)`` of each segment; a segment too short for that is refused; a vertex
+    where the polyline runs straight on is kept."""
     p = np.asarray(points, dtype=float)
     out = [p[0]]
     cut = np.zeros(len(p))  # length each vertex takes from its segments
-    centres = []
+    arcs: list[tuple[np.ndarray, ...] | None] = []
     for i in range(1, len(p) - 1):
         u = (p[i - 1] - p[i]) / np.linalg.norm(p[i - 1] - p[i])
         w = (p[i + 1] - p[i]) / np.linalg.norm(p[i + 1] - p[i])
+        if u @ w < -1.0 + 1e-12:  # straight on: nothing to round
+            arcs.append(None)
+            continue
         beta = 0.5 * np.arccos(np.clip(u @ w, -1.0, 1.0))  # half the interior angle
         cut[i] = radius / np.tan(beta)
         bisector = (u + w) / np.linalg.norm(u + w)
-        centres.append(
-            (p[i] + u * cut[i], p[i] + w * cut[i], p[i] + bisector * radius / np.sin(beta))
-        )
+        arcs.append((p[i] + u * cut[i], p[i] + w * cut[i], p[i] + bisector * radius / np.sin(beta)))
     seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
     if np.any(cut[:-1] + cut[1:] > seg):
         raise InputError("polyline", "radius", "arcs that fit on the segments", got=radius)
-    for start, end, c in centres:
+    for vertex, arc in zip(p[1:-1], arcs, strict=True):
+        if arc is None:
+            out.append(vertex)
+            continue
+        start, end, c = arc
         a0 = np.arctan2(*(start - c)[::-1])
         turn = (np.arctan2(*(end - c)[::-1]) - a0 + np.pi) % (2.0 * np.pi) - np.pi
         n = max(1, int(np.ceil(segments_per_quarter * abs(turn) / (0.5 * np.pi) - 1e-9)))
