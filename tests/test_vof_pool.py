@@ -10,6 +10,7 @@ import pytest
 
 from oocyte_fe.microchannel.vof.casewriter import Numerics, schemes, solution
 from oocyte_fe.microchannel.vof.pool import run_concurrently
+from oocyte_fe.microchannel.vof.runner import OpenFoam, run_utility
 
 _lock = threading.Lock()
 _running = {"now": 0, "most": 0}
@@ -83,3 +84,40 @@ def test_corrector_tolerance_and_time_scheme_reach_the_dictionaries() -> None:
     assert sol["solvers"]["p_rgh"]["relTol"] == 0.05  # the correctors before the last
     assert sol["solvers"]["p_rghFinal"]["relTol"] == 0  # the last one: to 1e-8
     assert schemes(num.ddt)["ddtSchemes"]["default"] == "CrankNicolson 0.9"
+
+
+def _fail_at_once(x: float, tool: object, progress=None) -> float:
+    raise RuntimeError("the first pressure's flow diverged")
+
+
+def _start_a_program_later(x: float, tool: object, progress=None) -> float:
+    foam, case = tool  # type: ignore[misc]
+    time.sleep(1.0)  # busy (an FE cell, say) while the other task fails
+    run_utility(foam, case, ["fakeUtility"])
+    return x
+
+
+def test_a_task_still_running_after_a_stop_starts_no_further_program(tmp_path) -> None:
+    """A task in a worker thread cannot be interrupted; once the run is stopped it must not
+    start an OpenFOAM program (a flow of the next pass, say). The program here writes a file
+    when it starts; the file is never written (it was, before the stop reached tasks)."""
+    marker = tmp_path / "started"
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    program = bin_dir / "fakeUtility"
+    program.write_text(f"#!/bin/sh\ntouch {marker}\n")
+    program.chmod(0o755)
+    foam = OpenFoam(tmp_path, bin_dir)
+    run_utility(foam, tmp_path, ["fakeUtility"])  # outside a stopped task it runs
+    assert marker.exists()
+    marker.unlink()
+    jobs = [(1.0, (foam, tmp_path)), (2.0, (foam, tmp_path))]
+    tasks = {1.0: _fail_at_once, 2.0: _start_a_program_later}
+
+    def task(x: float, tool: object, progress=None) -> float:
+        return tasks[x](x, tool, progress)
+
+    with pytest.raises(RuntimeError, match="diverged"):
+        run_concurrently(task, jobs, concurrent=2)
+    time.sleep(2.0)  # the second task wakes, tries to start its program
+    assert not marker.exists()

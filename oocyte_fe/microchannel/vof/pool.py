@@ -10,7 +10,9 @@ the same time, so a machine needs ``concurrent x ranks`` cores.
   subprocesses, so threads cost nothing; each task gets its ``progress`` callback (Dask
   pickles a task's arguments even in process, so the callbacks stay in this process and the
   task looks its own up by key); a stop (a failed run, the case's ``timeout_s``) reaches
-  every solver this process started (:func:`.runner.terminate_active`).
+  every solver this process started (:func:`.runner.terminate_active`), and a task still
+  running in a thread (an FE cell between two flows) starts no further OpenFOAM program
+  (:func:`.runner.stop_tasks`).
 * **Remote** (``scheduler = "tcp://host:8786"``): the tasks go to a running Dask scheduler, e.g.
   one started by dask-jobqueue on a cluster (docs/microchannel.md, "On a cluster"); its
   workers must import ``oocyte_fe``, find OpenFOAM and see the case's output folder at the same
@@ -24,7 +26,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, TypeVar
 
-from oocyte_fe.microchannel.vof.runner import terminate_active
+from oocyte_fe.microchannel.vof.runner import as_task, stop_tasks, terminate_active
 from oocyte_fe.sweep.cluster import dask_client, local_client
 
 if TYPE_CHECKING:
@@ -47,9 +49,10 @@ def vof_client(concurrent: int, scheduler: str | None = None) -> Iterator[Client
 
 
 def _with_progress(task: Callable[..., T], key: str, *job: object) -> T:
-    """Run ``task(*job, progress=...)`` with the callback registered under ``key`` here (none
-    on a remote worker)."""
-    return task(*job, progress=_PROGRESS.get(key))
+    """Run ``task(*job, progress=...)`` as task ``key`` (:func:`.runner.as_task`) with the
+    callback registered under ``key`` here (none on a remote worker)."""
+    with as_task(key):
+        return task(*job, progress=_PROGRESS.get(key))
 
 
 def _in_this_process(
@@ -74,7 +77,8 @@ def run_concurrently(
     on Dask, in the jobs' order; ``progress`` (optional, one callback per job) reaches the
     tasks of a local cluster only.
 
-    The first task that raises stops the others (cancelled; local solvers terminated) and its
+    The first task that raises stops the others (cancelled; local solvers terminated, and a
+    local task still running starts no further OpenFOAM program) and its
     exception is raised here.
     """
     if not scheduler and len(jobs) == 1:
@@ -92,6 +96,7 @@ def run_concurrently(
                 return client.gather(futures)
             except BaseException:
                 client.cancel(futures)
+                stop_tasks(keys)  # a task still running here starts no further solver
                 terminate_active()
                 raise
     finally:

@@ -16,7 +16,8 @@ import shutil
 import signal
 import subprocess
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -33,6 +34,8 @@ PROJECTION_STEP = 1e-10  # s
 
 _ACTIVE: set[subprocess.Popen] = set()
 _ACTIVE_LOCK = threading.Lock()
+_STOPPED: set[str] = set()  # keys of tasks whose run was stopped (never reused: uuids)
+_TASK = threading.local()  # .key: the task this thread runs (:func:`as_task`)
 
 
 def terminate_active() -> None:
@@ -42,6 +45,35 @@ def terminate_active() -> None:
         for proc in list(_ACTIVE):
             if proc.poll() is None:
                 os.killpg(proc.pid, signal.SIGTERM)
+
+
+@contextmanager
+def as_task(key: str) -> Iterator[None]:
+    """Run the block as task ``key``: once :func:`stop_tasks` names it, no OpenFOAM program
+    starts in this thread (a task in a worker thread cannot be interrupted, e.g. in an FE
+    cell between two flows; it ends at its next start with :class:`SolverError`)."""
+    _TASK.key = key
+    try:
+        yield
+    finally:
+        _TASK.key = None
+
+
+def stop_tasks(keys: Iterable[str]) -> None:
+    """Refuse every later start of an OpenFOAM program in the tasks ``keys``."""
+    with _ACTIVE_LOCK:
+        _STOPPED.update(keys)
+
+
+def _stopped() -> bool:
+    """Whether the task this thread runs was stopped (call with ``_ACTIVE_LOCK`` held)."""
+    return getattr(_TASK, "key", None) in _STOPPED
+
+
+def _refuse_if_stopped(what: str) -> None:
+    with _ACTIVE_LOCK:
+        if _stopped():
+            raise SolverError(f"{what} not started: the case's run was stopped")
 
 
 class OpenFoamMissing(RuntimeError):
@@ -114,6 +146,7 @@ def _command(foam: OpenFoam, args: list[str], nice: int) -> list[str]:
 def run_utility(foam: OpenFoam, case: Path, args: list[str], nice: int = 0) -> Path:
     """Run an OpenFOAM utility in ``case``; its output goes to ``log.<name>``. A non-zero exit
     raises :class:`SolverError` with the log's last lines."""
+    _refuse_if_stopped(args[0])
     log = case / f"log.{args[0]}"
     with log.open("w") as fh:
         code = subprocess.call(
@@ -172,6 +205,7 @@ def run_solver(
         cmd = ["nice", "-n", str(nice), *args] if nice else args
     else:
         cmd = _command(foam, [solver], nice)
+    _refuse_if_stopped(solver)
     log = case / f"log.{solver}"
     with log.open("w") as fh:
         proc = subprocess.Popen(
@@ -186,6 +220,8 @@ def run_solver(
         assert proc.stdout is not None
         with _ACTIVE_LOCK:
             _ACTIVE.add(proc)
+            if _stopped():  # stopped between the check above and this start
+                os.killpg(proc.pid, signal.SIGTERM)
         try:
             last = 0
             for line in proc.stdout:
