@@ -11,6 +11,7 @@ some meshes and not on others; rounded at 2 um (with 1.25 um elements) they do n
 
 from __future__ import annotations
 
+import shutil
 from dataclasses import replace
 
 import numpy as np
@@ -71,3 +72,15 @@ def test_press_converges_and_agrees_on_the_mesh_of_its_sizes_off_by_round_off(
 def test_contact_quadrature_order_out_of_range_is_refused(order: int) -> None:
     with pytest.raises(InputError, match="contact_quadrature_order"):
         FeSettings(contact_quadrature_order=order, source="case.toml")
+
+
+def test_an_edge_radius_that_does_not_fit_the_mouth_is_refused_at_validate(tmp_path) -> None:
+    """Table I's mouth (20.628 um, 25.238 deg): r < 10.314 tan(51.31 deg) = 12.878 um."""
+    case = tmp_path / "case"
+    shutil.copytree(CASE, case)
+    text = (case / "case.toml").read_text()
+    line = next(x for x in text.splitlines() if x.startswith("fe_pipette_edge_radius_um"))
+    (case / "case.toml").write_text(text.replace(line, "fe_pipette_edge_radius_um = 13.0"))
+    with pytest.raises(InputError, match="inputs.fe_pipette_edge_radius_um") as err:
+        load_case(case)
+    assert "12.878" in str(err.value)

@@ -205,7 +205,7 @@ def write_press_outputs(
                 pressure=fe.vertex_pressure_kPa[k],
                 obstacles={
                     "pipette": np.asarray(
-                        pipette_at(scenario, advance, 80.0, edge_radius_um).points
+                        pipette_at(scenario, advance, edge_radius_um=edge_radius_um).points
                     )
                 },
             )

@@ -28,6 +28,7 @@ from oocyte_fe.experiment import relations as rel
 from oocyte_fe.experiment.loads import Load, TractionLoad, read_traction_table
 from oocyte_fe.experiment.paths import PathSpec
 from oocyte_fe.fe.material import Material, Prony, read_material_file
+from oocyte_fe.fe.obstacles import largest_edge_radius
 from oocyte_fe.kinds.data_templates import ZONA_MATERIAL
 from oocyte_fe.neck import pipette as neck
 from oocyte_fe.runner.schema import CaseInputs, DataFile, Relation, RuleBroken
@@ -387,7 +388,7 @@ class WedgePipette(ToolBase):
         Relation(
             "edge_radius_um",
             "<",
-            lambda m: 0.5 * m.width_um * np.tan(np.deg2rad(45.0 + 0.25 * m.tip_angle_deg)),
+            lambda m: largest_edge_radius(m.width_um, m.tip_angle_deg),
             "the largest that fits the mouth, width_um / 2 tan(45 deg + tip_angle_deg / 4)",
         ),
     )

@@ -206,6 +206,13 @@ def rounded_corners(
     return [(float(x), float(y)) for x, y in out]
 
 
+def largest_edge_radius(width: float, angle_deg: float) -> float:
+    """The radius [um] beyond which the two rounded mouth edges of :func:`wedge_tip` (mouth
+    ``width``, included angle ``angle_deg``) no longer fit the mouth: each edge, of interior
+    angle ``90 deg + angle_deg / 2``, takes ``r / tan(45 deg + angle_deg / 4)`` of its half."""
+    return float(0.5 * width * np.tan(np.deg2rad(45.0 + 0.25 * angle_deg)))
+
+
 def wedge_tip(
     tip: tuple[float, float],
     direction: tuple[float, float],

@@ -20,6 +20,7 @@ from oocyte_fe.kinds.nmsd_checks import (
     FINEST,
     ZonaRatioReading,
     arrows_on_frames,
+    edge_radius_limit,
     press_scenario,
     radius,
     ratio_or_reading,
@@ -260,6 +261,7 @@ class CrosscheckInputs(CaseInputs):
         Relation("grid_margin_um", "<", radius, "cell_diameter_um / 2 (a grid inside the cell)"),
         Relation("arrow_advances_um", "<=", lambda m: m.travel_um, "travel_um", measure="max"),
         Relation("fe_step_um", "<=", lambda m: m.travel_um, "travel_um"),
+        Relation("fe_pipette_edge_radius_um", "<", edge_radius_limit, "what fits the mouth"),
         Setup(press_scenario),
     )
 

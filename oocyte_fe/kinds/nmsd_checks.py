@@ -18,6 +18,7 @@ from nmsd.spindle import Approach, approach_setup
 from nmsd.tableII import read_force_displacement
 from oocyte_fe.crosscheck.scenario import PressScenario
 from oocyte_fe.errors import InputError
+from oocyte_fe.fe.obstacles import largest_edge_radius
 from oocyte_fe.runner.schema import RuleBroken
 
 LIBRARY_ARGS = (
@@ -154,6 +155,11 @@ def press_scenario(m: Any, source: str = "PressScenario") -> PressScenario:
         tuple(m.spindle_paper_um),
         source=source,
     )
+
+
+def edge_radius_limit(m: Any) -> float:
+    """The largest FE pipette edge radius that fits the wedge's mouth, um."""
+    return largest_edge_radius(m.pipette_width_um, m.tip_angle_deg)
 
 
 def radius(m: Any) -> float:
